@@ -1,0 +1,73 @@
+"""srfm: the Social Robot Force Model, twin counterfactual crowd simulation and a benchmark.
+
+Quick use::
+
+    import srfm
+    record = srfm.run_episode("crosswalk", seed=0, planner="straight")
+    print(record.outcome, record.twin_separation_m().max())
+"""
+
+from srfm.episode import run_episode
+from srfm.errors import (
+    ParameterError,
+    PlannerError,
+    ScenarioError,
+    SimulationError,
+    SrfmError,
+)
+from srfm.models import (
+    PRESETS,
+    ForceComponents,
+    RobotBody,
+    SRFMParams,
+    force_components,
+    load_params,
+    save_params,
+    step_crowd,
+)
+from srfm.record import EpisodeRecord, Event
+from srfm.robot import RobotConfig, RobotState, apply_command
+from srfm.scenarios import (
+    BUILTIN_SCENARIOS,
+    EVALUATION_SCENARIOS,
+    Scenario,
+    builtin_scenarios,
+    episode_setup,
+    load_scenario,
+)
+from srfm.simulator import TwinSimulator
+from srfm.state import CrowdState, Obstacles
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "BUILTIN_SCENARIOS",
+    "EVALUATION_SCENARIOS",
+    "PRESETS",
+    "CrowdState",
+    "EpisodeRecord",
+    "Event",
+    "ForceComponents",
+    "Obstacles",
+    "ParameterError",
+    "PlannerError",
+    "RobotBody",
+    "RobotConfig",
+    "RobotState",
+    "SRFMParams",
+    "Scenario",
+    "ScenarioError",
+    "SimulationError",
+    "SrfmError",
+    "TwinSimulator",
+    "__version__",
+    "apply_command",
+    "builtin_scenarios",
+    "episode_setup",
+    "force_components",
+    "load_params",
+    "load_scenario",
+    "run_episode",
+    "save_params",
+    "step_crowd",
+]

@@ -1,0 +1,22 @@
+"""The Social Robot Force Model: parameters, force kernels and the crowd step."""
+
+from srfm.models.forces import (
+    PARALLEL_MIN_AGENTS,
+    ForceComponents,
+    RobotBody,
+    force_components,
+    step_crowd,
+)
+from srfm.models.params import PRESETS, SRFMParams, load_params, save_params
+
+__all__ = [
+    "PARALLEL_MIN_AGENTS",
+    "PRESETS",
+    "ForceComponents",
+    "RobotBody",
+    "SRFMParams",
+    "force_components",
+    "load_params",
+    "save_params",
+    "step_crowd",
+]

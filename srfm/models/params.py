@@ -1,0 +1,197 @@
+"""SRFM model parameters: one frozen, validated class and the paper's presets.
+
+The Social Robot Force Model (Agrawal, Dengler, Bennewitz, ICSR 2024) moves pedestrian i
+with the acceleration (unit mass, so forces are accelerations, m/s²)
+
+    F_i = f_goal + Σ_j f_ped(i, j) + Σ_o f_obs(i, o) + f_robot(i)
+
+    f_goal     = (v0_i e_i − v_i) / τ                             (paper Eq. 3, sign fixed)
+    f_ped      = A_p exp((r_i + r_j − d_ij) / B_p) ψ(φ; λ) n_ji    (Eq. 4 with Eq. 5)
+    f_robot    = A_r exp((r_i + r_r − d_ir) / B_r) ψ(φ; λ_r) n_ri  (the paper's robot force)
+    f_obs      = A_o exp((r_i − d_io) / B_o) n_oi
+    ψ(φ; λ)    = λ + (1 − λ) (1 + cos φ) / 2                      (Eq. 5)
+
+Model-level parameters live here; per-agent values (radius, desired and maximum speed)
+are arrays in :class:`srfm.CrowdState`.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+from typing import Any, Final
+
+import attrs
+import numpy as np
+from numpy.typing import NDArray
+
+from srfm._validate import finite_float, non_negative, positive, unit_interval
+from srfm.errors import ParameterError
+
+__all__ = ["PRESETS", "SRFMParams", "load_params", "save_params"]
+
+PARAMS_SCHEMA_VERSION: Final = 1
+
+# Index of each parameter in the float64 vector the kernels take.
+IDX_A_PED, IDX_B_PED, IDX_LAMBDA_PED, IDX_TAU = 0, 1, 2, 3
+IDX_A_ROBOT, IDX_B_ROBOT, IDX_LAMBDA_ROBOT = 4, 5, 6
+IDX_A_OBS, IDX_B_OBS = 7, 8
+N_PARAMS: Final = 9
+
+
+def _check_positive(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    positive(value, attribute.name, ParameterError)
+
+
+def _check_non_negative(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    non_negative(value, attribute.name, ParameterError)
+
+
+def _check_unit(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    unit_interval(value, attribute.name, ParameterError)
+
+
+def _to_float(value: Any) -> Any:
+    # Keep non-numbers as they are so the validator can name them in its message.
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        return value
+    return float(value)
+
+
+@attrs.frozen(kw_only=True)
+class SRFMParams:
+    """Model-level SRFM parameters (paper Table 1 symbols).
+
+    Attributes:
+        a_ped: A_p, pedestrian repulsion strength (m/s²), >= 0.
+        b_ped: B_p, pedestrian repulsion range (m), > 0.
+        lambda_ped: λ, anisotropy of the pedestrian force in [0, 1]; 1 is isotropic,
+            0 ignores whatever is straight behind.
+        tau: τ, relaxation time toward the desired velocity (s), > 0.
+        a_robot: A_r, robot repulsion strength (m/s²), >= 0. 0 switches the robot off.
+        b_robot: B_r, robot repulsion range (m), > 0.
+        lambda_robot: λ_r, anisotropy of the robot force in [0, 1]; the paper and its
+            reference code use the robot force isotropically (λ_r = 1).
+        a_obs: A_o, obstacle repulsion strength (m/s²), >= 0. The paper fitted none;
+            the default is Helbing, Farkas and Vicsek (Nature 2000): A = 2000 N for an
+            80 kg pedestrian, i.e. 25 m/s².
+        b_obs: B_o, obstacle repulsion range (m), > 0; Helbing et al. 2000: 0.08 m.
+    """
+
+    a_ped: float = attrs.field(default=2.0, converter=_to_float, validator=_check_non_negative)
+    b_ped: float = attrs.field(default=0.89, converter=_to_float, validator=_check_positive)
+    lambda_ped: float = attrs.field(default=0.4, converter=_to_float, validator=_check_unit)
+    tau: float = attrs.field(default=0.6, converter=_to_float, validator=_check_positive)
+    a_robot: float = attrs.field(default=7.93, converter=_to_float, validator=_check_non_negative)
+    b_robot: float = attrs.field(default=0.99, converter=_to_float, validator=_check_positive)
+    lambda_robot: float = attrs.field(default=1.0, converter=_to_float, validator=_check_unit)
+    a_obs: float = attrs.field(default=25.0, converter=_to_float, validator=_check_non_negative)
+    b_obs: float = attrs.field(default=0.08, converter=_to_float, validator=_check_positive)
+
+    @classmethod
+    def preset(cls, name: str) -> SRFMParams:
+        """Return a named preset (``agrawal2024`` or ``ferrer2013``)."""
+        try:
+            return PRESETS[name]
+        except KeyError:
+            known = ", ".join(sorted(PRESETS))
+            raise ParameterError(f"unknown parameter preset {name!r}; known: {known}") from None
+
+    def replace(self, **changes: float) -> SRFMParams:
+        """A copy with some fields changed (validated again)."""
+        unknown = sorted(set(changes) - set(attrs.fields_dict(SRFMParams)))
+        if unknown:
+            raise ParameterError(f"unknown SRFM parameter {unknown[0]!r}")
+        return attrs.evolve(self, **changes)
+
+    def as_array(self) -> NDArray[np.float64]:
+        """The parameters as the float64 vector the kernels take (see ``IDX_*``)."""
+        return np.array(
+            [
+                self.a_ped,
+                self.b_ped,
+                self.lambda_ped,
+                self.tau,
+                self.a_robot,
+                self.b_robot,
+                self.lambda_robot,
+                self.a_obs,
+                self.b_obs,
+            ],
+            dtype=np.float64,
+        )
+
+    def as_dict(self) -> dict[str, float]:
+        """Field name -> value."""
+        return attrs.asdict(self)
+
+
+PRESETS: Final[dict[str, SRFMParams]] = {
+    # Agrawal, Dengler, Bennewitz 2024, Table 1 (fitted on JRDB).
+    "agrawal2024": SRFMParams(),
+    # Ferrer, Garrell, Sanfeliu 2013, as quoted in the paper's Table 1; they give one
+    # (A, B) pair for people and robot alike.
+    "ferrer2013": SRFMParams(
+        a_ped=2.66, b_ped=0.79, lambda_ped=0.59, tau=0.43, a_robot=2.66, b_robot=0.79
+    ),
+}
+
+
+def load_params(path: str | Path) -> SRFMParams:
+    """Read a parameter file written by :func:`save_params` (or by hand).
+
+    The file is TOML: ``schema_version = 1``, an optional ``preset = "name"`` to start
+    from, and a ``[params]`` table with any subset of the :class:`SRFMParams` fields.
+    Unknown keys and malformed values raise :class:`ParameterError` naming the file.
+    """
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ParameterError(f"{path}: parameter file not found") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise ParameterError(f"{path}: not a valid TOML file: {exc}") from None
+    unknown = sorted(set(data) - {"schema_version", "preset", "params", "meta"})
+    if unknown:
+        raise ParameterError(f"{path}: unknown key {unknown[0]!r}")
+    version = data.get("schema_version")
+    if version != PARAMS_SCHEMA_VERSION:
+        raise ParameterError(
+            f"{path}: schema_version must be {PARAMS_SCHEMA_VERSION}, got {version!r}"
+        )
+    base = SRFMParams.preset(data["preset"]) if "preset" in data else SRFMParams()
+    values = data.get("params", {})
+    if not isinstance(values, dict):
+        raise ParameterError(f"{path}: [params] must be a table, got {values!r}")
+    try:
+        return base.replace(**values)
+    except ParameterError as exc:
+        raise ParameterError(f"{path}: {exc}") from None
+
+
+def save_params(params: SRFMParams, path: str | Path, meta: dict[str, Any] | None = None) -> None:
+    """Write ``params`` as a TOML parameter file, atomically (temporary file + rename)."""
+    path = Path(path)
+    lines = [f"schema_version = {PARAMS_SCHEMA_VERSION}", ""]
+    if meta:
+        lines.append("[meta]")
+        for key, value in meta.items():
+            lines.append(f"{key} = {_toml_scalar(value)}")
+        lines.append("")
+    lines.append("[params]")
+    for key, value in params.as_dict().items():
+        lines.append(f"{key} = {value!r}")
+    from srfm._io import atomic_write_text
+
+    atomic_write_text(path, "\n".join(lines) + "\n")
+
+
+def _toml_scalar(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int | float):
+        f = finite_float(value, "meta value", ParameterError)
+        return repr(int(f)) if isinstance(value, int) else repr(f)
+    text = str(value).replace("\\", "\\\\").replace('"', '\\"')
+    return f'"{text}"'
+

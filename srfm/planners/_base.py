@@ -1,0 +1,102 @@
+"""The planner protocol: what a planner is told at reset and what it sees each step."""
+
+from __future__ import annotations
+
+from typing import Protocol, runtime_checkable
+
+import attrs
+import numpy as np
+from numpy.typing import NDArray
+
+from srfm.robot import RobotConfig, RobotState
+from srfm.scenarios import WorldBounds
+from srfm.state import Obstacles
+
+__all__ = ["Observation", "Planner", "PlannerContext"]
+
+FloatArray = NDArray[np.float64]
+
+
+@attrs.frozen(kw_only=True, eq=False)
+class PlannerContext:
+    """Episode information given to :meth:`Planner.reset`.
+
+    Attributes:
+        scenario: scenario name.
+        seed: episode seed.
+        dt_s: simulation step (s).
+        horizon_steps: number of steps in the episode.
+        robot: body and kinematic limits; commands must be in ``robot.kinematics``.
+        robot_goal: (2,) goal (m).
+        world: world bounds (m).
+        obstacles: static walls and pillars.
+    """
+
+    scenario: str
+    seed: int
+    dt_s: float
+    horizon_steps: int
+    robot: RobotConfig
+    robot_goal: FloatArray
+    world: WorldBounds
+    obstacles: Obstacles
+
+
+@attrs.frozen(kw_only=True, eq=False)
+class Observation:
+    """What a planner sees at one step (factual crowd only).
+
+    Pedestrian arrays hold the pedestrians whose centre lies within the planner's
+    ``detection_range_m`` of the robot centre (all of them when it is None), in index
+    order; ``ped_ids`` are their indices in the crowd.
+
+    Attributes:
+        step: step index (0 at the start).
+        time_s: simulated time (s).
+        robot: the robot's pose and current velocity.
+        robot_goal: (2,) goal (m).
+        ped_ids: (k,) int indices.
+        ped_pos: (k, 2) positions (m).
+        ped_vel: (k, 2) velocities (m/s).
+        ped_radius: (k,) radii (m).
+        obstacles: static walls and pillars.
+    """
+
+    step: int
+    time_s: float
+    robot: RobotState
+    robot_goal: FloatArray
+    ped_ids: NDArray[np.intp]
+    ped_pos: FloatArray
+    ped_vel: FloatArray
+    ped_radius: FloatArray
+    obstacles: Obstacles
+
+
+@runtime_checkable
+class Planner(Protocol):
+    """A robot navigation policy.
+
+    A planner is reset once per episode with the episode's context and its own
+    ``numpy.random.Generator`` (derived from the episode seed; a planner must draw no
+    other randomness), then asked for a command at every step while the robot is
+    active. The command is a length-2 array in the robot's kinematics: (v, ω) for a
+    unicycle, world-frame (vx, vy) for a holonomic robot; the simulator clips it to
+    the robot's limits.
+
+    Attributes:
+        name: the registry name.
+        detection_range_m: pedestrians farther than this from the robot are not
+            observed; None observes every pedestrian.
+    """
+
+    name: str
+    detection_range_m: float | None
+
+    def reset(self, context: PlannerContext, rng: np.random.Generator) -> None:
+        """Prepare for a new episode; forget everything about earlier ones."""
+        ...
+
+    def act(self, observation: Observation) -> FloatArray:
+        """The command for this step."""
+        ...

@@ -1,0 +1,171 @@
+"""The robot: configuration with kinematic limits, state, and the motion update.
+
+Two kinematic models:
+
+- ``unicycle``: command (v, ω), v in [−v_max, v_max] m/s, ω in [−ω_max, ω_max] rad/s;
+  the heading turns by ω dt and the robot moves v dt along the mid-step heading.
+- ``holonomic``: command (vx, vy) in the world frame, |v| ≤ v_max; the heading follows
+  the direction of motion.
+
+Both respect acceleration limits: the applied velocity changes by at most
+``max_accel_mps2 · dt`` per step (and ω by ``max_angular_accel_radps2 · dt``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Literal
+
+import attrs
+import numpy as np
+from numpy.typing import NDArray
+
+from srfm._validate import positive
+from srfm.errors import ParameterError, PlannerError
+
+__all__ = ["KINEMATICS", "Kinematics", "RobotConfig", "RobotState", "apply_command", "stopped"]
+
+Kinematics = Literal["unicycle", "holonomic"]
+KINEMATICS: tuple[Kinematics, ...] = ("unicycle", "holonomic")
+
+def _positive(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    positive(value, f"robot.{attribute.name}", ParameterError)
+
+def _kinematics(inst: Any, attribute: attrs.Attribute[str], value: Any) -> None:
+    if value not in KINEMATICS:
+        raise ParameterError(f"robot.kinematics must be one of {KINEMATICS}, got {value!r}")
+
+@attrs.frozen(kw_only=True)
+class RobotConfig:
+    """Robot body and limits (DESIGN §8: v ∈ [−0.5, 0.5] m/s, ω ∈ [−π, π] rad/s).
+
+    Attributes:
+        kinematics: ``"unicycle"`` (v, ω) or ``"holonomic"`` (vx, vy).
+        radius_m: body radius (m); collision when the centre distance to a pedestrian
+            is below the sum of radii.
+        max_speed_mps: v_max (m/s).
+        max_angular_speed_radps: ω_max (rad/s), unicycle only.
+        max_accel_mps2: largest change of linear velocity per second (m/s²).
+        max_angular_accel_radps2: largest change of ω per second (rad/s²).
+        goal_radius_m: the goal counts as reached within this distance (m).
+    """
+
+    kinematics: Kinematics = attrs.field(default="unicycle", validator=_kinematics)
+    radius_m: float = attrs.field(default=0.2, validator=_positive)
+    max_speed_mps: float = attrs.field(default=0.5, validator=_positive)
+    max_angular_speed_radps: float = attrs.field(default=math.pi, validator=_positive)
+    max_accel_mps2: float = attrs.field(default=1.0, validator=_positive)
+    max_angular_accel_radps2: float = attrs.field(default=2.0 * math.pi, validator=_positive)
+    goal_radius_m: float = attrs.field(default=0.5, validator=_positive)
+
+@attrs.frozen(kw_only=True)
+class RobotState:
+    """Robot pose and applied velocity.
+
+    Attributes:
+        x, y: position (m).
+        theta: heading (rad) in (−π, π].
+        vx, vy: world-frame velocity applied during the last step (m/s).
+        v, omega: unicycle speed along the heading (m/s) and turn rate (rad/s); for a
+            holonomic robot v is the speed and omega the heading change per second.
+    """
+
+    x: float
+    y: float
+    theta: float
+    vx: float = 0.0
+    vy: float = 0.0
+    v: float = 0.0
+    omega: float = 0.0
+
+    @property
+    def position(self) -> NDArray[np.float64]:
+        """(2,) position (m)."""
+        return np.array([self.x, self.y])
+
+    @property
+    def pose(self) -> NDArray[np.float64]:
+        """(3,) = (x, y, theta)."""
+        return np.array([self.x, self.y, self.theta])
+
+def _wrap(angle: float) -> float:
+    """Angle in (−π, π]."""
+    wrapped = math.remainder(angle, 2.0 * math.pi)
+    return math.pi if wrapped == -math.pi else wrapped
+
+def _clip(value: float, lo: float, hi: float) -> float:
+    return lo if value < lo else hi if value > hi else value
+
+def apply_command(
+    state: RobotState, command: Any, config: RobotConfig, dt: float
+) -> RobotState:
+    """Move the robot one step of ``dt`` seconds under ``command`` within its limits.
+
+    Args:
+        state: the robot before the step.
+        command: (2,) (v, ω) for a unicycle, (vx, vy) world frame for a holonomic robot.
+        config: body and limits.
+        dt: step (s).
+
+    Returns:
+        The robot after the step, with the velocity actually applied.
+
+    Raises:
+        PlannerError: the command is not two finite numbers.
+    """
+    try:
+        c0 = float(command[0])
+        c1 = float(command[1])
+        if len(command) != 2:
+            raise TypeError
+    except (TypeError, ValueError, IndexError):
+        raise PlannerError(f"a command must be two numbers, got {command!r}") from None
+    if not (math.isfinite(c0) and math.isfinite(c1)):
+        raise PlannerError(f"a command must be finite, got {command!r}")
+    dv_max = config.max_accel_mps2 * dt
+    if config.kinematics == "unicycle":
+        vmax = config.max_speed_mps
+        wmax = config.max_angular_speed_radps
+        dw_max = config.max_angular_accel_radps2 * dt
+        v = _clip(_clip(c0, -vmax, vmax), state.v - dv_max, state.v + dv_max)
+        w = _clip(_clip(c1, -wmax, wmax), state.omega - dw_max, state.omega + dw_max)
+        mid = state.theta + 0.5 * w * dt
+        vx = v * math.cos(mid)
+        vy = v * math.sin(mid)
+        return RobotState(
+            x=state.x + vx * dt,
+            y=state.y + vy * dt,
+            theta=_wrap(state.theta + w * dt),
+            vx=vx,
+            vy=vy,
+            v=v,
+            omega=w,
+        )
+    # Holonomic: cap the speed, then the change of the velocity vector.
+    speed = math.hypot(c0, c1)
+    if speed > config.max_speed_mps:
+        c0 *= config.max_speed_mps / speed
+        c1 *= config.max_speed_mps / speed
+    ddx = c0 - state.vx
+    ddy = c1 - state.vy
+    dnorm = math.hypot(ddx, ddy)
+    if dnorm > dv_max:
+        ddx *= dv_max / dnorm
+        ddy *= dv_max / dnorm
+    vx = state.vx + ddx
+    vy = state.vy + ddy
+    speed = math.hypot(vx, vy)
+    theta = math.atan2(vy, vx) if speed > 1e-9 else state.theta
+    return RobotState(
+        x=state.x + vx * dt,
+        y=state.y + vy * dt,
+        theta=theta,
+        vx=vx,
+        vy=vy,
+        v=speed,
+        omega=_wrap(theta - state.theta) / dt,
+    )
+
+def stopped(state: RobotState) -> RobotState:
+    """The same pose at rest."""
+    return RobotState(x=state.x, y=state.y, theta=state.theta)

@@ -1,0 +1,78 @@
+"""Scenarios: the built-in TOML files shipped in this folder, and user files.
+
+``load_scenario("footpath")`` loads a built-in scenario by name;
+``load_scenario("my/file.toml")`` loads a user file. The schema is documented in
+:mod:`srfm.scenarios._schema` and in ``docs/scenarios.md``.
+"""
+
+from __future__ import annotations
+
+from functools import cache
+from importlib import resources
+from pathlib import Path
+from typing import Final
+
+from srfm.errors import ScenarioError
+from srfm.scenarios._schema import (
+    MAX_HORIZON_STEPS,
+    SCHEMA_VERSION,
+    RandomSpec,
+    Scenario,
+    WorldBounds,
+    parse_scenario,
+    read_scenario_file,
+)
+from srfm.scenarios._setup import EpisodeSetup, episode_setup, next_goal, validate_seed
+
+__all__ = [
+    "BUILTIN_SCENARIOS",
+    "EVALUATION_SCENARIOS",
+    "MAX_HORIZON_STEPS",
+    "SCHEMA_VERSION",
+    "EpisodeSetup",
+    "RandomSpec",
+    "Scenario",
+    "WorldBounds",
+    "builtin_scenarios",
+    "episode_setup",
+    "load_scenario",
+    "next_goal",
+    "parse_scenario",
+    "validate_seed",
+]
+
+# The paper's five evaluation scenarios, in its order, then the training scenario.
+EVALUATION_SCENARIOS: Final = ("footpath", "crosswalk", "cross_footpath", "circle", "concert")
+BUILTIN_SCENARIOS: Final = (*EVALUATION_SCENARIOS, "random")
+
+
+@cache
+def _builtin(name: str) -> Scenario:
+    ref = resources.files(__name__).joinpath(f"{name}.toml")
+    with resources.as_file(ref) as path:
+        scenario = read_scenario_file(Path(path))
+    if scenario.name != name:
+        raise ScenarioError(f"{name}.toml: name is {scenario.name!r}, expected {name!r}")
+    return scenario
+
+
+def load_scenario(name_or_path: str | Path) -> Scenario:
+    """Load a built-in scenario by name, or a scenario TOML file by path.
+
+    Raises:
+        ScenarioError: unknown name, missing file, or a file that breaks the schema
+            (the message names the file and the key).
+    """
+    text = str(name_or_path)
+    if isinstance(name_or_path, str) and text in BUILTIN_SCENARIOS:
+        return _builtin(text)
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or path.exists():
+        return read_scenario_file(path)
+    known = ", ".join(BUILTIN_SCENARIOS)
+    raise ScenarioError(f"unknown scenario {text!r}; built-in: {known}; or give a .toml path")
+
+
+def builtin_scenarios() -> list[Scenario]:
+    """Every built-in scenario, in the paper's order."""
+    return [_builtin(name) for name in BUILTIN_SCENARIOS]

@@ -1,0 +1,409 @@
+"""Scenario classes and the TOML schema (version 1) they are read from.
+
+A scenario file is TOML with these tables (every key is checked; unknown keys and
+malformed values raise :class:`srfm.errors.ScenarioError` naming the file and key)::
+
+    schema_version = 1                  # required
+    name = "footpath"                   # required, [a-z0-9_-]+
+    description = "one line"            # required
+    kind = "fixed"                      # "fixed" (listed pedestrians) or "random"
+
+    [simulation]
+    dt_s = 0.06666666666666667          # step (s), default 1/15
+    horizon_steps = 750                 # steps of both twins, 1..MAX_HORIZON_STEPS
+
+    [world]                             # the robot is out of bounds outside it
+    x_min = 0.0                         # defaults: [0, 15] x [0, 15] m
+    x_max = 15.0
+    y_min = 0.0
+    y_max = 15.0
+
+    [robot]
+    start = [2.0, 8.0]                  # required for kind = "fixed"
+    goal = [12.0, 9.0]                  # required for kind = "fixed"
+    heading_rad = 0.0                   # default: facing the goal
+    kinematics = "unicycle"             # and the limits of srfm.RobotConfig:
+    radius_m = 0.2                      # max_speed_mps, max_angular_speed_radps,
+                                        # max_accel_mps2, max_angular_accel_radps2,
+                                        # goal_radius_m
+
+    [pedestrians]
+    starts = [[0.5, 7.4], ...]          # required for kind = "fixed", (N, 2)
+    goals = [[8.5, 5.2], ...]           # required for kind = "fixed", (N, 2)
+    radius_m = 0.3                      # scalar or one per pedestrian
+    desired_speed_mps = 1.25            # scalar or one per pedestrian
+    max_speed_mps = 1.25                # scalar or one per pedestrian
+    goal_radius_m = 0.5                 # arrival distance
+    noise_m = 0.5                       # per-seed offset u ~ U(-noise, noise)^2
+
+    [random]                            # only for kind = "random"
+    count = 10
+    margin_m = 0.5                      # draws stay this far inside the world
+    robot_min_start_goal_m = 5.0
+    ped_min_robot_start_m = 2.0
+    ped_min_start_goal_m = 7.0
+    ped_min_robot_goal_m = 2.0
+    regoal = true                       # a pedestrian at its goal gets a new one
+
+    [obstacles]
+    walls = [[x1, y1, x2, y2], ...]     # segments (m)
+    pillars = [[cx, cy, radius], ...]   # circles (m)
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, Final
+
+import attrs
+import numpy as np
+from numpy.typing import NDArray
+
+from srfm.errors import ScenarioError, SrfmError
+from srfm.robot import KINEMATICS, RobotConfig
+from srfm.state import Obstacles
+
+SCHEMA_VERSION: Final = 1
+MAX_HORIZON_STEPS: Final = 1_000_000
+DEFAULT_DT_S: Final = 1.0 / 15.0
+_NAME_RE: Final = re.compile(r"^[a-z0-9][a-z0-9_-]*$")
+
+FloatArray = NDArray[np.float64]
+
+
+@attrs.frozen(kw_only=True)
+class WorldBounds:
+    """Axis-aligned world rectangle (m)."""
+
+    x_min: float = 0.0
+    x_max: float = 15.0
+    y_min: float = 0.0
+    y_max: float = 15.0
+
+    def contains(self, x: float, y: float) -> bool:
+        """True when (x, y) lies inside the rectangle (edges included)."""
+        return self.x_min <= x <= self.x_max and self.y_min <= y <= self.y_max
+
+
+@attrs.frozen(kw_only=True)
+class RandomSpec:
+    """Constraints of the random (training) scenario generator (DESIGN §6)."""
+
+    count: int = 10
+    margin_m: float = 0.5
+    robot_min_start_goal_m: float = 5.0
+    ped_min_robot_start_m: float = 2.0
+    ped_min_start_goal_m: float = 7.0
+    ped_min_robot_goal_m: float = 2.0
+    regoal: bool = True
+
+
+@attrs.frozen(kw_only=True, eq=False)
+class Scenario:
+    """A validated scenario. Build it with :func:`srfm.load_scenario`.
+
+    For ``kind == "fixed"`` the pedestrians and the robot are listed; for
+    ``kind == "random"`` they are drawn per seed under ``random``'s constraints.
+    """
+
+    name: str
+    description: str
+    kind: str
+    dt_s: float
+    horizon_steps: int
+    world: WorldBounds
+    robot: RobotConfig
+    robot_start: FloatArray | None
+    robot_goal: FloatArray | None
+    robot_heading_rad: float | None
+    ped_starts: FloatArray | None
+    ped_goals: FloatArray | None
+    ped_radius_m: FloatArray | float
+    ped_desired_speed_mps: FloatArray | float
+    ped_max_speed_mps: FloatArray | float
+    ped_goal_radius_m: float
+    noise_m: float
+    random: RandomSpec | None
+    obstacles: Obstacles
+    source: str
+
+    @property
+    def n_pedestrians(self) -> int:
+        """Number of pedestrians in every episode of this scenario."""
+        if self.random is not None:
+            return self.random.count
+        assert self.ped_starts is not None
+        return int(self.ped_starts.shape[0])
+
+
+class _Reader:
+    """Typed access to one TOML table, recording which keys were read."""
+
+    def __init__(self, data: Mapping[str, Any], where: str, file: str) -> None:
+        self.data = data
+        self.where = where
+        self.file = file
+        self.used: set[str] = set()
+
+    def key(self, name: str) -> str:
+        return f"{self.where}.{name}" if self.where else name
+
+    def fail(self, name: str, message: str) -> ScenarioError:
+        return ScenarioError(f"{self.file}: {self.key(name)}: {message}")
+
+    def has(self, name: str) -> bool:
+        return name in self.data
+
+    def raw(self, name: str) -> Any:
+        self.used.add(name)
+        return self.data[name]
+
+    def table(self, name: str) -> _Reader:
+        value = self.raw(name) if name in self.data else {}
+        if not isinstance(value, dict):
+            raise self.fail(name, f"must be a table, got {value!r}")
+        return _Reader(value, self.key(name), self.file)
+
+    def string(self, name: str, default: str | None = None) -> str:
+        if name not in self.data:
+            if default is None:
+                raise self.fail(name, "is required")
+            return default
+        value = self.raw(name)
+        if not isinstance(value, str):
+            raise self.fail(name, f"must be a string, got {value!r}")
+        return value
+
+    def number(
+        self, name: str, default: float | None = None, *, minimum: float | None = None,
+        strict: bool = False,
+    ) -> float:
+        if name not in self.data:
+            if default is None:
+                raise self.fail(name, "is required")
+            return default
+        value = self.raw(name)
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise self.fail(name, f"must be a number, got {value!r}")
+        out = float(value)
+        if not math.isfinite(out):
+            raise self.fail(name, f"must be finite, got {value!r}")
+        if minimum is not None and (out <= minimum if strict else out < minimum):
+            raise self.fail(name, f"must be {'>' if strict else '>='} {minimum}, got {value!r}")
+        return out
+
+    def integer(self, name: str, default: int, *, minimum: int, maximum: int) -> int:
+        if name not in self.data:
+            return default
+        value = self.raw(name)
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise self.fail(name, f"must be an integer, got {value!r}")
+        if not minimum <= value <= maximum:
+            raise self.fail(name, f"must be in [{minimum}, {maximum}], got {value!r}")
+        return value
+
+    def boolean(self, name: str, default: bool) -> bool:
+        if name not in self.data:
+            return default
+        value = self.raw(name)
+        if not isinstance(value, bool):
+            raise self.fail(name, f"must be true or false, got {value!r}")
+        return value
+
+    def array(self, name: str, cols: int, *, required: bool) -> FloatArray | None:
+        if name not in self.data:
+            if required:
+                raise self.fail(name, "is required")
+            return None
+        value = self.raw(name)
+        rows = value if isinstance(value, list) else None
+        if cols == 0:  # a flat vector of two numbers
+            rows = [value] if isinstance(value, list) else None
+        if rows is None:
+            raise self.fail(name, f"must be an array, got {value!r}")
+        width = 2 if cols == 0 else cols
+        out = np.zeros((len(rows), width))
+        for i, row in enumerate(rows):
+            label = name if cols == 0 else f"{name}[{i}]"
+            if not isinstance(row, list) or len(row) != width:
+                raise self.fail(label, f"must be a list of {width} numbers, got {row!r}")
+            for j, item in enumerate(row):
+                if isinstance(item, bool) or not isinstance(item, int | float):
+                    raise self.fail(label, f"must hold numbers, got {item!r}")
+                if not math.isfinite(float(item)):
+                    raise self.fail(label, f"must be finite, got {item!r}")
+                out[i, j] = float(item)
+        return out[0] if cols == 0 else out
+
+    def per_agent(self, name: str, default: float, n: int | None) -> FloatArray | float:
+        if name not in self.data:
+            return default
+        value = self.data[name]
+        if isinstance(value, list):
+            self.used.add(name)
+            if n is None or len(value) != n:
+                raise self.fail(name, f"needs one value per pedestrian ({n}), got {len(value)}")
+            out = np.zeros(n)
+            for i, item in enumerate(value):
+                if isinstance(item, bool) or not isinstance(item, int | float):
+                    raise self.fail(f"{name}[{i}]", f"must be a number, got {item!r}")
+                if not math.isfinite(float(item)) or float(item) < 0.0:
+                    raise self.fail(f"{name}[{i}]", f"must be a finite number >= 0, got {item!r}")
+                out[i] = float(item)
+            return out
+        return self.number(name, minimum=0.0)
+
+    def finish(self) -> None:
+        unknown = sorted(set(self.data) - self.used)
+        if unknown:
+            raise ScenarioError(f"{self.file}: unknown key {self.key(unknown[0])!r}")
+
+
+def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
+    """Validate a parsed TOML document and build the :class:`Scenario`."""
+    top = _Reader(data, "", source)
+    version = top.raw("schema_version") if top.has("schema_version") else None
+    if version != SCHEMA_VERSION:
+        raise top.fail("schema_version", f"must be {SCHEMA_VERSION}, got {version!r}")
+    name = top.string("name")
+    if not _NAME_RE.match(name):
+        raise top.fail("name", f"must match [a-z0-9][a-z0-9_-]*, got {name!r}")
+    description = top.string("description")
+    kind = top.string("kind", "fixed")
+    if kind not in ("fixed", "random"):
+        raise top.fail("kind", f"must be 'fixed' or 'random', got {kind!r}")
+
+    sim = top.table("simulation")
+    dt_s = sim.number("dt_s", DEFAULT_DT_S, minimum=0.0, strict=True)
+    horizon = sim.integer("horizon_steps", 750, minimum=1, maximum=MAX_HORIZON_STEPS)
+    sim.finish()
+
+    w = top.table("world")
+    world = WorldBounds(
+        x_min=w.number("x_min", 0.0),
+        x_max=w.number("x_max", 15.0),
+        y_min=w.number("y_min", 0.0),
+        y_max=w.number("y_max", 15.0),
+    )
+    w.finish()
+    if world.x_max <= world.x_min or world.y_max <= world.y_min:
+        raise ScenarioError(f"{source}: world: x_max > x_min and y_max > y_min needed, got {world}")
+
+    r = top.table("robot")
+    fixed = kind == "fixed"
+    robot_start = r.array("start", 0, required=fixed)
+    robot_goal = r.array("goal", 0, required=fixed)
+    heading = r.number("heading_rad") if r.has("heading_rad") else None
+    kin = r.string("kinematics", "unicycle")
+    if kin not in KINEMATICS:
+        raise r.fail("kinematics", f"must be one of {KINEMATICS}, got {kin!r}")
+    defaults = RobotConfig()
+    limits = {
+        field: r.number(field, getattr(defaults, field), minimum=0.0, strict=True)
+        for field in (
+            "radius_m",
+            "max_speed_mps",
+            "max_angular_speed_radps",
+            "max_accel_mps2",
+            "max_angular_accel_radps2",
+            "goal_radius_m",
+        )
+    }
+    r.finish()
+    robot = RobotConfig(kinematics=kin, **limits)  # type: ignore[arg-type]
+
+    p = top.table("pedestrians")
+    starts = p.array("starts", 2, required=fixed)
+    goals = p.array("goals", 2, required=fixed)
+    n: int | None = None
+    if starts is not None:
+        n = starts.shape[0]
+        if n == 0:
+            raise p.fail("starts", "needs at least one pedestrian")
+        if goals is None or goals.shape[0] != n:
+            got = "none" if goals is None else goals.shape[0]
+            raise p.fail("goals", f"needs one goal per start ({n}), got {got}")
+    elif goals is not None:
+        raise p.fail("goals", "given without starts")
+    ped_radius = p.per_agent("radius_m", 0.3, n)
+    ped_v0 = p.per_agent("desired_speed_mps", 1.25, n)
+    ped_vmax = p.per_agent("max_speed_mps", 1.25, n)
+    ped_goal_radius = p.number("goal_radius_m", 0.5, minimum=0.0, strict=True)
+    noise = p.number("noise_m", 0.5, minimum=0.0)
+    p.finish()
+
+    random_spec: RandomSpec | None = None
+    if kind == "random":
+        if starts is not None:
+            raise p.fail("starts", "must not be given for kind = 'random'")
+        q = top.table("random")
+        random_spec = RandomSpec(
+            count=q.integer("count", 10, minimum=1, maximum=10_000),
+            margin_m=q.number("margin_m", 0.5, minimum=0.0),
+            robot_min_start_goal_m=q.number("robot_min_start_goal_m", 5.0, minimum=0.0),
+            ped_min_robot_start_m=q.number("ped_min_robot_start_m", 2.0, minimum=0.0),
+            ped_min_start_goal_m=q.number("ped_min_start_goal_m", 7.0, minimum=0.0),
+            ped_min_robot_goal_m=q.number("ped_min_robot_goal_m", 2.0, minimum=0.0),
+            regoal=q.boolean("regoal", True),
+        )
+        q.finish()
+        if 2 * random_spec.margin_m >= min(world.x_max - world.x_min, world.y_max - world.y_min):
+            raise ScenarioError(f"{source}: random.margin_m leaves no room in the world")
+    elif top.has("random"):
+        raise top.fail("random", "is only allowed with kind = 'random'")
+
+    o = top.table("obstacles")
+    walls = o.array("walls", 4, required=False)
+    pillars = o.array("pillars", 3, required=False)
+    o.finish()
+    try:
+        obstacles = Obstacles.create(
+            segments=walls if walls is not None else (),
+            circles=pillars if pillars is not None else (),
+        )
+    except SrfmError as exc:
+        raise ScenarioError(f"{source}: obstacles: {exc}") from None
+    top.finish()
+
+    return Scenario(
+        name=name,
+        description=description,
+        kind=kind,
+        dt_s=dt_s,
+        horizon_steps=horizon,
+        world=world,
+        robot=robot,
+        robot_start=robot_start,
+        robot_goal=robot_goal,
+        robot_heading_rad=heading,
+        ped_starts=starts,
+        ped_goals=goals,
+        ped_radius_m=ped_radius,
+        ped_desired_speed_mps=ped_v0,
+        ped_max_speed_mps=ped_vmax,
+        ped_goal_radius_m=ped_goal_radius,
+        noise_m=noise,
+        random=random_spec,
+        obstacles=obstacles,
+        source=source,
+    )
+
+
+def read_scenario_file(path: Path) -> Scenario:
+    """Read and validate one scenario file."""
+    import tomllib
+
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ScenarioError(f"{path}: scenario file not found") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ScenarioError(f"{path}: cannot read scenario file: {exc}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{path}: not valid TOML: {exc}") from None
+    return parse_scenario(data, str(path))

@@ -1,0 +1,166 @@
+"""Per-seed episode set-up: noise on fixed scenarios, draws for the random scenario.
+
+Randomness is explicit and keyed by the seed only, so that a set-up never depends on
+what ran before it:
+
+- fixed scenarios: ``numpy.random.default_rng(seed)`` draws one offset
+  u ~ U(−noise, noise)² per pedestrian, added to both its start and its goal;
+- random scenario: the same generator draws the robot start and goal, then each
+  pedestrian's start and goal, by rejection sampling under the ``[random]`` constraints;
+- re-goaling: the k-th new goal of pedestrian i comes from its own stream
+  ``SeedSequence(seed, spawn_key=(2, i, k))`` and must lie at least
+  ``ped_min_start_goal_m`` from the goal just reached (where the pedestrian stands)
+  and ``ped_min_robot_goal_m`` from the robot's goal. Because it depends on (seed, i, k)
+  and the previous goal only, both twins draw the same goal sequence.
+"""
+
+from __future__ import annotations
+
+import math
+import operator
+from typing import Any, Final
+
+import attrs
+import numpy as np
+from numpy.typing import NDArray
+
+from srfm.errors import ScenarioError
+from srfm.scenarios._schema import RandomSpec, Scenario, WorldBounds
+from srfm.state import CrowdState
+
+__all__ = ["EpisodeSetup", "episode_setup", "next_goal", "validate_seed"]
+
+MAX_DRAWS: Final = 10_000
+_REGOAL_STREAM: Final = 2
+
+FloatArray = NDArray[np.float64]
+
+
+@attrs.frozen(kw_only=True, eq=False)
+class EpisodeSetup:
+    """The concrete start of one episode: a scenario and a seed made into numbers."""
+
+    scenario: Scenario
+    seed: int
+    robot_start: FloatArray
+    robot_goal: FloatArray
+    robot_heading_rad: float
+    crowd: CrowdState
+
+
+def validate_seed(seed: Any) -> int:
+    """A seed is a non-negative integer."""
+    try:
+        value = operator.index(seed)
+    except TypeError:
+        raise ScenarioError(f"seed must be a non-negative integer, got {seed!r}") from None
+    if isinstance(seed, bool) or value < 0:
+        raise ScenarioError(f"seed must be a non-negative integer, got {seed!r}")
+    return value
+
+
+def _uniform_point(rng: np.random.Generator, world: WorldBounds, margin: float) -> FloatArray:
+    return np.array(
+        [
+            rng.uniform(world.x_min + margin, world.x_max - margin),
+            rng.uniform(world.y_min + margin, world.y_max - margin),
+        ]
+    )
+
+
+def _draw(
+    rng: np.random.Generator,
+    world: WorldBounds,
+    margin: float,
+    constraints: list[tuple[FloatArray, float]],
+    what: str,
+    source: str,
+) -> FloatArray:
+    """A uniform point at least the given distance from each given point."""
+    for _ in range(MAX_DRAWS):
+        p = _uniform_point(rng, world, margin)
+        if all(math.dist(p, q) >= d for q, d in constraints):
+            return p
+    raise ScenarioError(
+        f"{source}: could not draw {what} within {MAX_DRAWS} tries; "
+        "the [random] distance constraints do not fit in the world"
+    )
+
+
+def episode_setup(scenario: Scenario, seed: int) -> EpisodeSetup:
+    """Make the set-up of episode ``seed`` of ``scenario``."""
+    seed = validate_seed(seed)
+    rng = np.random.default_rng(seed)
+    if scenario.random is not None:
+        spec: RandomSpec = scenario.random
+        m = spec.margin_m
+        src = scenario.source
+        robot_start = _draw(rng, scenario.world, m, [], "the robot start", src)
+        robot_goal = _draw(
+            rng, scenario.world, m, [(robot_start, spec.robot_min_start_goal_m)],
+            "the robot goal", src,
+        )
+        starts = np.zeros((spec.count, 2))
+        goals = np.zeros((spec.count, 2))
+        for i in range(spec.count):
+            starts[i] = _draw(
+                rng, scenario.world, m, [(robot_start, spec.ped_min_robot_start_m)],
+                f"the start of pedestrian {i}", src,
+            )
+            goals[i] = _draw(
+                rng,
+                scenario.world,
+                m,
+                [(starts[i], spec.ped_min_start_goal_m), (robot_goal, spec.ped_min_robot_goal_m)],
+                f"the goal of pedestrian {i}",
+                src,
+            )
+    else:
+        assert scenario.ped_starts is not None and scenario.ped_goals is not None
+        assert scenario.robot_start is not None and scenario.robot_goal is not None
+        n = scenario.ped_starts.shape[0]
+        offsets = rng.uniform(-scenario.noise_m, scenario.noise_m, size=(n, 2))
+        starts = scenario.ped_starts + offsets
+        goals = scenario.ped_goals + offsets
+        robot_start = scenario.robot_start.copy()
+        robot_goal = scenario.robot_goal.copy()
+    if scenario.robot_heading_rad is not None:
+        heading = scenario.robot_heading_rad
+    else:
+        heading = math.atan2(robot_goal[1] - robot_start[1], robot_goal[0] - robot_start[0])
+    crowd = CrowdState.create(
+        pos=starts,
+        goal=goals,
+        radius=scenario.ped_radius_m,
+        v0=scenario.ped_desired_speed_mps,
+        vmax=scenario.ped_max_speed_mps,
+    )
+    return EpisodeSetup(
+        scenario=scenario,
+        seed=seed,
+        robot_start=robot_start,
+        robot_goal=robot_goal,
+        robot_heading_rad=heading,
+        crowd=crowd,
+    )
+
+
+def next_goal(setup: EpisodeSetup, ped: int, k: int, previous_goal: FloatArray) -> FloatArray:
+    """The k-th replacement goal (k = 1, 2, ...) of pedestrian ``ped``; see the module doc."""
+    scenario = setup.scenario
+    if scenario.random is None:
+        raise ScenarioError(f"{scenario.source}: only random scenarios re-goal pedestrians")
+    spec = scenario.random
+    seq = np.random.SeedSequence(setup.seed, spawn_key=(_REGOAL_STREAM, ped, k))
+    rng = np.random.default_rng(seq)
+    return _draw(
+        rng,
+        scenario.world,
+        spec.margin_m,
+        [
+            (previous_goal, spec.ped_min_start_goal_m),
+            (setup.robot_goal, spec.ped_min_robot_goal_m),
+        ],
+        f"a new goal for pedestrian {ped}",
+        scenario.source,
+    )

@@ -1,0 +1,258 @@
+"""Twin counterfactual simulator (DESIGN §5).
+
+Two crowds start from the same state and are stepped in lockstep: the *factual* crowd
+feels the robot force, the *counterfactual* crowd does not perceive the robot at all.
+Both run for the scenario's full horizon whatever the robot does, so every pedestrian
+has two trajectories of equal length and equal timestamps. The planner observes the
+factual crowd only. When the robot's episode ends (goal reached, collision, out of
+bounds) it stops where it is and stays there as a body that the factual crowd still
+perceives.
+
+One step, from sample k to k + 1:
+
+1. both crowds take one SRFM step from their own snapshot; the factual crowd sees the
+   robot where it is at sample k;
+2. the robot moves under the planner's command (clipped to its limits), or stays put
+   once its episode has ended;
+3. events are detected at sample k + 1: pedestrian arrivals (and new goals in
+   re-goaling scenarios), then robot collision, out of bounds, goal reached, and a
+   timeout when k + 1 is the horizon.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from srfm.errors import PlannerError, SimulationError
+from srfm.models import _kernels
+from srfm.models.forces import PARALLEL_MIN_AGENTS
+from srfm.models.params import SRFMParams
+from srfm.planners._base import Observation, PlannerContext
+from srfm.record import Event, RobotOutcome
+from srfm.robot import RobotState, apply_command, stopped
+from srfm.scenarios import EpisodeSetup, next_goal
+from srfm.state import CrowdState
+
+__all__ = ["TwinSimulator"]
+
+FloatArray = NDArray[np.float64]
+
+
+class TwinSimulator:
+    """Steps the factual and counterfactual crowds and the robot of one episode.
+
+    Args:
+        setup: the episode's start (see :func:`srfm.scenarios.episode_setup`).
+        params: SRFM parameters; the ``agrawal2024`` preset when omitted.
+        parallel: use the threaded force kernel; by default for crowds of at least
+            ``PARALLEL_MIN_AGENTS``. Results are identical either way.
+    """
+
+    def __init__(
+        self,
+        setup: EpisodeSetup,
+        params: SRFMParams | None = None,
+        *,
+        parallel: bool | None = None,
+    ) -> None:
+        self.setup = setup
+        self.scenario = setup.scenario
+        self.params = params if params is not None else SRFMParams()
+        self._param_vec = self.params.as_array()
+        self.factual: CrowdState = setup.crowd.copy()
+        self.counterfactual: CrowdState = setup.crowd.copy()
+        n = self.factual.n
+        use_parallel = n >= PARALLEL_MIN_AGENTS if parallel is None else parallel
+        self._kernel = _kernels.step_parallel if use_parallel else _kernels.step_serial
+        self._force_buf = np.empty((n, 2))
+        self._robot_body = np.zeros(3)
+        self.robot = RobotState(
+            x=float(setup.robot_start[0]),
+            y=float(setup.robot_start[1]),
+            theta=float(setup.robot_heading_rad),
+        )
+        self.robot_active = True
+        self.outcome: RobotOutcome | None = None
+        self.end_step = self.scenario.horizon_steps
+        self.step_index = 0
+        self._regoal = self.scenario.random is not None and self.scenario.random.regoal
+        self._goal_count = {
+            "factual": np.zeros(n, dtype=np.int64),
+            "counterfactual": np.zeros(n, dtype=np.int64),
+        }
+        self._arrived = {"factual": np.zeros(n, bool), "counterfactual": np.zeros(n, bool)}
+        self._obstacles = self.scenario.obstacles
+        self._ped_radius = self.factual.radius
+
+    @property
+    def time_s(self) -> float:
+        """Simulated time of the current sample (s)."""
+        return self.step_index * self.scenario.dt_s
+
+    @property
+    def done(self) -> bool:
+        """True once the horizon is reached."""
+        return self.step_index >= self.scenario.horizon_steps
+
+    def planner_context(self) -> PlannerContext:
+        """What a planner is told at reset."""
+        return PlannerContext(
+            scenario=self.scenario.name,
+            seed=self.setup.seed,
+            dt_s=self.scenario.dt_s,
+            horizon_steps=self.scenario.horizon_steps,
+            robot=self.scenario.robot,
+            robot_goal=self.setup.robot_goal.copy(),
+            world=self.scenario.world,
+            obstacles=self._obstacles,
+        )
+
+    def observe(self, detection_range_m: float | None) -> Observation:
+        """The planner's view of the current sample: factual pedestrians within range."""
+        pos = self.factual.pos
+        if detection_range_m is None:
+            ids = np.arange(pos.shape[0])
+        else:
+            dx = pos[:, 0] - self.robot.x
+            dy = pos[:, 1] - self.robot.y
+            ids = np.flatnonzero(dx * dx + dy * dy <= detection_range_m * detection_range_m)
+        return Observation(
+            step=self.step_index,
+            time_s=self.time_s,
+            robot=self.robot,
+            robot_goal=self.setup.robot_goal.copy(),
+            ped_ids=ids,
+            ped_pos=pos[ids],
+            ped_vel=self.factual.vel[ids],
+            ped_radius=self._ped_radius[ids],
+            obstacles=self._obstacles,
+        )
+
+    def step(self, command: Any = None) -> list[Event]:
+        """Advance both crowds and the robot by one step; return the events detected.
+
+        Args:
+            command: the planner's command while the robot is active (ignored after
+                its episode has ended).
+
+        Raises:
+            SimulationError: the horizon has been reached.
+            PlannerError: an active robot got no command or an unusable one.
+        """
+        if self.done:
+            raise SimulationError(
+                f"the episode is over: horizon of {self.scenario.horizon_steps} steps reached"
+            )
+        if self.robot_active and command is None:
+            raise PlannerError("the robot is active and needs a command")
+        dt = self.scenario.dt_s
+        body = self._robot_body
+        body[0] = self.robot.x
+        body[1] = self.robot.y
+        body[2] = self.scenario.robot.radius_m
+        segs = self._obstacles.segments
+        circs = self._obstacles.circles
+        for crowd, robot_on in ((self.factual, True), (self.counterfactual, False)):
+            self._kernel(
+                crowd.pos,
+                crowd.vel,
+                crowd.goal,
+                crowd.radius,
+                crowd.v0,
+                crowd.vmax,
+                self._param_vec,
+                body,
+                robot_on,
+                segs,
+                circs,
+                dt,
+                self._force_buf,
+            )
+        if self.robot_active:
+            self.robot = apply_command(self.robot, command, self.scenario.robot, dt)
+        elif self.robot.vx != 0.0 or self.robot.vy != 0.0 or self.robot.omega != 0.0:
+            self.robot = stopped(self.robot)
+        self.step_index += 1
+        events = self._pedestrian_events("factual", self.factual)
+        events += self._pedestrian_events("counterfactual", self.counterfactual)
+        if self.robot_active:
+            events += self._robot_events()
+        return events
+
+    def _pedestrian_events(self, twin: str, crowd: CrowdState) -> list[Event]:
+        d2 = np.sum((crowd.pos - crowd.goal) ** 2, axis=1)
+        at_goal = d2 < self.scenario.ped_goal_radius_m**2
+        if not self._regoal:
+            new = at_goal & ~self._arrived[twin]
+            if not new.any():
+                return []
+            self._arrived[twin] |= new
+        else:
+            new = at_goal
+            if not new.any():
+                return []
+        events = []
+        t = self.time_s
+        for i in np.flatnonzero(new):
+            events.append(Event(step=self.step_index, time_s=t, kind="ped_arrival", agent=int(i), twin=twin))
+            if self._regoal:
+                self._goal_count[twin][i] += 1
+                crowd.goal[i] = next_goal(self.setup, int(i), int(self._goal_count[twin][i]), crowd.goal[i])
+        return events
+
+    def _robot_events(self) -> list[Event]:
+        robot = self.robot
+        cfg = self.scenario.robot
+        t = self.time_s
+        k = self.step_index
+        pos = self.factual.pos
+        d = np.hypot(pos[:, 0] - robot.x, pos[:, 1] - robot.y) - self._ped_radius
+        hit = np.flatnonzero(d < cfg.radius_m)
+        events: list[Event] = []
+        if hit.size:
+            agent = int(hit[np.argmin(d[hit])])
+            events.append(Event(step=k, time_s=t, kind="robot_collision", agent=agent))
+            outcome: RobotOutcome | None = "collision"
+        elif self._hits_obstacle(robot.x, robot.y, cfg.radius_m):
+            events.append(Event(step=k, time_s=t, kind="robot_collision", agent=-1))
+            outcome = "collision"
+        elif not self.scenario.world.contains(robot.x, robot.y):
+            events.append(Event(step=k, time_s=t, kind="robot_out_of_bounds"))
+            outcome = "out_of_bounds"
+        elif math.hypot(
+            robot.x - self.setup.robot_goal[0], robot.y - self.setup.robot_goal[1]
+        ) < cfg.goal_radius_m:
+            events.append(Event(step=k, time_s=t, kind="robot_goal_reached"))
+            outcome = "goal_reached"
+        elif self.done:
+            events.append(Event(step=k, time_s=t, kind="robot_timeout"))
+            outcome = "timeout"
+        else:
+            outcome = None
+        if outcome is not None:
+            self.robot_active = False
+            self.outcome = outcome
+            self.end_step = k
+        return events
+
+    def _hits_obstacle(self, x: float, y: float, radius: float) -> bool:
+        obs = self._obstacles
+        if obs.empty:
+            return False
+        seg = obs.segments
+        if seg.shape[0]:
+            sx = seg[:, 2] - seg[:, 0]
+            sy = seg[:, 3] - seg[:, 1]
+            len2 = sx * sx + sy * sy
+            t = np.where(len2 > 0.0, ((x - seg[:, 0]) * sx + (y - seg[:, 1]) * sy) / np.where(len2 > 0.0, len2, 1.0), 0.0)
+            t = np.clip(t, 0.0, 1.0)
+            if np.any(np.hypot(x - seg[:, 0] - t * sx, y - seg[:, 1] - t * sy) < radius):
+                return True
+        circ = obs.circles
+        return bool(
+            circ.shape[0] and np.any(np.hypot(x - circ[:, 0], y - circ[:, 1]) < radius + circ[:, 2])
+        )

@@ -1,0 +1,118 @@
+"""Crowd state (struct of arrays) and static obstacles."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import attrs
+import numpy as np
+from numpy.typing import NDArray
+
+from srfm._validate import float_array
+from srfm.errors import SimulationError
+
+__all__ = ["CrowdState", "Obstacles"]
+
+FloatArray = NDArray[np.float64]
+
+
+@attrs.define(kw_only=True, eq=False)
+class CrowdState:
+    """Pedestrians as a struct of arrays (float64, C-contiguous).
+
+    Attributes:
+        pos: (N, 2) positions (m).
+        vel: (N, 2) velocities (m/s).
+        goal: (N, 2) goals (m).
+        radius: (N,) body radii (m), >= 0.
+        v0: (N,) desired speeds (m/s), >= 0.
+        vmax: (N,) speed caps (m/s), >= 0.
+    """
+
+    pos: FloatArray
+    vel: FloatArray
+    goal: FloatArray
+    radius: FloatArray
+    v0: FloatArray
+    vmax: FloatArray
+
+    @classmethod
+    def create(
+        cls,
+        *,
+        pos: Any,
+        goal: Any,
+        vel: Any = None,
+        radius: Any = 0.3,
+        v0: Any = 1.25,
+        vmax: Any = None,
+    ) -> CrowdState:
+        """Build and validate a crowd; scalars broadcast to every pedestrian.
+
+        ``vel`` defaults to zero and ``vmax`` to ``v0``.
+        """
+        pos_a = float_array(pos, "pos", (None, 2), SimulationError)
+        n = pos_a.shape[0]
+        goal_a = float_array(goal, "goal", (n, 2), SimulationError)
+        vel_a = (
+            np.zeros((n, 2)) if vel is None else float_array(vel, "vel", (n, 2), SimulationError)
+        )
+        radius_a = _per_agent(radius, "radius", n)
+        v0_a = _per_agent(v0, "v0", n)
+        vmax_a = v0_a.copy() if vmax is None else _per_agent(vmax, "vmax", n)
+        return cls(pos=pos_a, vel=vel_a, goal=goal_a, radius=radius_a, v0=v0_a, vmax=vmax_a)
+
+    @property
+    def n(self) -> int:
+        """Number of pedestrians."""
+        return int(self.pos.shape[0])
+
+    def copy(self) -> CrowdState:
+        """A deep copy (every array copied)."""
+        return CrowdState(
+            pos=self.pos.copy(),
+            vel=self.vel.copy(),
+            goal=self.goal.copy(),
+            radius=self.radius.copy(),
+            v0=self.v0.copy(),
+            vmax=self.vmax.copy(),
+        )
+
+
+def _per_agent(value: Any, name: str, n: int) -> FloatArray:
+    arr = np.broadcast_to(np.asarray(value, dtype=np.float64), (n,)) if np.ndim(value) == 0 else value
+    out = float_array(arr, name, (n,), SimulationError)
+    if np.any(out < 0.0):
+        i = int(np.argmax(out < 0.0))
+        raise SimulationError(f"{name} must be >= 0, got {out[i]!r} for pedestrian {i}")
+    return out.copy()
+
+
+@attrs.frozen(kw_only=True, eq=False)
+class Obstacles:
+    """Static obstacles: wall segments and circular pillars.
+
+    Attributes:
+        segments: (M, 4) walls as (x1, y1, x2, y2) (m).
+        circles: (K, 3) pillars as (cx, cy, radius) (m), radius >= 0.
+    """
+
+    segments: FloatArray = attrs.field(factory=lambda: np.zeros((0, 4)))
+    circles: FloatArray = attrs.field(factory=lambda: np.zeros((0, 3)))
+
+    @classmethod
+    def create(cls, *, segments: Any = (), circles: Any = ()) -> Obstacles:
+        """Validate and build; empty inputs give no obstacles."""
+        seg = np.zeros((0, 4)) if len(segments) == 0 else segments
+        circ = np.zeros((0, 3)) if len(circles) == 0 else circles
+        seg_a = float_array(seg, "segments", (None, 4), SimulationError)
+        circ_a = float_array(circ, "circles", (None, 3), SimulationError)
+        if np.any(circ_a[:, 2] < 0.0):
+            k = int(np.argmax(circ_a[:, 2] < 0.0))
+            raise SimulationError(f"pillar radius must be >= 0, got {circ_a[k, 2]!r} for pillar {k}")
+        return cls(segments=seg_a, circles=circ_a)
+
+    @property
+    def empty(self) -> bool:
+        """True when there are no walls and no pillars."""
+        return self.segments.shape[0] == 0 and self.circles.shape[0] == 0

@@ -99,7 +99,7 @@ def run_episode(
         params=sim.params,
         dt_s=scenario.dt_s,
         horizon_steps=T,
-        time_s=np.arange(T + 1) * scenario.dt_s,
+        time_s=np.arange(T + 1, dtype=np.float64) * scenario.dt_s,
         ped_radius=sim.factual.radius.copy(),
         factual_pos=f_pos,
         factual_vel=f_vel,

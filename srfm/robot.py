@@ -28,12 +28,15 @@ __all__ = ["KINEMATICS", "Kinematics", "RobotConfig", "RobotState", "apply_comma
 Kinematics = Literal["unicycle", "holonomic"]
 KINEMATICS: tuple[Kinematics, ...] = ("unicycle", "holonomic")
 
+
 def _positive(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
     positive(value, f"robot.{attribute.name}", ParameterError)
+
 
 def _kinematics(inst: Any, attribute: attrs.Attribute[str], value: Any) -> None:
     if value not in KINEMATICS:
         raise ParameterError(f"robot.kinematics must be one of {KINEMATICS}, got {value!r}")
+
 
 @attrs.frozen(kw_only=True)
 class RobotConfig:
@@ -57,6 +60,7 @@ class RobotConfig:
     max_accel_mps2: float = attrs.field(default=1.0, validator=_positive)
     max_angular_accel_radps2: float = attrs.field(default=2.0 * math.pi, validator=_positive)
     goal_radius_m: float = attrs.field(default=0.5, validator=_positive)
+
 
 @attrs.frozen(kw_only=True)
 class RobotState:
@@ -88,17 +92,18 @@ class RobotState:
         """(3,) = (x, y, theta)."""
         return np.array([self.x, self.y, self.theta])
 
+
 def _wrap(angle: float) -> float:
     """Angle in (−π, π]."""
     wrapped = math.remainder(angle, 2.0 * math.pi)
     return math.pi if wrapped == -math.pi else wrapped
 
+
 def _clip(value: float, lo: float, hi: float) -> float:
     return lo if value < lo else hi if value > hi else value
 
-def apply_command(
-    state: RobotState, command: Any, config: RobotConfig, dt: float
-) -> RobotState:
+
+def apply_command(state: RobotState, command: Any, config: RobotConfig, dt: float) -> RobotState:
     """Move the robot one step of ``dt`` seconds under ``command`` within its limits.
 
     Args:
@@ -165,6 +170,7 @@ def apply_command(
         v=speed,
         omega=_wrap(theta - state.theta) / dt,
     )
+
 
 def stopped(state: RobotState) -> RobotState:
     """The same pose at rest."""

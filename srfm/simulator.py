@@ -85,6 +85,8 @@ class TwinSimulator:
             "counterfactual": np.zeros(n, dtype=np.int64),
         }
         self._arrived = {"factual": np.zeros(n, bool), "counterfactual": np.zeros(n, bool)}
+        self._new_arrivals = np.zeros(n, bool)
+        self._range_ids = np.zeros(n, dtype=np.intp)
         self._obstacles = self.scenario.obstacles
         self._ped_radius = self.factual.radius
 
@@ -117,9 +119,10 @@ class TwinSimulator:
         if detection_range_m is None:
             ids = np.arange(pos.shape[0])
         else:
-            dx = pos[:, 0] - self.robot.x
-            dy = pos[:, 1] - self.robot.y
-            ids = np.flatnonzero(dx * dx + dy * dy <= detection_range_m * detection_range_m)
+            k = _kernels.within_range(
+                pos, self.robot.x, self.robot.y, float(detection_range_m), self._range_ids
+            )
+            ids = self._range_ids[:k].copy()
         return Observation(
             step=self.step_index,
             time_s=self.time_s,
@@ -184,24 +187,27 @@ class TwinSimulator:
         return events
 
     def _pedestrian_events(self, twin: str, crowd: CrowdState) -> list[Event]:
-        d2 = np.sum((crowd.pos - crowd.goal) ** 2, axis=1)
-        at_goal = d2 < self.scenario.ped_goal_radius_m**2
-        if not self._regoal:
-            new = at_goal & ~self._arrived[twin]
-            if not new.any():
-                return []
-            self._arrived[twin] |= new
-        else:
-            new = at_goal
-            if not new.any():
-                return []
+        arrived = self._arrived[twin]
+        new = self._new_arrivals
+        if (
+            _kernels.mark_arrivals(
+                crowd.pos, crowd.goal, self.scenario.ped_goal_radius_m, arrived, new
+            )
+            == 0
+        ):
+            return []
         events = []
         t = self.time_s
         for i in np.flatnonzero(new):
-            events.append(Event(step=self.step_index, time_s=t, kind="ped_arrival", agent=int(i), twin=twin))
+            events.append(
+                Event(step=self.step_index, time_s=t, kind="ped_arrival", agent=int(i), twin=twin)
+            )
             if self._regoal:
-                self._goal_count[twin][i] += 1
-                crowd.goal[i] = next_goal(self.setup, int(i), int(self._goal_count[twin][i]), crowd.goal[i])
+                count = self._goal_count[twin]
+                count[i] += 1
+                crowd.goal[i] = next_goal(self.setup, int(i), int(count[i]), crowd.goal[i])
+            else:
+                arrived[i] = True
         return events
 
     def _robot_events(self) -> list[Event]:
@@ -209,13 +215,12 @@ class TwinSimulator:
         cfg = self.scenario.robot
         t = self.time_s
         k = self.step_index
-        pos = self.factual.pos
-        d = np.hypot(pos[:, 0] - robot.x, pos[:, 1] - robot.y) - self._ped_radius
-        hit = np.flatnonzero(d < cfg.radius_m)
+        clearance, nearest = _kernels.nearest_clearance(
+            self.factual.pos, self._ped_radius, robot.x, robot.y
+        )
         events: list[Event] = []
-        if hit.size:
-            agent = int(hit[np.argmin(d[hit])])
-            events.append(Event(step=k, time_s=t, kind="robot_collision", agent=agent))
+        if clearance < cfg.radius_m:
+            events.append(Event(step=k, time_s=t, kind="robot_collision", agent=int(nearest)))
             outcome: RobotOutcome | None = "collision"
         elif self._hits_obstacle(robot.x, robot.y, cfg.radius_m):
             events.append(Event(step=k, time_s=t, kind="robot_collision", agent=-1))
@@ -223,9 +228,10 @@ class TwinSimulator:
         elif not self.scenario.world.contains(robot.x, robot.y):
             events.append(Event(step=k, time_s=t, kind="robot_out_of_bounds"))
             outcome = "out_of_bounds"
-        elif math.hypot(
-            robot.x - self.setup.robot_goal[0], robot.y - self.setup.robot_goal[1]
-        ) < cfg.goal_radius_m:
+        elif (
+            math.hypot(robot.x - self.setup.robot_goal[0], robot.y - self.setup.robot_goal[1])
+            < cfg.goal_radius_m
+        ):
             events.append(Event(step=k, time_s=t, kind="robot_goal_reached"))
             outcome = "goal_reached"
         elif self.done:
@@ -240,19 +246,11 @@ class TwinSimulator:
         return events
 
     def _hits_obstacle(self, x: float, y: float, radius: float) -> bool:
+        """True when a disc of ``radius`` at (x, y) overlaps a wall or a pillar."""
         obs = self._obstacles
         if obs.empty:
             return False
-        seg = obs.segments
-        if seg.shape[0]:
-            sx = seg[:, 2] - seg[:, 0]
-            sy = seg[:, 3] - seg[:, 1]
-            len2 = sx * sx + sy * sy
-            t = np.where(len2 > 0.0, ((x - seg[:, 0]) * sx + (y - seg[:, 1]) * sy) / np.where(len2 > 0.0, len2, 1.0), 0.0)
-            t = np.clip(t, 0.0, 1.0)
-            if np.any(np.hypot(x - seg[:, 0] - t * sx, y - seg[:, 1] - t * sy) < radius):
-                return True
-        circ = obs.circles
-        return bool(
-            circ.shape[0] and np.any(np.hypot(x - circ[:, 0], y - circ[:, 1]) < radius + circ[:, 2])
-        )
+        clearance, _ = _kernels.nearest_clearance(obs.circles[:, :2], obs.circles[:, 2], x, y)
+        if clearance < radius:
+            return True
+        return bool(_kernels.segment_distance(obs.segments, x, y) < radius)

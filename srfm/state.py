@@ -80,7 +80,9 @@ class CrowdState:
 
 
 def _per_agent(value: Any, name: str, n: int) -> FloatArray:
-    arr = np.broadcast_to(np.asarray(value, dtype=np.float64), (n,)) if np.ndim(value) == 0 else value
+    arr = (
+        np.broadcast_to(np.asarray(value, dtype=np.float64), (n,)) if np.ndim(value) == 0 else value
+    )
     out = float_array(arr, name, (n,), SimulationError)
     if np.any(out < 0.0):
         i = int(np.argmax(out < 0.0))
@@ -109,10 +111,12 @@ class Obstacles:
         circ_a = float_array(circ, "circles", (None, 3), SimulationError)
         if np.any(circ_a[:, 2] < 0.0):
             k = int(np.argmax(circ_a[:, 2] < 0.0))
-            raise SimulationError(f"pillar radius must be >= 0, got {circ_a[k, 2]!r} for pillar {k}")
+            raise SimulationError(
+                f"pillar radius must be >= 0, got {circ_a[k, 2]!r} for pillar {k}"
+            )
         return cls(segments=seg_a, circles=circ_a)
 
     @property
     def empty(self) -> bool:
         """True when there are no walls and no pillars."""
-        return self.segments.shape[0] == 0 and self.circles.shape[0] == 0
+        return bool(self.segments.shape[0] == 0 and self.circles.shape[0] == 0)

@@ -52,9 +52,7 @@ def _heading(vx: float, vy: float, dvx: float, dvy: float) -> tuple[float, float
 
 
 @njit(cache=True, inline="always")
-def _anisotropy(
-    hx: float, hy: float, has_heading: bool, ux: float, uy: float, lam: float
-) -> float:
+def _anisotropy(hx: float, hy: float, has_heading: bool, ux: float, uy: float, lam: float) -> float:
     """ψ = λ + (1 − λ)(1 + cos φ)/2, φ between the heading and the unit vector u to the source."""
     if not has_heading:
         return 1.0
@@ -291,7 +289,9 @@ def step_serial(
     force_buf: np.ndarray,
 ) -> None:
     """One crowd step in place: all forces from one snapshot, then integrate."""
-    total_forces_serial(pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles, force_buf)
+    total_forces_serial(
+        pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles, force_buf
+    )
     integrate(pos, vel, force_buf, vmax, dt)
 
 
@@ -312,5 +312,76 @@ def step_parallel(
     force_buf: np.ndarray,
 ) -> None:
     """As :func:`step_serial` with the force pass split over threads (for large crowds)."""
-    total_forces_parallel(pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles, force_buf)
+    total_forces_parallel(
+        pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles, force_buf
+    )
     integrate(pos, vel, force_buf, vmax, dt)
+
+
+@njit(cache=True)
+def mark_arrivals(
+    pos: np.ndarray, goal: np.ndarray, goal_radius: float, arrived: np.ndarray, new: np.ndarray
+) -> int:
+    """Flag in ``new`` the agents within ``goal_radius`` of their goal that have not
+    ``arrived`` yet; return how many. ``arrived`` is left unchanged."""
+    r2 = goal_radius * goal_radius
+    count = 0
+    for i in range(pos.shape[0]):
+        dx = pos[i, 0] - goal[i, 0]
+        dy = pos[i, 1] - goal[i, 1]
+        hit = dx * dx + dy * dy < r2 and not arrived[i]
+        new[i] = hit
+        if hit:
+            count += 1
+    return count
+
+
+@njit(cache=True)
+def nearest_clearance(pos: np.ndarray, radius: np.ndarray, x: float, y: float) -> tuple[float, int]:
+    """Smallest (centre distance − agent radius) from (x, y) to an agent, and its index.
+
+    Returns (inf, -1) for an empty crowd.
+    """
+    best = np.inf
+    idx = -1
+    for i in range(pos.shape[0]):
+        dx = pos[i, 0] - x
+        dy = pos[i, 1] - y
+        c = math.sqrt(dx * dx + dy * dy) - radius[i]
+        if c < best:
+            best = c
+            idx = i
+    return best, idx
+
+
+@njit(cache=True)
+def within_range(pos: np.ndarray, x: float, y: float, max_range: float, out: np.ndarray) -> int:
+    """Write into ``out`` the indices of agents within ``max_range`` of (x, y); return the count."""
+    r2 = max_range * max_range
+    k = 0
+    for i in range(pos.shape[0]):
+        dx = pos[i, 0] - x
+        dy = pos[i, 1] - y
+        if dx * dx + dy * dy <= r2:
+            out[k] = i
+            k += 1
+    return k
+
+
+@njit(cache=True)
+def segment_distance(segments: np.ndarray, x: float, y: float) -> float:
+    """Smallest distance from (x, y) to any segment (x1, y1, x2, y2); inf when none."""
+    best = np.inf
+    for k in range(segments.shape[0]):
+        x1 = segments[k, 0]
+        y1 = segments[k, 1]
+        sx = segments[k, 2] - x1
+        sy = segments[k, 3] - y1
+        len2 = sx * sx + sy * sy
+        t = 0.0
+        if len2 > EPS:
+            t = min(1.0, max(0.0, ((x - x1) * sx + (y - y1) * sy) / len2))
+        dx = x - (x1 + t * sx)
+        dy = y - (y1 + t * sy)
+        best = min(best, math.sqrt(dx * dx + dy * dy))
+    return best

@@ -194,4 +194,3 @@ def _toml_scalar(value: Any) -> str:
         return repr(int(f)) if isinstance(value, int) else repr(f)
     text = str(value).replace("\\", "\\\\").replace('"', '\\"')
     return f'"{text}"'
-

@@ -20,4 +20,6 @@ __all__ = [
     "register_planner",
 ]
 
-register_planner("straight", StraightPlanner, "drive straight to the goal at top speed, ignoring people")
+register_planner(
+    "straight", StraightPlanner, "drive straight to the goal at top speed, ignoring people"
+)

@@ -178,7 +178,11 @@ class _Reader:
         return value
 
     def number(
-        self, name: str, default: float | None = None, *, minimum: float | None = None,
+        self,
+        name: str,
+        default: float | None = None,
+        *,
+        minimum: float | None = None,
         strict: bool = False,
     ) -> float:
         if name not in self.data:
@@ -313,7 +317,7 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         )
     }
     r.finish()
-    robot = RobotConfig(kinematics=kin, **limits)  # type: ignore[arg-type]
+    robot = RobotConfig(kinematics=kin, **limits)
 
     p = top.table("pedestrians")
     starts = p.array("starts", 2, required=fixed)

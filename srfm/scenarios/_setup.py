@@ -97,15 +97,23 @@ def episode_setup(scenario: Scenario, seed: int) -> EpisodeSetup:
         src = scenario.source
         robot_start = _draw(rng, scenario.world, m, [], "the robot start", src)
         robot_goal = _draw(
-            rng, scenario.world, m, [(robot_start, spec.robot_min_start_goal_m)],
-            "the robot goal", src,
+            rng,
+            scenario.world,
+            m,
+            [(robot_start, spec.robot_min_start_goal_m)],
+            "the robot goal",
+            src,
         )
         starts = np.zeros((spec.count, 2))
         goals = np.zeros((spec.count, 2))
         for i in range(spec.count):
             starts[i] = _draw(
-                rng, scenario.world, m, [(robot_start, spec.ped_min_robot_start_m)],
-                f"the start of pedestrian {i}", src,
+                rng,
+                scenario.world,
+                m,
+                [(robot_start, spec.ped_min_robot_start_m)],
+                f"the start of pedestrian {i}",
+                src,
             )
             goals[i] = _draw(
                 rng,
@@ -116,8 +124,13 @@ def episode_setup(scenario: Scenario, seed: int) -> EpisodeSetup:
                 src,
             )
     else:
-        assert scenario.ped_starts is not None and scenario.ped_goals is not None
-        assert scenario.robot_start is not None and scenario.robot_goal is not None
+        if (
+            scenario.ped_starts is None
+            or scenario.ped_goals is None
+            or scenario.robot_start is None
+            or scenario.robot_goal is None
+        ):
+            raise ScenarioError(f"{scenario.source}: a fixed scenario needs starts and goals")
         n = scenario.ped_starts.shape[0]
         offsets = rng.uniform(-scenario.noise_m, scenario.noise_m, size=(n, 2))
         starts = scenario.ped_starts + offsets

@@ -1,0 +1,185 @@
+"""The ``srfm`` command line."""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TypeVar
+
+import click
+import numpy as np
+
+from srfm.errors import SrfmError
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+class UserError(click.ClickException):
+    """A user mistake: printed as one line, exit code 2."""
+
+    exit_code = 2
+
+
+def _user_errors(func: F) -> F:
+    """Turn srfm's own errors into one-line messages with exit code 2."""
+    import functools
+
+    @functools.wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return func(*args, **kwargs)
+        except SrfmError as exc:
+            raise UserError(str(exc)) from None
+
+    return wrapper  # type: ignore[return-value]
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="srfm")
+def main() -> None:
+    """srfm: simulate crowds with the Social Robot Force Model and measure how much a
+    robot makes people deviate from the paths they would have walked."""
+
+
+@main.command()
+def scenarios() -> None:
+    """List the built-in scenarios with a one-line description."""
+    from srfm.scenarios import builtin_scenarios
+
+    items = builtin_scenarios()
+    width = max(len(s.name) for s in items)
+    for s in items:
+        click.echo(f"{s.name:<{width}}  {s.description}")
+
+
+@main.command()
+def planners() -> None:
+    """List the registered planners with a one-line description."""
+    from srfm.planners import available_planners
+
+    items = available_planners()
+    width = max(len(p.name) for p in items)
+    for p in items:
+        click.echo(f"{p.name:<{width}}  {p.description}")
+
+
+def _load_params(value: str | None) -> Any:
+    from srfm.models import PRESETS, SRFMParams, load_params
+
+    if value is None:
+        return SRFMParams()
+    if value in PRESETS:
+        return PRESETS[value]
+    if value.endswith(".toml") or Path(value).exists():
+        return load_params(value)
+    return SRFMParams.preset(value)  # raises a ParameterError naming the presets
+
+
+@main.command()
+@click.option(
+    "--scenario",
+    "scenario_name",
+    required=True,
+    metavar="NAME|FILE",
+    help="Built-in scenario name (see `srfm scenarios`) or a scenario TOML file.",
+)
+@click.option(
+    "--seed",
+    type=click.IntRange(min=0),
+    default=0,
+    show_default=True,
+    help="Episode seed (non-negative integer).",
+)
+@click.option(
+    "--planner",
+    "planner_name",
+    default="straight",
+    show_default=True,
+    help="Planner registry name (see `srfm planners`).",
+)
+@click.option(
+    "--params",
+    "params_spec",
+    default=None,
+    metavar="PRESET|FILE",
+    help="SRFM parameters: a preset (agrawal2024, ferrer2013) or a parameter "
+    "TOML file. Default: agrawal2024.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
+@_user_errors
+def simulate(
+    scenario_name: str, seed: int, planner_name: str, params_spec: str | None, as_json: bool
+) -> None:
+    """Run one twin episode and print a short summary."""
+    from srfm.episode import run_episode
+    from srfm.planners import make_planner
+    from srfm.scenarios import load_scenario
+
+    scenario = load_scenario(scenario_name)
+    planner = make_planner(planner_name)
+    params = _load_params(params_spec)
+    start = time.perf_counter()
+    record = run_episode(scenario, seed, planner, params)
+    wall_s = time.perf_counter() - start
+    summary = episode_summary(record)
+    summary["wall_time_s"] = wall_s
+    if as_json:
+        click.echo(json.dumps(summary, indent=2, sort_keys=True))
+        return
+    click.echo(format_summary(summary))
+
+
+def episode_summary(record: Any) -> dict[str, Any]:
+    """A small dict of the headline numbers of an episode record."""
+    sep = record.twin_separation_m()  # (T + 1, N)
+    per_ped_max = sep.max(axis=0)
+    dist = np.linalg.norm(record.factual_pos - record.robot_pose[:, None, :2], axis=2)
+    arrivals: dict[str, int] = {"factual": 0, "counterfactual": 0}
+    for twin in arrivals:
+        arrivals[twin] = len(
+            {e.agent for e in record.events if e.kind == "ped_arrival" and e.twin == twin}
+        )
+    return {
+        "scenario": record.scenario,
+        "seed": record.seed,
+        "planner": record.planner,
+        "outcome": record.outcome,
+        "end_step": record.end_step,
+        "end_time_s": record.end_step * record.dt_s,
+        "horizon_steps": record.horizon_steps,
+        "robot_path_length_m": record.robot_path_length_m(),
+        "min_robot_distance_m": float(dist.min()),
+        "min_robot_clearance_m": float(
+            (dist - record.ped_radius[None, :] - record.robot_radius).min()
+        ),
+        "twin_max_separation_mean_m": float(per_ped_max.mean()),
+        "twin_max_separation_max_m": float(per_ped_max.max()),
+        "pedestrians": record.n_pedestrians,
+        "pedestrians_arrived_factual": arrivals["factual"],
+        "pedestrians_arrived_counterfactual": arrivals["counterfactual"],
+    }
+
+
+def format_summary(s: dict[str, Any]) -> str:
+    """Human-readable lines for :func:`episode_summary`'s dict."""
+    outcome = s["outcome"].replace("_", " ")
+    lines = [
+        f"scenario   {s['scenario']} (seed {s['seed']}, planner {s['planner']})",
+        f"robot      {outcome} at {s['end_time_s']:.2f} s (step {s['end_step']} of "
+        f"{s['horizon_steps']}); path {s['robot_path_length_m']:.2f} m",
+        f"closest    {s['min_robot_distance_m']:.2f} m centre to centre "
+        f"(clearance {s['min_robot_clearance_m']:.2f} m)",
+        f"twins      largest factual-counterfactual distance per pedestrian: "
+        f"mean {s['twin_max_separation_mean_m']:.3f} m, max {s['twin_max_separation_max_m']:.3f} m",
+        f"arrivals   factual {s['pedestrians_arrived_factual']}/{s['pedestrians']}, "
+        f"counterfactual {s['pedestrians_arrived_counterfactual']}/{s['pedestrians']}",
+    ]
+    if "wall_time_s" in s:
+        lines.append(f"wall time  {s['wall_time_s'] * 1e3:.1f} ms")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

@@ -83,12 +83,13 @@ def run_episode(
     detection = planner.detection_range_m
     sample(0)
     for k in range(T):
-        command = None
         if sim.robot_active:
-            command = np.asarray(planner.act(sim.observe(detection)), dtype=np.float64)
-            if command.shape == (2,):
-                cmd[k] = command
-        events.extend(sim.step(command))
+            command = planner.act(sim.observe(detection))
+            events.extend(sim.step(command))  # validates the command
+            cmd[k, 0] = command[0]
+            cmd[k, 1] = command[1]
+        else:
+            events.extend(sim.step())
         sample(k + 1)
 
     assert sim.outcome is not None

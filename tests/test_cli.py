@@ -1,0 +1,131 @@
+"""The srfm command line, through click's CliRunner and as an installed command."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from srfm.cli import main
+from srfm.scenarios import BUILTIN_SCENARIOS
+from tests.conftest import write_scenario
+
+
+def run(*args: str) -> tuple[int, str]:
+    result = CliRunner().invoke(main, list(args))
+    return result.exit_code, result.output
+
+
+@pytest.mark.parametrize("cmd", [[], ["scenarios"], ["planners"], ["simulate"]])
+def test_help_everywhere(cmd: list[str]) -> None:
+    code, out = run(*cmd, "--help")
+    assert code == 0
+    assert "Usage:" in out
+
+
+def test_scenarios_lists_every_builtin_with_a_description() -> None:
+    code, out = run("scenarios")
+    assert code == 0
+    lines = out.strip().splitlines()
+    assert [line.split()[0] for line in lines] == list(BUILTIN_SCENARIOS)
+    assert all(len(line.split(maxsplit=1)[1]) > 20 for line in lines)
+
+
+def test_planners_lists_straight() -> None:
+    code, out = run("planners")
+    assert code == 0
+    assert out.startswith("straight ")
+
+
+def test_simulate_prints_a_summary() -> None:
+    code, out = run("simulate", "--scenario", "crosswalk", "--seed", "3")
+    assert code == 0, out
+    assert "crosswalk (seed 3, planner straight)" in out
+    assert "goal reached" in out
+    assert "arrivals   factual 10/10" in out
+
+
+def test_simulate_json_is_deterministic(tmp_path: Path) -> None:
+    outs = []
+    for _ in range(2):
+        code, out = run("simulate", "--scenario", "circle", "--seed", "1", "--json")
+        assert code == 0
+        data = json.loads(out)
+        data.pop("wall_time_s")
+        outs.append(data)
+    assert outs[0] == outs[1]
+    assert outs[0]["outcome"] == "goal_reached"
+    assert outs[0]["twin_max_separation_max_m"] > 0.0
+
+
+def test_simulate_with_params_preset_and_file(tmp_path: Path) -> None:
+    code, base = run("simulate", "--scenario", "footpath", "--json")
+    code2, ferrer = run("simulate", "--scenario", "footpath", "--json", "--params", "ferrer2013")
+    assert code == code2 == 0
+    assert (
+        json.loads(base)["twin_max_separation_mean_m"]
+        != json.loads(ferrer)["twin_max_separation_mean_m"]
+    )
+    params = tmp_path / "p.toml"
+    params.write_text("schema_version = 1\n[params]\na_robot = 0.0\n")
+    code, out = run("simulate", "--scenario", "footpath", "--json", "--params", str(params))
+    assert code == 0
+    assert json.loads(out)["twin_max_separation_max_m"] == 0.0
+
+
+def test_simulate_user_scenario_file(tmp_path: Path) -> None:
+    path = write_scenario(
+        tmp_path / "mine.toml",
+        'schema_version = 1\nname = "mine"\ndescription = "d"\n[robot]\nstart = [1.0, 1.0]\n'
+        "goal = [4.0, 1.0]\n[pedestrians]\nstarts = [[3.0, 3.0]]\ngoals = [[3.0, 0.5]]\n",
+    )
+    code, out = run("simulate", "--scenario", str(path))
+    assert code == 0, out
+    assert "mine (seed 0" in out
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["simulate", "--scenario", "nowhere"], "unknown scenario 'nowhere'"),
+        (["simulate", "--scenario", "footpath", "--planner", "warp"], "unknown planner 'warp'"),
+        (
+            ["simulate", "--scenario", "footpath", "--params", "nobody"],
+            "unknown parameter preset 'nobody'",
+        ),
+        (["simulate", "--scenario", "footpath", "--seed", "-3"], "-3 is not in the range"),
+        (["simulate"], "Missing option '--scenario'"),
+        (["fly"], "No such command 'fly'"),
+    ],
+)
+def test_user_errors_are_one_line_with_exit_code_2(args: list[str], message: str) -> None:
+    code, out = run(*args)
+    assert code == 2
+    assert message in out
+    assert "Traceback" not in out
+
+
+def test_bad_files_give_one_line_errors(tmp_path: Path) -> None:
+    bad = write_scenario(tmp_path / "bad.toml", "schema_version = 1\nname = 3\n")
+    code, out = run("simulate", "--scenario", str(bad))
+    assert code == 2
+    assert out.strip() == f"Error: {bad}: name: must be a string, got 3"
+    params = tmp_path / "p.toml"
+    params.write_text("schema_version = 1\n[params]\ntau = -1.0\n")
+    code, out = run("simulate", "--scenario", "footpath", "--params", str(params))
+    assert code == 2
+    assert "tau must be > 0, got -1.0" in out
+    assert len(out.strip().splitlines()) == 1
+
+
+def test_installed_entry_point() -> None:
+    exe = shutil.which("srfm") or str(Path(__file__).resolve().parents[1] / ".venv/bin/srfm")
+    out = subprocess.run([exe, "scenarios"], capture_output=True, text=True, check=True)
+    assert "footpath" in out.stdout
+    bad = subprocess.run([exe, "simulate", "--scenario", "nope"], capture_output=True, text=True)
+    assert bad.returncode == 2
+    assert bad.stderr.strip().startswith("Error: unknown scenario 'nope'")

@@ -1,0 +1,338 @@
+"""Crowd step throughput of srfm against PySocialForce, in agent-steps per second.
+
+For each crowd size N both simulators start from the same state: N pedestrians at
+uniformly random positions in a square of side ``2·sqrt(N)`` m (0.25 pedestrians/m²
+at every N), each heading for the point mirrored through the square's centre, at rest,
+with no obstacles and no robot. Each is stepped with dt = 1/15 s:
+
+* srfm: ``srfm.step_crowd(crowd, 1/15, params, parallel=...)`` with the serial kernel,
+  the parallel kernel and the default choice (parallel from ``PARALLEL_MIN_AGENTS``
+  pedestrians on). Forces: goal relaxation, anisotropic exponential pedestrian
+  repulsion over all pairs, obstacle repulsion (no obstacles here), no robot.
+* PySocialForce: ``pysocialforce.Simulator(state, groups=None, obstacles=None)`` and
+  ``sim.step(1)``, with its default config except: group forces off, step width 1/15 s,
+  agent radius 0.3 m, and desired speed = maximum speed = 1.25 m/s. Forces: desired
+  (goal) force, the Moussaïd social force over all pairs, obstacle force (no
+  obstacles here). PySocialForce takes each pedestrian's desired speed from its
+  *initial* speed, so with the shared zero initial velocity nobody would ever move;
+  the script sets ``sim.peds.initial_speeds`` to 1.25 m/s after construction.
+
+Timing: after a warm-up call (JIT compilation, reported separately), steps are run in
+chunks timed with ``time.perf_counter`` until each repeat's share of the time budget
+is spent; the state is reset before every repeat and the best repeat is reported.
+
+Usage::
+
+    .venv/bin/python tools/bench_crowd_step.py
+    .venv/bin/python tools/bench_crowd_step.py --sizes 10 100 1000 --seconds 2
+    .venv/bin/python tools/bench_crowd_step.py --sizes 50 100 200 400 --no-pysocialforce
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import importlib
+import importlib.metadata
+import logging
+import math
+import os
+import platform
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+DT_S = 1.0 / 15.0
+DENSITY_PER_M2 = 0.25
+SPEED_MPS = 1.25
+CHUNK_MIN_S = 2e-3  # steps are timed in chunks of at least this long
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Bench:
+    """One simulator at one crowd size: ``reset()`` restores the start, ``run(k)`` takes k steps."""
+
+    reset: Callable[[], None]
+    run: Callable[[int], None]
+
+
+@dataclass(frozen=True)
+class Result:
+    """Best throughput (agent-steps/s) and the first call's duration (s)."""
+
+    rate: float
+    first_call_s: float
+
+
+def initial_state(n: int, seed: int) -> tuple[FloatArray, FloatArray]:
+    """(pos, goal), each (n, 2) in m: random positions, goals mirrored through the centre."""
+    side = math.sqrt(n / DENSITY_PER_M2)
+    pos = np.random.default_rng(seed).uniform(0.0, side, size=(n, 2))
+    return pos, side - pos
+
+
+def srfm_bench(pos: FloatArray, goal: FloatArray, parallel: bool | None) -> Bench:
+    """srfm's ``step_crowd`` with the given kernel choice (None = default)."""
+    import srfm
+
+    params = srfm.SRFMParams()
+    start = srfm.CrowdState.create(pos=pos, goal=goal, v0=SPEED_MPS)
+    crowd = start.copy()
+
+    def reset() -> None:
+        nonlocal crowd
+        crowd = start.copy()
+
+    def run(k: int) -> None:
+        for _ in range(k):
+            srfm.step_crowd(crowd, DT_S, params, parallel=parallel)
+
+    return Bench(reset, run)
+
+
+@contextlib.contextmanager
+def _inside(directory: Path) -> Iterator[None]:
+    old = Path.cwd()
+    os.chdir(directory)
+    try:
+        yield
+    finally:
+        os.chdir(old)
+
+
+def import_pysocialforce(tmp: Path) -> Any:
+    """Import pysocialforce quietly (it logs at DEBUG and opens ./file.log on import)."""
+    with _inside(tmp):
+        import pysocialforce
+    logging.getLogger().setLevel(logging.WARNING)
+    logging.getLogger("numba").setLevel(logging.WARNING)
+    return pysocialforce
+
+
+def pysocialforce_config(psf: Any, tmp: Path) -> Path:
+    """Write PySocialForce's default config with the changes that match srfm's set-up."""
+    import toml
+
+    config = toml.load(Path(psf.__file__).parent / "config" / "default.toml")
+    # load_config replaces whole top-level tables, so edit the full default [scene].
+    config["scene"].update(
+        enable_group=False, step_width=DT_S, agent_radius=0.3, max_speed_multiplier=1.0
+    )
+    path = tmp / "pysocialforce_bench.toml"
+    path.write_text(toml.dumps(config))
+    return path
+
+
+def pysocialforce_bench(psf: Any, config: Path, pos: FloatArray, goal: FloatArray) -> Bench:
+    """PySocialForce's ``Simulator.step(1)``, desired and maximum speed 1.25 m/s."""
+    n = pos.shape[0]
+    state = np.hstack([pos, np.zeros((n, 2)), goal])  # rows (x, y, vx, vy, gx, gy)
+
+    def make() -> Any:
+        sim = psf.Simulator(state.copy(), groups=None, obstacles=None, config_file=str(config))
+        sim.peds.initial_speeds = np.full(n, SPEED_MPS)
+        sim.peds.max_speeds = sim.peds.initial_speeds.copy()
+        return sim
+
+    sim = make()
+
+    def reset() -> None:
+        nonlocal sim
+        sim = make()  # also drops the per-step state history the simulator keeps
+
+    def run(k: int) -> None:
+        with np.errstate(all="ignore"):
+            for _ in range(k):
+                sim.step(1)
+
+    return Bench(reset, run)
+
+
+def measure(bench: Bench, n: int, budget_s: float, repeats: int) -> Result:
+    """Best of ``repeats`` throughputs in agent-steps/s, each over ``budget_s / repeats``."""
+    bench.reset()
+    t0 = time.perf_counter()
+    bench.run(1)
+    first = time.perf_counter() - t0
+    chunk = 1
+    while True:
+        t0 = time.perf_counter()
+        bench.run(chunk)
+        if time.perf_counter() - t0 >= CHUNK_MIN_S or chunk >= 1 << 20:
+            break
+        chunk *= 2
+    share = budget_s / repeats
+    best = 0.0
+    for _ in range(repeats):
+        bench.reset()
+        steps = 0
+        t0 = time.perf_counter()
+        while True:
+            bench.run(chunk)
+            steps += chunk
+            elapsed = time.perf_counter() - t0
+            if elapsed >= share:
+                break
+        best = max(best, steps * n / elapsed)
+    return Result(best, first)
+
+
+def cpu_model() -> str:
+    """The CPU model name from /proc/cpuinfo (or the platform's guess)."""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown"
+
+
+def _version(dist: str) -> str:
+    try:
+        return importlib.metadata.version(dist)
+    except importlib.metadata.PackageNotFoundError:
+        return "not installed"
+
+
+def machine_info() -> list[str]:
+    """Markdown bullet lines describing the machine and the software versions."""
+    import numba
+
+    affinity = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
+    return [
+        f"- CPU: {cpu_model()}, {os.cpu_count()} logical cores"
+        + (f" ({affinity} usable)" if affinity is not None else ""),
+        f"- OS: {platform.platform()}",
+        f"- Python {platform.python_version()}, numpy {np.__version__}, numba {numba.__version__}"
+        f" ({numba.get_num_threads()} threads), srfm {_version('srfm')},"
+        f" pysocialforce {_version('pysocialforce')}",
+    ]
+
+
+def fmt_rate(rate: float) -> str:
+    """Agent-steps/s with a k/M suffix."""
+    if math.isnan(rate):
+        return "n/a"
+    if rate >= 1e6:
+        return f"{rate / 1e6:.2f} M"
+    if rate >= 1e3:
+        return f"{rate / 1e3:.1f} k"
+    return f"{rate:.0f}"
+
+
+def fmt_step_us(rate: float, n: int) -> str:
+    """Microseconds per crowd step."""
+    return "n/a" if math.isnan(rate) else f"{n / rate * 1e6:,.1f}"
+
+
+def parse_args(argv: list[str] | None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0] if __doc__ else None,
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+    )
+    parser.add_argument(
+        "--sizes", type=int, nargs="+", default=[10, 100, 1000], help="crowd sizes N"
+    )
+    parser.add_argument(
+        "--seconds", type=float, default=2.0, help="time budget per simulator and size (s)"
+    )
+    parser.add_argument("--repeats", type=int, default=5, help="repeats per measurement; best kept")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the initial states")
+    parser.add_argument(
+        "--no-pysocialforce", action="store_true", help="measure srfm only (serial vs parallel)"
+    )
+    parser.add_argument(
+        "--cold-cache",
+        action="store_true",
+        help="use an empty numba cache so srfm's first calls include a full JIT compile",
+    )
+    args = parser.parse_args(argv)
+    if any(n < 2 for n in args.sizes) or args.seconds <= 0 or args.repeats < 1:
+        parser.error("sizes must be >= 2, --seconds > 0 and --repeats >= 1")
+    return args
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parse_args(argv)
+    with tempfile.TemporaryDirectory(prefix="srfm-bench-") as tmp_name:
+        tmp = Path(tmp_name)
+        if args.cold_cache:
+            os.environ["NUMBA_CACHE_DIR"] = str(tmp / "numba-cache")  # before numba loads
+        t0 = time.perf_counter()
+        importlib.import_module("srfm")
+        import_s = time.perf_counter() - t0
+        from srfm.models.forces import PARALLEL_MIN_AGENTS
+
+        psf = None if args.no_pysocialforce else import_pysocialforce(tmp)
+        config = None if psf is None else pysocialforce_config(psf, tmp)
+
+        print("## Crowd step throughput (agent-steps/s, higher is better)\n")
+        print(*machine_info(), sep="\n")
+        print(
+            f"- dt = {DT_S:.6f} s, density {DENSITY_PER_M2} ped/m², budget {args.seconds} s per"
+            f" cell, best of {args.repeats}, seed {args.seed}, PARALLEL_MIN_AGENTS ="
+            f" {PARALLEL_MIN_AGENTS}, numba cache {'cold' if args.cold_cache else 'as found'}\n"
+        )
+
+        # Warm-up on a small crowd: the first call compiles (or loads from numba's cache).
+        pos, goal = initial_state(16, args.seed)
+        first: dict[str, float] = {}
+        for label, parallel in (("srfm serial", False), ("srfm parallel", True)):
+            first[label] = measure(srfm_bench(pos, goal, parallel), 16, 1e-3, 1).first_call_s
+        if psf is not None and config is not None:
+            bench = pysocialforce_bench(psf, config, pos, goal)
+            first["pysocialforce"] = measure(bench, 16, 1e-3, 1).first_call_s
+
+        rows: list[tuple[int, str, list[float]]] = []
+        for n in args.sizes:
+            pos, goal = initial_state(n, args.seed)
+            rates = [
+                measure(srfm_bench(pos, goal, p), n, args.seconds, args.repeats).rate
+                for p in (False, True, None)
+            ]
+            if psf is not None and config is not None:
+                bench = pysocialforce_bench(psf, config, pos, goal)
+                rates.append(measure(bench, n, args.seconds, args.repeats).rate)
+            else:
+                rates.append(math.nan)
+            default_kernel = "parallel" if n >= PARALLEL_MIN_AGENTS else "serial"
+            rows.append((n, default_kernel, rates))
+            print(f"  measured N = {n}", file=sys.stderr)
+
+        print(
+            "| N | srfm serial | srfm parallel | srfm default | pysocialforce"
+            " | speed-up (default / pysocialforce) |"
+        )
+        print("|---:|---:|---:|---:|---:|---:|")
+        for n, kernel, (ser, par, dflt, ref) in rows:
+            speedup = "n/a" if math.isnan(ref) else f"{dflt / ref:,.1f}×"
+            print(
+                f"| {n} | {fmt_rate(ser)} | {fmt_rate(par)} | {fmt_rate(dflt)} ({kernel})"
+                f" | {fmt_rate(ref)} | {speedup} |"
+            )
+
+        print("\nTime per crowd step (µs, lower is better):\n")
+        print("| N | srfm serial | srfm parallel | srfm default | pysocialforce |")
+        print("|---:|---:|---:|---:|---:|")
+        for n, _, rates in rows:
+            print(f"| {n} | " + " | ".join(fmt_step_us(r, n) for r in rates) + " |")
+
+        print("\nFirst call (s; JIT compile, or a load from numba's on-disk cache):\n")
+        print(f"- import srfm: {import_s:.2f}")
+        for label, seconds in first.items():
+            print(f"- {label}: {seconds:.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

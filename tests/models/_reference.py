@@ -270,12 +270,12 @@ def _snap(x: float) -> float:
 
 coords = st.one_of(
     st.integers(0, int(WORLD * 8)).map(lambda k: k / 8.0),
-    st.floats(0.0, WORLD, allow_subnormal=False),
+    st.floats(0.0, WORLD).map(_snap),
 )
 points = st.tuples(coords, coords)
 velocities = st.tuples(
-    st.floats(-1.5, 1.5, allow_subnormal=False).map(_snap),
-    st.floats(-1.5, 1.5, allow_subnormal=False).map(_snap),
+    st.floats(-1.5, 1.5).map(_snap),
+    st.floats(-1.5, 1.5).map(_snap),
 )
 
 

@@ -216,6 +216,7 @@ def machine_info() -> list[str]:
         f"- Python {platform.python_version()}, numpy {np.__version__}, numba {numba.__version__}"
         f" ({numba.get_num_threads()} threads), srfm {_version('srfm')},"
         f" pysocialforce {_version('pysocialforce')}",
+        "- load average (1, 5, 15 min) at start: " + ", ".join(f"{x:.2f}" for x in os.getloadavg()),
     ]
 
 

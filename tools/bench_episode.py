@@ -1,0 +1,159 @@
+"""Wall-clock time of full twin episodes, ``srfm.run_episode``, per built-in scenario.
+
+Two planners are timed on every scenario, over the seeds ``0 .. --seeds-1``, each
+episode running the scenario's full horizon (750 steps of 1/15 s by default) for both
+twin crowds:
+
+* ``straight``, the built-in baseline: ``srfm.run_episode(name, seed, "straight")``.
+  The robot's episode may end early (goal reached, collision), after which the planner
+  is no longer called but the crowds keep stepping to the horizon.
+* ``stay``, defined here: commands zero velocity and observes every pedestrian, so the
+  robot stays active (and is observed and commanded) for the whole horizon and times
+  out: the worst case for the per-step Python overhead.
+
+The first episode in the process, which compiles the numba kernels (or loads them from
+numba's on-disk cache), is timed and reported separately; every scenario is then run
+once untimed before its seeds are timed with ``time.perf_counter``.
+
+Usage::
+
+    .venv/bin/python tools/bench_episode.py
+    .venv/bin/python tools/bench_episode.py --seeds 50 --scenarios footpath circle
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import importlib
+import statistics
+import time
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from srfm.planners import Observation, Planner, PlannerContext
+
+
+class StayPlanner:
+    """Commands zero velocity at every step and observes every pedestrian."""
+
+    name = "stay"
+    detection_range_m: float | None = None
+
+    def reset(self, context: PlannerContext, rng: np.random.Generator) -> None:
+        """Nothing to prepare."""
+
+    def act(self, observation: Observation) -> NDArray[np.float64]:
+        """Zero velocity: (v, ω) = (0, 0) for a unicycle, (vx, vy) = (0, 0) otherwise."""
+        return np.zeros(2)
+
+
+@dataclass(frozen=True)
+class Row:
+    """Timings of one scenario and planner over the seeds."""
+
+    scenario: str
+    pedestrians: int
+    horizon: int
+    active_steps: float  # median number of steps with the robot active
+    outcomes: str
+    times_s: list[float]
+
+
+def time_scenario(name: str, planner: str | Planner, seeds: int) -> Row:
+    """Run ``seeds`` episodes of ``name`` after one untimed warm-up episode."""
+    import srfm
+
+    srfm.run_episode(name, 0, planner)
+    times: list[float] = []
+    active: list[int] = []
+    outcomes: collections.Counter[str] = collections.Counter()
+    n = horizon = 0
+    for seed in range(seeds):
+        t0 = time.perf_counter()
+        record = srfm.run_episode(name, seed, planner)
+        times.append(time.perf_counter() - t0)
+        n = record.factual_pos.shape[1]
+        horizon = record.horizon_steps
+        active.append(int(np.count_nonzero(record.robot_active[:-1])))
+        outcomes[record.outcome] += 1
+    summary = ", ".join(f"{k} {v}" for k, v in sorted(outcomes.items()))
+    return Row(name, n, horizon, statistics.median(active), summary, times)
+
+
+def print_table(title: str, rows: list[Row]) -> None:
+    """One Markdown table of episode times (ms) with per-step cost."""
+    print(f"\n{title}\n")
+    print(
+        "| scenario | pedestrians | steps | robot active steps (median) | median (ms) | min (ms)"
+        " | max (ms) | median per step (µs) | robot outcomes |"
+    )
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---|")
+    for r in rows:
+        med = statistics.median(r.times_s)
+        print(
+            f"| {r.scenario} | {r.pedestrians} | {r.horizon} | {r.active_steps:g}"
+            f" | {med * 1e3:.1f} | {min(r.times_s) * 1e3:.1f} | {max(r.times_s) * 1e3:.1f}"
+            f" | {med / r.horizon * 1e6:.1f} | {r.outcomes} |"
+        )
+
+
+def parse_args(argv: list[str] | None) -> argparse.Namespace:
+    from srfm.scenarios import BUILTIN_SCENARIOS
+
+    parser = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0] if __doc__ else None,
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+    )
+    parser.add_argument("--seeds", type=int, default=20, help="episodes timed per scenario")
+    parser.add_argument(
+        "--scenarios",
+        nargs="+",
+        default=list(BUILTIN_SCENARIOS),
+        choices=BUILTIN_SCENARIOS,
+        metavar="NAME",
+        help="built-in scenarios to time",
+    )
+    args = parser.parse_args(argv)
+    if args.seeds < 1:
+        parser.error("--seeds must be >= 1")
+    return args
+
+
+def main(argv: list[str] | None = None) -> int:
+    t0 = time.perf_counter()
+    importlib.import_module("srfm")
+    import_s = time.perf_counter() - t0
+    args = parse_args(argv)
+    # The machine description is shared with the crowd-step benchmark (same folder).
+    from bench_crowd_step import machine_info
+
+    import srfm
+
+    first_name = args.scenarios[0]
+    t0 = time.perf_counter()
+    srfm.run_episode(first_name, 0, "straight")
+    first_s = time.perf_counter() - t0
+
+    print("## Episode wall-clock time (one twin episode, lower is better)\n")
+    print(*machine_info(), sep="\n")
+    print(f"- {args.seeds} seeds per scenario (0 .. {args.seeds - 1}), default kernel choice")
+    print(f"- import srfm: {import_s:.2f} s")
+    print(
+        f"- first episode in the process ({first_name}, seed 0, straight; JIT compile or"
+        f" numba cache load): {first_s:.2f} s"
+    )
+
+    straight = [time_scenario(name, "straight", args.seeds) for name in args.scenarios]
+    print_table("Planner `straight` (robot episode may end before the horizon):", straight)
+    stay = [time_scenario(name, StayPlanner(), args.seeds) for name in args.scenarios]
+    print_table("Planner `stay` (zero velocity, observes everyone; active all steps):", stay)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import json
 import time
 from collections.abc import Callable
@@ -24,7 +25,6 @@ class UserError(click.ClickException):
 
 def _user_errors(func: F) -> F:
     """Turn srfm's own errors into one-line messages with exit code 2."""
-    import functools
 
     @functools.wraps(func)
     def wrapper(*args: Any, **kwargs: Any) -> Any:

@@ -93,7 +93,7 @@ class SRFMParams:
         """Return a named preset (``agrawal2024`` or ``ferrer2013``)."""
         try:
             return PRESETS[name]
-        except KeyError:
+        except (KeyError, TypeError):
             known = ", ".join(sorted(PRESETS))
             raise ParameterError(f"unknown parameter preset {name!r}; known: {known}") from None
 
@@ -155,15 +155,15 @@ def load_params(path: str | Path) -> SRFMParams:
     if unknown:
         raise ParameterError(f"{path}: unknown key {unknown[0]!r}")
     version = data.get("schema_version")
-    if version != PARAMS_SCHEMA_VERSION:
+    if type(version) is not int or version != PARAMS_SCHEMA_VERSION:
         raise ParameterError(
             f"{path}: schema_version must be {PARAMS_SCHEMA_VERSION}, got {version!r}"
         )
-    base = SRFMParams.preset(data["preset"]) if "preset" in data else SRFMParams()
     values = data.get("params", {})
     if not isinstance(values, dict):
         raise ParameterError(f"{path}: [params] must be a table, got {values!r}")
     try:
+        base = SRFMParams.preset(data["preset"]) if "preset" in data else SRFMParams()
         return base.replace(**values)
     except ParameterError as exc:
         raise ParameterError(f"{path}: {exc}") from None

@@ -270,7 +270,7 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     """Validate a parsed TOML document and build the :class:`Scenario`."""
     top = _Reader(data, "", source)
     version = top.raw("schema_version") if top.has("schema_version") else None
-    if version != SCHEMA_VERSION:
+    if type(version) is not int or version != SCHEMA_VERSION:
         raise top.fail("schema_version", f"must be {SCHEMA_VERSION}, got {version!r}")
     name = top.string("name")
     if not _NAME_RE.match(name):

@@ -287,8 +287,8 @@ def crowd_states(draw: st.DrawFn, min_n: int = 1, max_n: int = 7) -> srfm.CrowdS
     goal = draw(st.lists(points, min_size=n, max_size=n))
     vel = draw(st.lists(velocities, min_size=n, max_size=n))
     radius = draw(st.lists(st.floats(0.0, 0.5), min_size=n, max_size=n))
-    v0 = draw(st.lists(st.floats(0.0, 1.5), min_size=n, max_size=n))
-    vmax = draw(st.lists(st.floats(0.0, 2.0), min_size=n, max_size=n))
+    v0 = draw(st.lists(st.floats(0.0, 1.5).map(_snap), min_size=n, max_size=n))
+    vmax = draw(st.lists(st.floats(0.0, 2.0).map(_snap), min_size=n, max_size=n))
     return srfm.CrowdState.create(
         pos=np.array(pos, dtype=np.float64).reshape(n, 2),
         goal=np.array(goal, dtype=np.float64).reshape(n, 2),
@@ -334,9 +334,7 @@ def _segment(draw: st.DrawFn) -> tuple[float, float, float, float]:
 def obstacle_sets(draw: st.DrawFn) -> srfm.Obstacles:
     """Up to three walls (possibly degenerate) and three pillars (possibly of radius 0)."""
     segments = draw(st.lists(_segment(), max_size=3))
-    circles = draw(
-        st.lists(st.tuples(coords, coords, st.floats(0.0, 1.0)), max_size=3)
-    )
+    circles = draw(st.lists(st.tuples(coords, coords, st.floats(0.0, 1.0)), max_size=3))
     return srfm.Obstacles.create(segments=segments, circles=circles)
 
 

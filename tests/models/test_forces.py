@@ -29,9 +29,7 @@ def assert_component(got: np.ndarray, want: np.ndarray, scale: np.ndarray) -> No
 
 def crowd(pos, goal=None, vel=None, **kw) -> srfm.CrowdState:
     pos = np.asarray(pos, dtype=np.float64)
-    return srfm.CrowdState.create(
-        pos=pos, goal=pos.copy() if goal is None else goal, vel=vel, **kw
-    )
+    return srfm.CrowdState.create(pos=pos, goal=pos.copy() if goal is None else goal, vel=vel, **kw)
 
 
 # --------------------------------------------------------------------------------------
@@ -75,9 +73,7 @@ def test_obstacle_force_matches_reference(scene: ref.Scene) -> None:
 def test_total_is_sum_of_components_and_matches_reference(scene: ref.Scene) -> None:
     got = srfm.force_components(scene.crowd, scene.params, scene.robot, scene.obstacles)
     want = ref.forces(scene.crowd, scene.params, scene.robot, scene.obstacles)
-    np.testing.assert_array_equal(
-        got.total, got.goal + got.pedestrians + got.robot + got.obstacles
-    )
+    np.testing.assert_array_equal(got.total, got.goal + got.pedestrians + got.robot + got.obstacles)
     assert_component(got.total, want.total, want.total_scale)
 
 

@@ -204,6 +204,8 @@ def test_schema_errors_name_file_and_key(tmp_path: Path, extra: str, message: st
         ("goal = [5.0, 1.0]", "goal = [5.0, 1.0]\nradius_m = 0", r"robot\.radius_m: must be > 0"),
         ('name = "mine"', 'name = "My Scenario"', r"name: must match"),
         ("schema_version = 1", "schema_version = 2", r"schema_version: must be 1, got 2"),
+        ("schema_version = 1", "schema_version = 1.0", r"schema_version: must be 1, got 1\.0"),
+        ("schema_version = 1", "schema_version = true", r"schema_version: must be 1, got True"),
         ("[robot]\nstart = [1.0, 1.0]\n", "", r"robot\.start: is required"),
     ],
 )

@@ -67,9 +67,9 @@ class TwinSimulator:
         self.counterfactual: CrowdState = setup.crowd.copy()
         n = self.factual.n
         use_parallel = n >= PARALLEL_MIN_AGENTS if parallel is None else parallel
-        self._kernel = _kernels.step_parallel if use_parallel else _kernels.step_serial
+        self._parallel = use_parallel
         self._force_buf = np.empty((n, 2))
-        self._robot_body = np.zeros(3)
+        self._robot_body = np.array([0.0, 0.0, self.scenario.robot.radius_m])
         self.robot = RobotState(
             x=float(setup.robot_start[0]),
             y=float(setup.robot_start[1]),
@@ -85,7 +85,8 @@ class TwinSimulator:
             "counterfactual": np.zeros(n, dtype=np.int64),
         }
         self._arrived = {"factual": np.zeros(n, bool), "counterfactual": np.zeros(n, bool)}
-        self._new_arrivals = np.zeros(n, bool)
+        self._new_arrivals = {"factual": np.zeros(n, bool), "counterfactual": np.zeros(n, bool)}
+        self._all_ids = np.arange(n)
         self._range_ids = np.zeros(n, dtype=np.intp)
         self._obstacles = self.scenario.obstacles
         self._ped_radius = self.factual.radius
@@ -117,7 +118,7 @@ class TwinSimulator:
         """The planner's view of the current sample: factual pedestrians within range."""
         pos = self.factual.pos
         if detection_range_m is None:
-            ids = np.arange(pos.shape[0])
+            ids = self._all_ids.copy()
         else:
             k = _kernels.within_range(
                 pos, self.robot.x, self.robot.y, float(detection_range_m), self._range_ids
@@ -153,49 +154,53 @@ class TwinSimulator:
         if self.robot_active and command is None:
             raise PlannerError("the robot is active and needs a command")
         dt = self.scenario.dt_s
+        if self.robot_active:  # validate before anything moves
+            next_robot = apply_command(self.robot, command, self.scenario.robot, dt)
+        else:
+            next_robot = stopped(self.robot)
         body = self._robot_body
         body[0] = self.robot.x
         body[1] = self.robot.y
-        body[2] = self.scenario.robot.radius_m
-        segs = self._obstacles.segments
-        circs = self._obstacles.circles
-        for crowd, robot_on in ((self.factual, True), (self.counterfactual, False)):
-            self._kernel(
-                crowd.pos,
-                crowd.vel,
-                crowd.goal,
-                crowd.radius,
-                crowd.v0,
-                crowd.vmax,
-                self._param_vec,
-                body,
-                robot_on,
-                segs,
-                circs,
-                dt,
-                self._force_buf,
-            )
-        if self.robot_active:
-            self.robot = apply_command(self.robot, command, self.scenario.robot, dt)
-        elif self.robot.vx != 0.0 or self.robot.vy != 0.0 or self.robot.omega != 0.0:
-            self.robot = stopped(self.robot)
+        f = self.factual
+        c = self.counterfactual
+        arrived = self._arrived
+        new = self._new_arrivals
+        n_new = _kernels.twin_step(
+            f.pos,
+            f.vel,
+            f.goal,
+            c.pos,
+            c.vel,
+            c.goal,
+            f.radius,
+            f.v0,
+            f.vmax,
+            self._param_vec,
+            body,
+            self._obstacles.segments,
+            self._obstacles.circles,
+            dt,
+            self._parallel,
+            self._force_buf,
+            self.scenario.ped_goal_radius_m,
+            arrived["factual"],
+            arrived["counterfactual"],
+            new["factual"],
+            new["counterfactual"],
+        )
+        self.robot = next_robot
         self.step_index += 1
-        events = self._pedestrian_events("factual", self.factual)
-        events += self._pedestrian_events("counterfactual", self.counterfactual)
+        events: list[Event] = []
+        if n_new:
+            events += self._pedestrian_events("factual", f)
+            events += self._pedestrian_events("counterfactual", c)
         if self.robot_active:
             events += self._robot_events()
         return events
 
     def _pedestrian_events(self, twin: str, crowd: CrowdState) -> list[Event]:
         arrived = self._arrived[twin]
-        new = self._new_arrivals
-        if (
-            _kernels.mark_arrivals(
-                crowd.pos, crowd.goal, self.scenario.ped_goal_radius_m, arrived, new
-            )
-            == 0
-        ):
-            return []
+        new = self._new_arrivals[twin]
         events = []
         t = self.time_s
         for i in np.flatnonzero(new):

@@ -274,3 +274,14 @@ def test_planner_gets_context_and_its_own_rng() -> None:
     assert seen[0] == seen[1]
     assert seen[0][:3] == ("concert", 3, [7.0, 13.5])
     assert seen[2][3] != seen[0][3]
+
+
+def test_a_rejected_command_moves_nothing() -> None:
+    sim = TwinSimulator(episode_setup(load_scenario("crosswalk"), 0))
+    sim.step(np.array([0.5, 0.0]))
+    before = (sim.factual.pos.copy(), sim.counterfactual.pos.copy(), sim.robot, sim.step_index)
+    with pytest.raises(srfm.PlannerError, match="finite"):
+        sim.step(np.array([np.inf, 0.0]))
+    assert np.array_equal(sim.factual.pos, before[0])
+    assert np.array_equal(sim.counterfactual.pos, before[1])
+    assert (sim.robot, sim.step_index) == before[2:]

@@ -38,6 +38,7 @@ import logging
 import math
 import os
 import platform
+import subprocess
 import sys
 import tempfile
 import time
@@ -124,9 +125,11 @@ def pysocialforce_config(psf: Any, tmp: Path) -> Path:
 
     config = toml.load(Path(psf.__file__).parent / "config" / "default.toml")
     # load_config replaces whole top-level tables, so edit the full default [scene].
-    config["scene"].update(
-        enable_group=False, step_width=DT_S, agent_radius=0.3, max_speed_multiplier=1.0
-    )
+    # Simulator reads enable_group from [scene] but PedState reads step_width,
+    # agent_radius and max_speed_multiplier from the top level, so set them there too.
+    scene = {"step_width": DT_S, "agent_radius": 0.3, "max_speed_multiplier": 1.0}
+    config["scene"].update(enable_group=False, **scene)
+    config.update(scene)
     path = tmp / "pysocialforce_bench.toml"
     path.write_text(toml.dumps(config))
     return path
@@ -186,6 +189,39 @@ def measure(bench: Bench, n: int, budget_s: float, repeats: int) -> Result:
     return Result(best, first)
 
 
+class OtherLoad:
+    """Share of the machine's CPU time used by *other* processes since construction.
+
+    Timings are only trustworthy when this stays near 0 %: other work on the same
+    cores slows the serial kernel and stalls the threaded one.
+    """
+
+    def __init__(self) -> None:
+        self._t0 = time.perf_counter()
+        self._busy0 = self._busy_s()
+        self._own0 = self._own_s()
+
+    @staticmethod
+    def _busy_s() -> float:
+        try:
+            fields = Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:9]
+        except OSError:
+            return math.nan
+        ticks = [int(x) for x in fields]  # user nice system idle iowait irq softirq steal
+        return (sum(ticks) - ticks[3] - ticks[4]) / os.sysconf("SC_CLK_TCK")
+
+    @staticmethod
+    def _own_s() -> float:
+        t = os.times()
+        return t.user + t.system
+
+    def percent(self) -> float:
+        """Other processes' CPU time as a percentage of all cores' wall time."""
+        wall = time.perf_counter() - self._t0
+        other = self._busy_s() - self._busy0 - (self._own_s() - self._own0)
+        return max(0.0, 100.0 * other / (wall * (os.cpu_count() or 1)))
+
+
 def cpu_model() -> str:
     """The CPU model name from /proc/cpuinfo (or the platform's guess)."""
     try:
@@ -214,10 +250,38 @@ def machine_info() -> list[str]:
         + (f" ({affinity} usable)" if affinity is not None else ""),
         f"- OS: {platform.platform()}",
         f"- Python {platform.python_version()}, numpy {np.__version__}, numba {numba.__version__}"
-        f" ({numba.get_num_threads()} threads), srfm {_version('srfm')},"
+        f" ({numba.get_num_threads()} threads), srfm {_version('srfm')} ({srfm_commit()}),"
         f" pysocialforce {_version('pysocialforce')}",
-        "- load average (1, 5, 15 min) at start: " + ", ".join(f"{x:.2f}" for x in os.getloadavg()),
+        f"- load average (1, 5, 15 min) at start: {load_average()}",
     ]
+
+
+def srfm_commit() -> str:
+    """The git commit of the imported srfm source, '+dirty' when srfm/ has local changes."""
+    import srfm
+
+    root = Path(srfm.__file__).resolve().parent.parent
+    try:
+        commit = subprocess.run(
+            ["git", "-C", str(root), "rev-parse", "--short", "HEAD"],
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout.strip()
+        dirty = subprocess.run(
+            ["git", "-C", str(root), "status", "--porcelain", "--", "srfm"],
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+    return commit + ("+dirty" if dirty else "")
+
+
+def load_average() -> str:
+    """The 1, 5 and 15 minute load averages (other work on the machine skews timings)."""
+    return ", ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
 def fmt_rate(rate: float) -> str:
@@ -247,7 +311,9 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument(
         "--seconds", type=float, default=2.0, help="time budget per simulator and size (s)"
     )
-    parser.add_argument("--repeats", type=int, default=5, help="repeats per measurement; best kept")
+    parser.add_argument(
+        "--repeats", type=int, default=10, help="repeats per measurement; best kept"
+    )
     parser.add_argument("--seed", type=int, default=0, help="seed of the initial states")
     parser.add_argument(
         "--no-pysocialforce", action="store_true", help="measure srfm only (serial vs parallel)"
@@ -287,6 +353,7 @@ def main(argv: list[str] | None = None) -> int:
 
         # Warm-up on a small crowd: the first call compiles (or loads from numba's cache).
         pos, goal = initial_state(16, args.seed)
+        other = OtherLoad()
         first: dict[str, float] = {}
         for label, parallel in (("srfm serial", False), ("srfm parallel", True)):
             first[label] = measure(srfm_bench(pos, goal, parallel), 16, 1e-3, 1).first_call_s
@@ -332,6 +399,10 @@ def main(argv: list[str] | None = None) -> int:
         print(f"- import srfm: {import_s:.2f}")
         for label, seconds in first.items():
             print(f"- {label}: {seconds:.2f}")
+        print(
+            f"\n- load average (1, 5, 15 min) at end: {load_average()}; other processes used"
+            f" {other.percent():.1f} % of the machine's CPU time during the measurements"
+        )
     return 0
 
 

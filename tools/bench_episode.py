@@ -26,9 +26,12 @@ from __future__ import annotations
 import argparse
 import collections
 import importlib
+import os
 import statistics
+import tempfile
 import time
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -103,20 +106,18 @@ def print_table(title: str, rows: list[Row]) -> None:
 
 
 def parse_args(argv: list[str] | None) -> argparse.Namespace:
-    from srfm.scenarios import BUILTIN_SCENARIOS
-
     parser = argparse.ArgumentParser(
         description=__doc__.split("\n\n")[0] if __doc__ else None,
         formatter_class=argparse.ArgumentDefaultsHelpFormatter,
     )
     parser.add_argument("--seeds", type=int, default=20, help="episodes timed per scenario")
     parser.add_argument(
-        "--scenarios",
-        nargs="+",
-        default=list(BUILTIN_SCENARIOS),
-        choices=BUILTIN_SCENARIOS,
-        metavar="NAME",
-        help="built-in scenarios to time",
+        "--scenarios", nargs="+", metavar="NAME", help="built-in scenarios to time (default: all)"
+    )
+    parser.add_argument(
+        "--cold-cache",
+        action="store_true",
+        help="use an empty numba cache so the first episode includes a full JIT compile",
     )
     args = parser.parse_args(argv)
     if args.seeds < 1:
@@ -125,33 +126,48 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
 
 
 def main(argv: list[str] | None = None) -> int:
-    t0 = time.perf_counter()
-    importlib.import_module("srfm")
-    import_s = time.perf_counter() - t0
     args = parse_args(argv)
-    # The machine description is shared with the crowd-step benchmark (same folder).
-    from bench_crowd_step import machine_info
+    with tempfile.TemporaryDirectory(prefix="srfm-bench-") as tmp:
+        if args.cold_cache:
+            os.environ["NUMBA_CACHE_DIR"] = str(Path(tmp) / "numba-cache")  # before numba loads
+        t0 = time.perf_counter()
+        importlib.import_module("srfm")
+        import_s = time.perf_counter() - t0
 
-    import srfm
+        # The machine description is shared with the crowd-step benchmark (same folder).
+        from bench_crowd_step import OtherLoad, load_average, machine_info
 
-    first_name = args.scenarios[0]
-    t0 = time.perf_counter()
-    srfm.run_episode(first_name, 0, "straight")
-    first_s = time.perf_counter() - t0
+        import srfm
+        from srfm.scenarios import BUILTIN_SCENARIOS
 
-    print("## Episode wall-clock time (one twin episode, lower is better)\n")
-    print(*machine_info(), sep="\n")
-    print(f"- {args.seeds} seeds per scenario (0 .. {args.seeds - 1}), default kernel choice")
-    print(f"- import srfm: {import_s:.2f} s")
-    print(
-        f"- first episode in the process ({first_name}, seed 0, straight; JIT compile or"
-        f" numba cache load): {first_s:.2f} s"
-    )
+        names: list[str] = args.scenarios or list(BUILTIN_SCENARIOS)
+        unknown = sorted(set(names) - set(BUILTIN_SCENARIOS))
+        if unknown:
+            raise SystemExit(f"unknown scenario(s) {unknown}; built-in: {list(BUILTIN_SCENARIOS)}")
 
-    straight = [time_scenario(name, "straight", args.seeds) for name in args.scenarios]
-    print_table("Planner `straight` (robot episode may end before the horizon):", straight)
-    stay = [time_scenario(name, StayPlanner(), args.seeds) for name in args.scenarios]
-    print_table("Planner `stay` (zero velocity, observes everyone; active all steps):", stay)
+        other = OtherLoad()
+        t0 = time.perf_counter()
+        srfm.run_episode(names[0], 0, "straight")
+        first_s = time.perf_counter() - t0
+
+        print("## Episode wall-clock time (one twin episode, lower is better)\n")
+        print(*machine_info(), sep="\n")
+        print(f"- {args.seeds} seeds per scenario (0 .. {args.seeds - 1}), default kernel choice")
+        print(f"- import srfm: {import_s:.2f} s")
+        print(
+            f"- first episode in the process ({names[0]}, seed 0, straight; JIT compile or"
+            f" numba cache load, cache {'cold' if args.cold_cache else 'as found'}):"
+            f" {first_s:.2f} s"
+        )
+
+        straight = [time_scenario(name, "straight", args.seeds) for name in names]
+        print_table("Planner `straight` (robot episode may end before the horizon):", straight)
+        stay = [time_scenario(name, StayPlanner(), args.seeds) for name in names]
+        print_table("Planner `stay` (zero velocity, observes everyone; active all steps):", stay)
+        print(
+            f"\n- load average (1, 5, 15 min) at end: {load_average()}; other processes used"
+            f" {other.percent():.1f} % of the machine's CPU time during the measurements"
+        )
     return 0
 
 

@@ -17,7 +17,7 @@ __all__ = ["PARALLEL_MIN_AGENTS", "ForceComponents", "RobotBody", "force_compone
 
 # Below this many pedestrians the serial kernel is faster than the threaded one
 # (measured with tools/bench_crowd_step.py, see docs/performance.md).
-PARALLEL_MIN_AGENTS: Final = 200
+PARALLEL_MIN_AGENTS: Final = 50
 
 _NO_OBSTACLES: Final = Obstacles()
 

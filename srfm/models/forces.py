@@ -15,8 +15,10 @@ from srfm.state import CrowdState, Obstacles
 
 __all__ = ["PARALLEL_MIN_AGENTS", "ForceComponents", "RobotBody", "force_components", "step_crowd"]
 
-# Below this many pedestrians the serial kernel is faster than the threaded one
-# (measured with tools/bench_crowd_step.py, see docs/performance.md).
+# From this many pedestrians on the threaded kernel is used by default; below it the
+# serial kernel is as fast or faster (tools/bench_crowd_step.py, docs/performance.md).
+# The threaded kernel needs idle cores: run parallel workers with parallel=False or
+# NUMBA_NUM_THREADS=1.
 PARALLEL_MIN_AGENTS: Final = 50
 
 _NO_OBSTACLES: Final = Obstacles()

@@ -177,7 +177,10 @@ def format_summary(s: dict[str, Any]) -> str:
         f"counterfactual {s['pedestrians_arrived_counterfactual']}/{s['pedestrians']}",
     ]
     if "wall_time_s" in s:
-        lines.append(f"wall time  {s['wall_time_s'] * 1e3:.1f} ms")
+        lines.append(
+            f"wall time  {s['wall_time_s'] * 1e3:.1f} ms (the first episode in a process "
+            "includes loading the compiled kernels)"
+        )
     return "\n".join(lines)
 
 

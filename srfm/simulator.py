@@ -67,7 +67,7 @@ class TwinSimulator:
         self.counterfactual: CrowdState = setup.crowd.copy()
         n = self.factual.n
         use_parallel = n >= PARALLEL_MIN_AGENTS if parallel is None else parallel
-        self._parallel = use_parallel
+        self._twin_step = _kernels.twin_step_parallel if use_parallel else _kernels.twin_step_serial
         self._force_buf = np.empty((n, 2))
         self._robot_body = np.array([0.0, 0.0, self.scenario.robot.radius_m])
         self.robot = RobotState(
@@ -165,7 +165,7 @@ class TwinSimulator:
         c = self.counterfactual
         arrived = self._arrived
         new = self._new_arrivals
-        n_new = _kernels.twin_step(
+        n_new = self._twin_step(
             f.pos,
             f.vel,
             f.goal,
@@ -180,7 +180,6 @@ class TwinSimulator:
             self._obstacles.segments,
             self._obstacles.circles,
             dt,
-            self._parallel,
             self._force_buf,
             self.scenario.ped_goal_radius_m,
             arrived["factual"],

@@ -388,7 +388,7 @@ def segment_distance(segments: np.ndarray, x: float, y: float) -> float:
 
 
 @njit(cache=True)
-def twin_step(
+def twin_step_serial(
     f_pos: np.ndarray,
     f_vel: np.ndarray,
     f_goal: np.ndarray,
@@ -403,7 +403,6 @@ def twin_step(
     segments: np.ndarray,
     circles: np.ndarray,
     dt: float,
-    parallel: bool,
     force_buf: np.ndarray,
     goal_radius: float,
     f_arrived: np.ndarray,
@@ -413,67 +412,93 @@ def twin_step(
 ) -> int:
     """Step the factual (robot on) and counterfactual (robot off) crowds, then flag
     new arrivals of each twin (see :func:`mark_arrivals`); return how many in total."""
-    if parallel:
-        step_parallel(
-            f_pos,
-            f_vel,
-            f_goal,
-            radius,
-            v0,
-            vmax,
-            params,
-            robot,
-            True,
-            segments,
-            circles,
-            dt,
-            force_buf,
-        )
-        step_parallel(
-            c_pos,
-            c_vel,
-            c_goal,
-            radius,
-            v0,
-            vmax,
-            params,
-            robot,
-            False,
-            segments,
-            circles,
-            dt,
-            force_buf,
-        )
-    else:
-        step_serial(
-            f_pos,
-            f_vel,
-            f_goal,
-            radius,
-            v0,
-            vmax,
-            params,
-            robot,
-            True,
-            segments,
-            circles,
-            dt,
-            force_buf,
-        )
-        step_serial(
-            c_pos,
-            c_vel,
-            c_goal,
-            radius,
-            v0,
-            vmax,
-            params,
-            robot,
-            False,
-            segments,
-            circles,
-            dt,
-            force_buf,
-        )
+    step_serial(
+        f_pos,
+        f_vel,
+        f_goal,
+        radius,
+        v0,
+        vmax,
+        params,
+        robot,
+        True,
+        segments,
+        circles,
+        dt,
+        force_buf,
+    )
+    step_serial(
+        c_pos,
+        c_vel,
+        c_goal,
+        radius,
+        v0,
+        vmax,
+        params,
+        robot,
+        False,
+        segments,
+        circles,
+        dt,
+        force_buf,
+    )
+    count = mark_arrivals(f_pos, f_goal, goal_radius, f_arrived, f_new)
+    return count + mark_arrivals(c_pos, c_goal, goal_radius, c_arrived, c_new)
+
+
+@njit(cache=True)
+def twin_step_parallel(
+    f_pos: np.ndarray,
+    f_vel: np.ndarray,
+    f_goal: np.ndarray,
+    c_pos: np.ndarray,
+    c_vel: np.ndarray,
+    c_goal: np.ndarray,
+    radius: np.ndarray,
+    v0: np.ndarray,
+    vmax: np.ndarray,
+    params: np.ndarray,
+    robot: np.ndarray,
+    segments: np.ndarray,
+    circles: np.ndarray,
+    dt: float,
+    force_buf: np.ndarray,
+    goal_radius: float,
+    f_arrived: np.ndarray,
+    c_arrived: np.ndarray,
+    f_new: np.ndarray,
+    c_new: np.ndarray,
+) -> int:
+    """As :func:`twin_step_serial` with the threaded force pass (identical results)."""
+    step_parallel(
+        f_pos,
+        f_vel,
+        f_goal,
+        radius,
+        v0,
+        vmax,
+        params,
+        robot,
+        True,
+        segments,
+        circles,
+        dt,
+        force_buf,
+    )
+    step_parallel(
+        c_pos,
+        c_vel,
+        c_goal,
+        radius,
+        v0,
+        vmax,
+        params,
+        robot,
+        False,
+        segments,
+        circles,
+        dt,
+        force_buf,
+    )
     count = mark_arrivals(f_pos, f_goal, goal_radius, f_arrived, f_new)
     return count + mark_arrivals(c_pos, c_goal, goal_radius, c_arrived, c_new)

@@ -59,6 +59,6 @@ def float_array(
         want_s = "(" + ", ".join("n" if s is None else str(s) for s in shape) + ")"
         raise error(f"{name} must have shape {want_s}, got {arr.shape}")
     if not np.all(np.isfinite(arr)):
-        bad = np.argwhere(~np.isfinite(arr))[0]
-        raise error(f"{name} must be finite, got {arr[tuple(bad)]!r} at index {tuple(bad)}")
+        where = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
+        raise error(f"{name} must be finite, got {float(arr[where])!r} at index {where}")
     return arr

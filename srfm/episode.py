@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from srfm.errors import PlannerError, SimulationError
 from srfm.models.params import SRFMParams
 from srfm.planners import Planner, make_planner
 from srfm.record import EpisodeRecord, Event
@@ -20,6 +21,18 @@ PLANNER_STREAM = 1
 def planner_rng(seed: int) -> np.random.Generator:
     """The planner's own generator for episode ``seed``."""
     return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(PLANNER_STREAM,)))
+
+
+def _detection_range(planner: Planner) -> float | None:
+    value = getattr(planner, "detection_range_m", None)
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, int | float) or not value >= 0.0:
+        raise PlannerError(
+            f"planner {getattr(planner, 'name', planner)!r}: detection_range_m must be None "
+            f"or a number >= 0, got {value!r}"
+        )
+    return float(value)
 
 
 def run_episode(
@@ -47,23 +60,30 @@ def run_episode(
         scenario = load_scenario(scenario)
     if isinstance(planner, str):
         planner = make_planner(planner)
+    detection = _detection_range(planner)
     setup = episode_setup(scenario, seed)
     sim = TwinSimulator(setup, params, parallel=parallel)
     planner.reset(sim.planner_context(), planner_rng(setup.seed))
 
     T = scenario.horizon_steps
     n = sim.factual.n
-    f_pos = np.empty((T + 1, n, 2))
-    f_vel = np.empty((T + 1, n, 2))
-    c_pos = np.empty((T + 1, n, 2))
-    c_vel = np.empty((T + 1, n, 2))
-    f_goal = np.empty((T + 1, n, 2))
-    c_goal = np.empty((T + 1, n, 2))
+    try:
+        f_pos = np.empty((T + 1, n, 2))
+        f_vel = np.empty((T + 1, n, 2))
+        c_pos = np.empty((T + 1, n, 2))
+        c_vel = np.empty((T + 1, n, 2))
+        f_goal = np.empty((T + 1, n, 2))
+        c_goal = np.empty((T + 1, n, 2))
+    except MemoryError:
+        raise SimulationError(
+            f"{scenario.source}: an episode record of {T + 1} samples x {n} pedestrians "
+            "does not fit in memory; shorten horizon_steps or use fewer pedestrians"
+        ) from None
     pose = np.empty((T + 1, 3))
     rvel = np.empty((T + 1, 2))
     cmd = np.full((T, 2), np.nan)
     active = np.empty(T + 1, dtype=bool)
-    events: list[Event] = []
+    events: list[Event] = list(sim.initial_events)
 
     def sample(k: int) -> None:
         f_pos[k] = sim.factual.pos
@@ -80,7 +100,6 @@ def run_episode(
         rvel[k, 1] = r.vy
         active[k] = sim.robot_active
 
-    detection = planner.detection_range_m
     sample(0)
     for k in range(T):
         if sim.robot_active:

@@ -118,6 +118,8 @@ def apply_command(state: RobotState, command: Any, config: RobotConfig, dt: floa
     Raises:
         PlannerError: the command is not two finite numbers.
     """
+    if isinstance(command, str | bytes):
+        raise PlannerError(f"a command must be two numbers, got {command!r}")
     try:
         c0 = float(command[0])
         c1 = float(command[1])

@@ -89,7 +89,11 @@ class TwinSimulator:
         self._all_ids = np.arange(n)
         self._range_ids = np.zeros(n, dtype=np.intp)
         self._obstacles = self.scenario.obstacles
+        self._pillar_xy = np.ascontiguousarray(self._obstacles.circles[:, :2])
+        self._pillar_r = np.ascontiguousarray(self._obstacles.circles[:, 2])
         self._ped_radius = self.factual.radius
+        # A robot that starts in collision, out of bounds or at its goal ends at sample 0.
+        self.initial_events: list[Event] = self._robot_events()
 
     @property
     def time_s(self) -> float:
@@ -115,7 +119,8 @@ class TwinSimulator:
         )
 
     def observe(self, detection_range_m: float | None) -> Observation:
-        """The planner's view of the current sample: factual pedestrians within range."""
+        """The planner's view of the current sample: factual pedestrians closer than
+        ``detection_range_m`` (all of them for None)."""
         pos = self.factual.pos
         if detection_range_m is None:
             ids = self._all_ids.copy()
@@ -254,7 +259,7 @@ class TwinSimulator:
         obs = self._obstacles
         if obs.empty:
             return False
-        clearance, _ = _kernels.nearest_clearance(obs.circles[:, :2], obs.circles[:, 2], x, y)
+        clearance, _ = _kernels.nearest_clearance(self._pillar_xy, self._pillar_r, x, y)
         if clearance < radius:
             return True
         return bool(_kernels.segment_distance(obs.segments, x, y) < radius)

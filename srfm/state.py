@@ -15,10 +15,19 @@ __all__ = ["CrowdState", "Obstacles"]
 
 FloatArray = NDArray[np.float64]
 
+# Bounds that keep every force and step finite in float64 (see srfm.models._kernels).
+MAX_SPEED_MPS = 1e3
+MAX_RADIUS_M = 1e3
 
-@attrs.define(kw_only=True, eq=False)
+
+@attrs.frozen(kw_only=True, eq=False)
 class CrowdState:
     """Pedestrians as a struct of arrays (float64, C-contiguous).
+
+    The fields cannot be reassigned; the simulator updates the arrays in place. The
+    constructor checks every array (dtype, contiguity, shape, finite, non-negative
+    radii and speeds) because the kernels read them without bounds checks;
+    :meth:`create` converts lists and broadcasts scalars first.
 
     Attributes:
         pos: (N, 2) positions (m).
@@ -35,6 +44,24 @@ class CrowdState:
     radius: FloatArray
     v0: FloatArray
     vmax: FloatArray
+
+    def __attrs_post_init__(self) -> None:
+        n = _check_field(self.pos, "pos", (None, 2))
+        for name in ("vel", "goal"):
+            _check_field(getattr(self, name), name, (n, 2))
+        for name, upper in (
+            ("radius", MAX_RADIUS_M),
+            ("v0", MAX_SPEED_MPS),
+            ("vmax", MAX_SPEED_MPS),
+        ):
+            arr = getattr(self, name)
+            _check_field(arr, name, (n,))
+            bad = (arr < 0.0) | (arr > upper)
+            if np.any(bad):
+                i = int(np.argmax(bad))
+                raise SimulationError(
+                    f"{name} must be in [0, {upper:g}], got {float(arr[i])!r} for pedestrian {i}"
+                )
 
     @classmethod
     def create(
@@ -79,6 +106,16 @@ class CrowdState:
         )
 
 
+def _check_field(arr: Any, name: str, shape: tuple[int | None, ...]) -> int:
+    """Check one state array in place (no conversion); return its length."""
+    if not isinstance(arr, np.ndarray) or arr.dtype != np.float64:
+        raise SimulationError(f"{name} must be a float64 numpy array, got {arr!r}")
+    if not (arr.flags.c_contiguous and arr.flags.writeable):
+        raise SimulationError(f"{name} must be C-contiguous and writeable")
+    float_array(arr, name, shape, SimulationError)  # shape and finiteness
+    return int(arr.shape[0])
+
+
 def _per_agent(value: Any, name: str, n: int) -> FloatArray:
     arr = (
         np.broadcast_to(np.asarray(value, dtype=np.float64), (n,)) if np.ndim(value) == 0 else value
@@ -90,31 +127,49 @@ def _per_agent(value: Any, name: str, n: int) -> FloatArray:
     return out.copy()
 
 
+def _no_segments() -> FloatArray:
+    return _read_only(np.zeros((0, 4)))
+
+
+def _no_circles() -> FloatArray:
+    return _read_only(np.zeros((0, 3)))
+
+
+def _read_only(arr: FloatArray) -> FloatArray:
+    arr.setflags(write=False)
+    return arr
+
+
 @attrs.frozen(kw_only=True, eq=False)
 class Obstacles:
-    """Static obstacles: wall segments and circular pillars.
+    """Static obstacles: wall segments and circular pillars (read-only arrays).
 
     Attributes:
         segments: (M, 4) walls as (x1, y1, x2, y2) (m).
         circles: (K, 3) pillars as (cx, cy, radius) (m), radius >= 0.
     """
 
-    segments: FloatArray = attrs.field(factory=lambda: np.zeros((0, 4)))
-    circles: FloatArray = attrs.field(factory=lambda: np.zeros((0, 3)))
+    segments: FloatArray = attrs.field(factory=_no_segments)
+    circles: FloatArray = attrs.field(factory=_no_circles)
+
+    def __attrs_post_init__(self) -> None:
+        seg = float_array(self.segments, "segments", (None, 4), SimulationError)
+        circ = float_array(self.circles, "circles", (None, 3), SimulationError)
+        if np.any(circ[:, 2] < 0.0):
+            k = int(np.argmax(circ[:, 2] < 0.0))
+            raise SimulationError(
+                f"pillar radius must be >= 0, got {float(circ[k, 2])!r} for pillar {k}"
+            )
+        # Private read-only copies: nobody can change an obstacle after the fact.
+        object.__setattr__(self, "segments", _read_only(seg.copy()))
+        object.__setattr__(self, "circles", _read_only(circ.copy()))
 
     @classmethod
     def create(cls, *, segments: Any = (), circles: Any = ()) -> Obstacles:
         """Validate and build; empty inputs give no obstacles."""
         seg = np.zeros((0, 4)) if len(segments) == 0 else segments
         circ = np.zeros((0, 3)) if len(circles) == 0 else circles
-        seg_a = float_array(seg, "segments", (None, 4), SimulationError)
-        circ_a = float_array(circ, "circles", (None, 3), SimulationError)
-        if np.any(circ_a[:, 2] < 0.0):
-            k = int(np.argmax(circ_a[:, 2] < 0.0))
-            raise SimulationError(
-                f"pillar radius must be >= 0, got {circ_a[k, 2]!r} for pillar {k}"
-            )
-        return cls(segments=seg_a, circles=circ_a)
+        return cls(segments=seg, circles=circ)
 
     @property
     def empty(self) -> bool:

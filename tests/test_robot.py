@@ -65,7 +65,8 @@ def test_heading_wraps_into_minus_pi_pi() -> None:
 
 
 @pytest.mark.parametrize(
-    "command", [[math.nan, 0.0], [0.0, math.inf], [1.0], [1.0, 2.0, 3.0], "ab", None, 3.0]
+    "command",
+    [[math.nan, 0.0], [0.0, math.inf], [1.0], [1.0, 2.0, 3.0], "ab", "12", b"12", None, 3.0],
 )
 def test_bad_commands_raise_planner_error(command: object) -> None:
     with pytest.raises(srfm.PlannerError, match="command"):

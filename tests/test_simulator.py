@@ -159,13 +159,22 @@ def test_obstacle_collision_and_pedestrian_wall(tmp_path: Path) -> None:
         assert pos[:, 0, 1].max() < 6.0 - 0.1
 
 
+class Forward(StandStill):
+    """Drives straight ahead at top speed, whatever the goal."""
+
+    name = "forward"
+
+    def act(self, observation: Observation) -> np.ndarray:
+        return np.array([0.5, 0.0])
+
+
 def test_out_of_bounds(tmp_path: Path) -> None:
     s = _scenario(
         tmp_path,
-        "start = [14.0, 7.0]\ngoal = [16.0, 7.0]",
+        "start = [14.0, 7.0]\ngoal = [2.0, 7.0]\nheading_rad = 0.0",
         "starts = [[2.0, 2.0]]\ngoals = [[3.0, 3.0]]",
     )
-    record = srfm.run_episode(s, 0)
+    record = srfm.run_episode(s, 0, planner=Forward())
     assert record.outcome == "out_of_bounds"
     assert record.robot_pose[record.end_step, 0] > 15.0
     assert record.robot_pose[record.end_step - 1, 0] <= 15.0
@@ -285,3 +294,44 @@ def test_a_rejected_command_moves_nothing() -> None:
     assert np.array_equal(sim.factual.pos, before[0])
     assert np.array_equal(sim.counterfactual.pos, before[1])
     assert (sim.robot, sim.step_index) == before[2:]
+
+
+@pytest.mark.parametrize(
+    ("robot", "outcome"),
+    [
+        ("start = [3.0, 3.1]\ngoal = [9.0, 9.0]", "collision"),
+        ("start = [9.0, 9.0]\ngoal = [9.2, 9.0]", "goal_reached"),
+    ],
+)
+def test_robot_events_at_the_first_sample(tmp_path: Path, robot: str, outcome: str) -> None:
+    s = _scenario(tmp_path, robot, "starts = [[3.0, 3.0]]\ngoals = [[12.0, 3.0]]")
+    record = srfm.run_episode(s, 0, planner=Forward())
+    assert record.outcome == outcome
+    assert record.end_step == 0
+    assert record.events[0].step == 0
+    assert not record.robot_active.any()
+    assert np.all(np.isnan(record.robot_cmd))
+    assert np.all(record.robot_pose == record.robot_pose[0])
+
+
+@pytest.mark.parametrize("bad", [-1.0, float("nan"), "2", True])
+def test_detection_range_is_validated(bad: object) -> None:
+    planner = StandStill()
+    planner.detection_range_m = bad  # type: ignore[assignment]
+    with pytest.raises(srfm.PlannerError, match="detection_range_m must be None or a number"):
+        srfm.run_episode("footpath", 0, planner=planner)
+
+
+def test_planner_from_module_and_attribute() -> None:
+    record = srfm.run_episode("footpath", 0, planner="tests.test_simulator:StandStill")
+    assert record.outcome == "timeout"
+    with pytest.raises(srfm.PlannerError, match="cannot import 'no_such_module'"):
+        srfm.run_episode("footpath", 0, planner="no_such_module:X")
+    with pytest.raises(srfm.PlannerError, match="has no callable 'Nope'"):
+        srfm.run_episode("footpath", 0, planner="tests.test_simulator:Nope")
+    with pytest.raises(srfm.PlannerError, match="lacks the Planner protocol"):
+        srfm.run_episode("footpath", 0, planner="tests.test_simulator:NotAPlanner")
+
+
+class NotAPlanner:
+    pass

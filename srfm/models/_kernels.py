@@ -7,6 +7,10 @@ allocation inside loops, no I/O, no raising, no random draws. Shapes: ``pos``, `
 = (x1, y1, x2, y2); ``circles`` (K, 3) = (cx, cy, radius). All forces are accelerations
 (m/s², unit mass).
 
+Exponents are capped at ``EXP_ARG_MAX`` (e^60 ≈ 1e26), far beyond any force that
+changes a step (the speed cap clips it), so that extreme but valid inputs (tiny B,
+deep overlap with a large pillar) give huge finite forces instead of inf and NaN.
+
 Zero distances use an explicit epsilon: two coincident centres exert no force on each
 other (the direction is undefined), an agent at rest with no desired direction has no
 heading and is treated isotropically (ψ = 1).
@@ -20,11 +24,18 @@ import numpy as np
 from numba import njit, prange
 
 EPS = 1e-12
+EXP_ARG_MAX = 60.0
 
 # Parameter vector layout, see srfm.models.params.
 _A_PED, _B_PED, _LAMBDA_PED, _TAU = 0, 1, 2, 3
 _A_ROBOT, _B_ROBOT, _LAMBDA_ROBOT = 4, 5, 6
 _A_OBS, _B_OBS = 7, 8
+
+
+@njit(cache=True, inline="always")
+def _capped_exp(arg: float) -> float:
+    """exp(min(arg, EXP_ARG_MAX))."""
+    return math.exp(min(arg, EXP_ARG_MAX))
 
 
 @njit(cache=True, inline="always")
@@ -105,7 +116,7 @@ def _agent_forces(
             nx = dx / d
             ny = dy / d
             psi = _anisotropy(hx, hy, has_h, -nx, -ny, lam_p)
-            mag = a_p * math.exp((ri + radius[j] - d) / b_p) * psi
+            mag = a_p * _capped_exp((ri + radius[j] - d) / b_p) * psi
             pfx += mag * nx
             pfy += mag * ny
 
@@ -121,7 +132,7 @@ def _agent_forces(
             nx = dx / d
             ny = dy / d
             psi = _anisotropy(hx, hy, has_h, -nx, -ny, params[_LAMBDA_ROBOT])
-            mag = a_r * math.exp((ri + robot[2] - d) / params[_B_ROBOT]) * psi
+            mag = a_r * _capped_exp((ri + robot[2] - d) / params[_B_ROBOT]) * psi
             rfx = mag * nx
             rfy = mag * ny
 
@@ -146,7 +157,7 @@ def _agent_forces(
             d = math.sqrt(dx * dx + dy * dy)
             if d < EPS:
                 continue
-            mag = a_o * math.exp((ri - d) / b_o)
+            mag = a_o * _capped_exp((ri - d) / b_o)
             ofx += mag * dx / d
             ofy += mag * dy / d
         for k in range(circles.shape[0]):
@@ -156,7 +167,7 @@ def _agent_forces(
             if dc < EPS:
                 continue
             d = dc - circles[k, 2]  # distance to the pillar's surface
-            mag = a_o * math.exp((ri - d) / b_o)
+            mag = a_o * _capped_exp((ri - d) / b_o)
             ofx += mag * dx / dc
             ofy += mag * dy / dc
     return gfx, gfy, pfx, pfy, rfx, rfy, ofx, ofy
@@ -356,13 +367,14 @@ def nearest_clearance(pos: np.ndarray, radius: np.ndarray, x: float, y: float) -
 
 @njit(cache=True)
 def within_range(pos: np.ndarray, x: float, y: float, max_range: float, out: np.ndarray) -> int:
-    """Write into ``out`` the indices of agents within ``max_range`` of (x, y); return the count."""
+    """Write into ``out`` the indices of agents closer than ``max_range`` to (x, y);
+    return the count."""
     r2 = max_range * max_range
     k = 0
     for i in range(pos.shape[0]):
         dx = pos[i, 0] - x
         dy = pos[i, 1] - y
-        if dx * dx + dy * dy <= r2:
+        if dx * dx + dy * dy < r2:
             out[k] = i
             k += 1
     return k

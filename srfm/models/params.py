@@ -17,6 +17,7 @@ are arrays in :class:`srfm.CrowdState`.
 
 from __future__ import annotations
 
+import json
 import tomllib
 from pathlib import Path
 from typing import Any, Final
@@ -25,6 +26,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._io import atomic_write_text
 from srfm._validate import finite_float, non_negative, positive, unit_interval
 from srfm.errors import ParameterError
 
@@ -43,8 +45,22 @@ def _check_positive(inst: Any, attribute: attrs.Attribute[float], value: Any) ->
     positive(value, attribute.name, ParameterError)
 
 
-def _check_non_negative(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
-    non_negative(value, attribute.name, ParameterError)
+# Upper bound on the strengths A and lower bound on τ: far outside any fitted value,
+# and what keeps every force finite in float64 (see srfm.models._kernels).
+MAX_STRENGTH: Final = 1e6
+MIN_TAU_S: Final = 1e-3
+
+
+def _check_strength(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    out = non_negative(value, attribute.name, ParameterError)
+    if out > MAX_STRENGTH:
+        raise ParameterError(f"{attribute.name} must be <= {MAX_STRENGTH:g}, got {value!r}")
+
+
+def _check_tau(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    out = positive(value, attribute.name, ParameterError)
+    if out < MIN_TAU_S:
+        raise ParameterError(f"{attribute.name} must be >= {MIN_TAU_S:g} s, got {value!r}")
 
 
 def _check_unit(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
@@ -63,29 +79,30 @@ class SRFMParams:
     """Model-level SRFM parameters (paper Table 1 symbols).
 
     Attributes:
-        a_ped: A_p, pedestrian repulsion strength (m/s²), >= 0.
+        a_ped: A_p, pedestrian repulsion strength (m/s²), in [0, 1e6].
         b_ped: B_p, pedestrian repulsion range (m), > 0.
         lambda_ped: λ, anisotropy of the pedestrian force in [0, 1]; 1 is isotropic,
             0 ignores whatever is straight behind.
-        tau: τ, relaxation time toward the desired velocity (s), > 0.
-        a_robot: A_r, robot repulsion strength (m/s²), >= 0. 0 switches the robot off.
+        tau: τ, relaxation time toward the desired velocity (s), >= 1e-3.
+        a_robot: A_r, robot repulsion strength (m/s²), in [0, 1e6]; 0 switches the
+            robot off.
         b_robot: B_r, robot repulsion range (m), > 0.
         lambda_robot: λ_r, anisotropy of the robot force in [0, 1]; the paper and its
             reference code use the robot force isotropically (λ_r = 1).
-        a_obs: A_o, obstacle repulsion strength (m/s²), >= 0. The paper fitted none;
+        a_obs: A_o, obstacle repulsion strength (m/s²), in [0, 1e6]. The paper fitted none;
             the default is Helbing, Farkas and Vicsek (Nature 2000): A = 2000 N for an
             80 kg pedestrian, i.e. 25 m/s².
         b_obs: B_o, obstacle repulsion range (m), > 0; Helbing et al. 2000: 0.08 m.
     """
 
-    a_ped: float = attrs.field(default=2.0, converter=_to_float, validator=_check_non_negative)
+    a_ped: float = attrs.field(default=2.0, converter=_to_float, validator=_check_strength)
     b_ped: float = attrs.field(default=0.89, converter=_to_float, validator=_check_positive)
     lambda_ped: float = attrs.field(default=0.4, converter=_to_float, validator=_check_unit)
-    tau: float = attrs.field(default=0.6, converter=_to_float, validator=_check_positive)
-    a_robot: float = attrs.field(default=7.93, converter=_to_float, validator=_check_non_negative)
+    tau: float = attrs.field(default=0.6, converter=_to_float, validator=_check_tau)
+    a_robot: float = attrs.field(default=7.93, converter=_to_float, validator=_check_strength)
     b_robot: float = attrs.field(default=0.99, converter=_to_float, validator=_check_positive)
     lambda_robot: float = attrs.field(default=1.0, converter=_to_float, validator=_check_unit)
-    a_obs: float = attrs.field(default=25.0, converter=_to_float, validator=_check_non_negative)
+    a_obs: float = attrs.field(default=25.0, converter=_to_float, validator=_check_strength)
     b_obs: float = attrs.field(default=0.08, converter=_to_float, validator=_check_positive)
 
     @classmethod
@@ -151,6 +168,8 @@ def load_params(path: str | Path) -> SRFMParams:
         raise ParameterError(f"{path}: parameter file not found") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise ParameterError(f"{path}: not a valid TOML file: {exc}") from None
+    except OSError as exc:
+        raise ParameterError(f"{path}: cannot read parameter file: {exc.strerror}") from None
     unknown = sorted(set(data) - {"schema_version", "preset", "params", "meta"})
     if unknown:
         raise ParameterError(f"{path}: unknown key {unknown[0]!r}")
@@ -170,27 +189,42 @@ def load_params(path: str | Path) -> SRFMParams:
 
 
 def save_params(params: SRFMParams, path: str | Path, meta: dict[str, Any] | None = None) -> None:
-    """Write ``params`` as a TOML parameter file, atomically (temporary file + rename)."""
+    """Write ``params`` as a TOML parameter file, atomically (temporary file + rename).
+
+    Args:
+        params: the parameters.
+        path: destination file.
+        meta: optional ``[meta]`` table of strings, integers, floats and booleans
+            (provenance: data, date, residual, ...).
+
+    Raises:
+        ParameterError: a meta value is not a finite scalar.
+    """
     path = Path(path)
     lines = [f"schema_version = {PARAMS_SCHEMA_VERSION}", ""]
     if meta:
         lines.append("[meta]")
         for key, value in meta.items():
-            lines.append(f"{key} = {_toml_scalar(value)}")
+            lines.append(f"{json.dumps(str(key))} = {_toml_scalar(key, value)}")
         lines.append("")
     lines.append("[params]")
     for key, value in params.as_dict().items():
         lines.append(f"{key} = {value!r}")
-    from srfm._io import atomic_write_text
+    text = "\n".join(lines) + "\n"
+    if tomllib.loads(text).get("meta", {}) != (meta or {}):  # e.g. non-string keys
+        raise ParameterError(f"{path}: meta does not round-trip through TOML: {meta!r}")
+    atomic_write_text(path, text)
 
-    atomic_write_text(path, "\n".join(lines) + "\n")
 
-
-def _toml_scalar(value: Any) -> str:
+def _toml_scalar(key: Any, value: Any) -> str:
     if isinstance(value, bool):
         return "true" if value else "false"
-    if isinstance(value, int | float):
-        f = finite_float(value, "meta value", ParameterError)
-        return repr(int(f)) if isinstance(value, int) else repr(f)
-    text = str(value).replace("\\", "\\\\").replace('"', '\\"')
-    return f'"{text}"'
+    if isinstance(value, int | np.integer):
+        return str(int(value))
+    if isinstance(value, float | np.floating):
+        return repr(finite_float(value, f"meta value {key!r}", ParameterError))
+    if isinstance(value, str):
+        return json.dumps(value)  # a JSON string (ASCII, escaped) is a TOML basic string
+    raise ParameterError(
+        f"meta value {key!r} must be a string, integer, float or boolean, got {value!r}"
+    )

@@ -46,8 +46,8 @@ class PlannerContext:
 class Observation:
     """What a planner sees at one step (factual crowd only).
 
-    Pedestrian arrays hold the pedestrians whose centre lies within the planner's
-    ``detection_range_m`` of the robot centre (all of them when it is None), in index
+    Pedestrian arrays hold the pedestrians whose centre is closer than the planner's
+    ``detection_range_m`` to the robot centre (all of them when it is None), in index
     order; ``ped_ids`` are their indices in the crowd.
 
     Attributes:
@@ -86,8 +86,8 @@ class Planner(Protocol):
 
     Attributes:
         name: the registry name.
-        detection_range_m: pedestrians farther than this from the robot are not
-            observed; None observes every pedestrian.
+        detection_range_m: only pedestrians closer than this (m, finite, >= 0) to
+            the robot are observed; 0 observes none, None every pedestrian.
     """
 
     name: str

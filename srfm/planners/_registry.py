@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable
 
 import attrs
@@ -36,13 +37,40 @@ def register_planner(
 
 
 def make_planner(name: str) -> Planner:
-    """A fresh planner instance by registry name."""
+    """A fresh planner instance by registry name, or from ``"module:attribute"``.
+
+    The second form imports ``module`` and calls ``attribute`` (a planner class or a
+    factory) with no arguments, so the command line can run planners that live in the
+    user's own code: ``srfm simulate --planner mypackage.planners:MyPlanner``.
+    """
+    if ":" in name:
+        return _import_planner(name)
     try:
         info = _REGISTRY[name]
     except KeyError:
         known = ", ".join(sorted(_REGISTRY))
-        raise PlannerError(f"unknown planner {name!r}; known: {known}") from None
+        raise PlannerError(
+            f"unknown planner {name!r}; known: {known}; or give module:attribute"
+        ) from None
     return info.factory()
+
+
+def _import_planner(spec: str) -> Planner:
+    module_name, _, attr = spec.partition(":")
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError as exc:
+        raise PlannerError(f"planner {spec!r}: cannot import {module_name!r}: {exc}") from None
+    factory = getattr(module, attr, None)
+    if not callable(factory):
+        raise PlannerError(f"planner {spec!r}: {module_name} has no callable {attr!r}")
+    planner = factory()
+    if not isinstance(planner, Planner):
+        raise PlannerError(
+            f"planner {spec!r}: {attr}() returned {planner!r}, which lacks the Planner "
+            "protocol (name, detection_range_m, reset, act)"
+        )
+    return planner
 
 
 def available_planners() -> list[PlannerInfo]:

@@ -9,7 +9,7 @@ malformed values raise :class:`srfm.errors.ScenarioError` naming the file and ke
     kind = "fixed"                      # "fixed" (listed pedestrians) or "random"
 
     [simulation]
-    dt_s = 0.06666666666666667          # step (s), default 1/15
+    dt_s = 0.06666666666666667          # step (s), in (0, 1], default 1/15
     horizon_steps = 750                 # steps of both twins, 1..MAX_HORIZON_STEPS
 
     [world]                             # the robot is out of bounds outside it
@@ -64,11 +64,12 @@ from numpy.typing import NDArray
 
 from srfm.errors import ScenarioError, SrfmError
 from srfm.robot import KINEMATICS, RobotConfig
-from srfm.state import Obstacles
+from srfm.state import MAX_RADIUS_M, MAX_SPEED_MPS, Obstacles
 
 SCHEMA_VERSION: Final = 1
 MAX_HORIZON_STEPS: Final = 1_000_000
 DEFAULT_DT_S: Final = 1.0 / 15.0
+MAX_DT_S: Final = 1.0
 _NAME_RE: Final = re.compile(r"^[a-z0-9][a-z0-9_-]*$")
 
 FloatArray = NDArray[np.float64]
@@ -184,6 +185,7 @@ class _Reader:
         *,
         minimum: float | None = None,
         strict: bool = False,
+        maximum: float | None = None,
     ) -> float:
         if name not in self.data:
             if default is None:
@@ -196,7 +198,9 @@ class _Reader:
         if not math.isfinite(out):
             raise self.fail(name, f"must be finite, got {value!r}")
         if minimum is not None and (out <= minimum if strict else out < minimum):
-            raise self.fail(name, f"must be {'>' if strict else '>='} {minimum}, got {value!r}")
+            raise self.fail(name, f"must be {'>' if strict else '>='} {minimum:g}, got {value!r}")
+        if maximum is not None and out > maximum:
+            raise self.fail(name, f"must be <= {maximum:g}, got {value!r}")
         return out
 
     def integer(self, name: str, default: int, *, minimum: int, maximum: int) -> int:
@@ -242,23 +246,27 @@ class _Reader:
                 out[i, j] = float(item)
         return out[0] if cols == 0 else out
 
-    def per_agent(self, name: str, default: float, n: int | None) -> FloatArray | float:
+    def per_agent(
+        self, name: str, default: float, n: int | None, maximum: float
+    ) -> FloatArray | float:
         if name not in self.data:
             return default
         value = self.data[name]
         if isinstance(value, list):
             self.used.add(name)
-            if n is None or len(value) != n:
+            if n is None:
+                raise self.fail(name, "lists (one value per pedestrian) need listed starts")
+            if len(value) != n:
                 raise self.fail(name, f"needs one value per pedestrian ({n}), got {len(value)}")
             out = np.zeros(n)
             for i, item in enumerate(value):
                 if isinstance(item, bool) or not isinstance(item, int | float):
                     raise self.fail(f"{name}[{i}]", f"must be a number, got {item!r}")
-                if not math.isfinite(float(item)) or float(item) < 0.0:
-                    raise self.fail(f"{name}[{i}]", f"must be a finite number >= 0, got {item!r}")
+                if not 0.0 <= float(item) <= maximum:  # also false for NaN
+                    raise self.fail(f"{name}[{i}]", f"must be in [0, {maximum:g}], got {item!r}")
                 out[i] = float(item)
             return out
-        return self.number(name, minimum=0.0)
+        return self.number(name, minimum=0.0, maximum=maximum)
 
     def finish(self) -> None:
         unknown = sorted(set(self.data) - self.used)
@@ -281,7 +289,7 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         raise top.fail("kind", f"must be 'fixed' or 'random', got {kind!r}")
 
     sim = top.table("simulation")
-    dt_s = sim.number("dt_s", DEFAULT_DT_S, minimum=0.0, strict=True)
+    dt_s = sim.number("dt_s", DEFAULT_DT_S, minimum=0.0, strict=True, maximum=MAX_DT_S)
     horizon = sim.integer("horizon_steps", 750, minimum=1, maximum=MAX_HORIZON_STEPS)
     sim.finish()
 
@@ -298,8 +306,15 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
 
     r = top.table("robot")
     fixed = kind == "fixed"
+    if not fixed:
+        for key in ("start", "goal", "heading_rad"):
+            if r.has(key):
+                raise r.fail(key, "is drawn per seed for kind = 'random'; remove it")
     robot_start = r.array("start", 0, required=fixed)
     robot_goal = r.array("goal", 0, required=fixed)
+    for key, point in (("start", robot_start), ("goal", robot_goal)):
+        if point is not None and not world.contains(float(point[0]), float(point[1])):
+            raise r.fail(key, f"must lie inside the world {world}, got {point.tolist()}")
     heading = r.number("heading_rad") if r.has("heading_rad") else None
     kin = r.string("kinematics", "unicycle")
     if kin not in KINEMATICS:
@@ -332,11 +347,14 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
             raise p.fail("goals", f"needs one goal per start ({n}), got {got}")
     elif goals is not None:
         raise p.fail("goals", "given without starts")
-    ped_radius = p.per_agent("radius_m", 0.3, n)
-    ped_v0 = p.per_agent("desired_speed_mps", 1.25, n)
-    ped_vmax = p.per_agent("max_speed_mps", 1.25, n)
+    ped_radius = p.per_agent("radius_m", 0.3, n, MAX_RADIUS_M)
+    ped_v0 = p.per_agent("desired_speed_mps", 1.25, n, MAX_SPEED_MPS)
+    ped_vmax = p.per_agent("max_speed_mps", 1.25, n, MAX_SPEED_MPS)
     ped_goal_radius = p.number("goal_radius_m", 0.5, minimum=0.0, strict=True)
-    noise = p.number("noise_m", 0.5, minimum=0.0)
+    world_size = min(world.x_max - world.x_min, world.y_max - world.y_min)
+    if not fixed and p.has("noise_m"):
+        raise p.fail("noise_m", "is only allowed with kind = 'fixed'")
+    noise = p.number("noise_m", 0.5, minimum=0.0, maximum=world_size)
     p.finish()
 
     random_spec: RandomSpec | None = None
@@ -372,6 +390,10 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         raise ScenarioError(f"{source}: obstacles: {exc}") from None
     top.finish()
 
+    # A Scenario is shared (built-ins are cached): make its arrays read-only.
+    for arr in (robot_start, robot_goal, starts, goals, ped_radius, ped_v0, ped_vmax):
+        if isinstance(arr, np.ndarray):
+            arr.setflags(write=False)
     return Scenario(
         name=name,
         description=description,

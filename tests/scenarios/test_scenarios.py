@@ -150,6 +150,7 @@ BAD_CASES = [
     ("[simulation]\nhorizon_steps = 2.5\n", "simulation.horizon_steps: must be an integer"),
     ("[simulation]\ndt_s = nan\n", "simulation.dt_s: must be finite"),
     ("[simulation]\ndt_s = -0.1\n", r"simulation\.dt_s: must be > 0"),
+    ("[simulation]\ndt_s = 1e308\n", r"simulation\.dt_s: must be <= 1, got 1e\+308"),
     ("[world]\nx_max = -1.0\n", "x_max > x_min"),
 ]
 
@@ -188,6 +189,16 @@ def test_schema_errors_name_file_and_key(tmp_path: Path, extra: str, message: st
         ),
         (
             "goals = [[3.0, 0.5], [0.5, 4.0]]",
+            "goals = [[3.0, 0.5], [0.5, 4.0]]\nnoise_m = 1e308",
+            r"pedestrians\.noise_m: must be <= 15, got 1e\+308",
+        ),
+        (
+            "goals = [[3.0, 0.5], [0.5, 4.0]]",
+            "goals = [[3.0, 0.5], [0.5, 4.0]]\ndesired_speed_mps = [1.0, 1e4]",
+            r"pedestrians\.desired_speed_mps\[1\]: must be in \[0, 1000\], got 10000\.0",
+        ),
+        (
+            "goals = [[3.0, 0.5], [0.5, 4.0]]",
             "goals = [[3.0, 0.5], [0.5, 4.0]]\nradius_m = [0.3]",
             r"pedestrians\.radius_m: needs one value per pedestrian",
         ),
@@ -204,6 +215,8 @@ def test_schema_errors_name_file_and_key(tmp_path: Path, extra: str, message: st
         ("goal = [5.0, 1.0]", "goal = [5.0, 1.0]\nradius_m = 0", r"robot\.radius_m: must be > 0"),
         ('name = "mine"', 'name = "My Scenario"', r"name: must match"),
         ("schema_version = 1", "schema_version = 2", r"schema_version: must be 1, got 2"),
+        ("start = [1.0, 1.0]", "start = [-3.0, 1.0]", r"robot\.start: must lie inside the world"),
+        ("goal = [5.0, 1.0]", "goal = [5.0, 16.0]", r"robot\.goal: must lie inside the world"),
         ("schema_version = 1", "schema_version = 1.0", r"schema_version: must be 1, got 1\.0"),
         ("schema_version = 1", "schema_version = true", r"schema_version: must be 1, got True"),
         ("[robot]\nstart = [1.0, 1.0]\n", "", r"robot\.start: is required"),
@@ -218,8 +231,20 @@ def test_malformed_values_are_rejected(tmp_path: Path, old: str, new: str, messa
 
 def test_random_kind_rules(tmp_path: Path) -> None:
     body = MINIMAL.replace('description = "a user scenario"', 'description = "x"\nkind = "random"')
-    with pytest.raises(srfm.ScenarioError, match="must not be given for kind = 'random'"):
+    with pytest.raises(srfm.ScenarioError, match=r"robot\.start: is drawn per seed"):
         load_scenario(write_scenario(tmp_path / "r.toml", body))
+    no_robot = body.replace("start = [1.0, 1.0]\ngoal = [5.0, 1.0]\n", "")
+    with pytest.raises(srfm.ScenarioError, match="must not be given for kind = 'random'"):
+        load_scenario(write_scenario(tmp_path / "r2.toml", no_robot))
+    only_noise = (
+        'schema_version = 1\nname = "r"\ndescription = "x"\nkind = "random"\n'
+        "[pedestrians]\nnoise_m = 0.2\n"
+    )
+    with pytest.raises(srfm.ScenarioError, match=r"pedestrians\.noise_m: is only allowed with"):
+        load_scenario(write_scenario(tmp_path / "r3.toml", only_noise))
+    lists = only_noise.replace("noise_m = 0.2", "radius_m = [0.3, 0.3]")
+    with pytest.raises(srfm.ScenarioError, match=r"radius_m: lists .* need listed starts"):
+        load_scenario(write_scenario(tmp_path / "r4.toml", lists))
     with pytest.raises(srfm.ScenarioError, match="only allowed with kind = 'random'"):
         load_scenario(write_scenario(tmp_path / "f.toml", MINIMAL + "\n[random]\ncount = 3\n"))
     impossible = (

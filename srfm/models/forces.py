@@ -21,6 +21,9 @@ __all__ = ["PARALLEL_MIN_AGENTS", "ForceComponents", "RobotBody", "force_compone
 # NUMBA_NUM_THREADS=1.
 PARALLEL_MIN_AGENTS: Final = 50
 
+# Largest step (s): with the speed bounds of CrowdState it keeps positions finite.
+MAX_DT_S: Final = 1.0
+
 _NO_OBSTACLES: Final = Obstacles()
 
 
@@ -114,11 +117,12 @@ def step_crowd(
     depend on the order of the pedestrians.
 
     Args:
+        dt: step (s), in (0, 1].
         parallel: use the threaded kernel; by default for crowds of at least
             ``PARALLEL_MIN_AGENTS`` pedestrians. Both kernels give identical results.
     """
-    if not (dt > 0.0 and np.isfinite(dt)):
-        raise SimulationError(f"dt must be a finite number > 0, got {dt!r}")
+    if not 0.0 < dt <= MAX_DT_S:  # also false for NaN
+        raise SimulationError(f"dt must be in (0, {MAX_DT_S:g}] s, got {dt!r}")
     params = params or SRFMParams()
     obstacles = obstacles or _NO_OBSTACLES
     robot_arr, robot_on = _robot_args(robot)

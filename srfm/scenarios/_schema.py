@@ -19,9 +19,9 @@ malformed values raise :class:`srfm.errors.ScenarioError` naming the file and ke
     y_max = 15.0
 
     [robot]
-    start = [2.0, 8.0]                  # required for kind = "fixed"
-    goal = [12.0, 9.0]                  # required for kind = "fixed"
-    heading_rad = 0.0                   # default: facing the goal
+    start = [2.0, 8.0]                  # kind = "fixed" only (required), inside [world]
+    goal = [12.0, 9.0]                  # kind = "fixed" only (required), inside [world]
+    heading_rad = 0.0                   # kind = "fixed" only; default: facing the goal
     kinematics = "unicycle"             # and the limits of srfm.RobotConfig:
     radius_m = 0.2                      # max_speed_mps, max_angular_speed_radps,
                                         # max_accel_mps2, max_angular_accel_radps2,
@@ -30,11 +30,12 @@ malformed values raise :class:`srfm.errors.ScenarioError` naming the file and ke
     [pedestrians]
     starts = [[0.5, 7.4], ...]          # required for kind = "fixed", (N, 2)
     goals = [[8.5, 5.2], ...]           # required for kind = "fixed", (N, 2)
-    radius_m = 0.3                      # scalar or one per pedestrian
-    desired_speed_mps = 1.25            # scalar or one per pedestrian
-    max_speed_mps = 1.25                # scalar or one per pedestrian
+    radius_m = 0.3                      # scalar or one per pedestrian, in [0, 1000]
+    desired_speed_mps = 1.25            # scalar or one per pedestrian, in [0, 1000]
+    max_speed_mps = 1.25                # scalar or one per pedestrian, in [0, 1000]
     goal_radius_m = 0.5                 # arrival distance
-    noise_m = 0.5                       # per-seed offset u ~ U(-noise, noise)^2
+    noise_m = 0.5                       # kind = "fixed" only: per-seed offset
+                                        # u ~ U(-noise, noise)^2, at most the world size
 
     [random]                            # only for kind = "random"
     count = 10
@@ -63,13 +64,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm.errors import ScenarioError, SrfmError
+from srfm.models.forces import MAX_DT_S
 from srfm.robot import KINEMATICS, RobotConfig
 from srfm.state import MAX_RADIUS_M, MAX_SPEED_MPS, Obstacles
 
 SCHEMA_VERSION: Final = 1
 MAX_HORIZON_STEPS: Final = 1_000_000
 DEFAULT_DT_S: Final = 1.0 / 15.0
-MAX_DT_S: Final = 1.0
 _NAME_RE: Final = re.compile(r"^[a-z0-9][a-z0-9_-]*$")
 
 FloatArray = NDArray[np.float64]

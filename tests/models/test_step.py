@@ -308,7 +308,7 @@ def test_step_is_deterministic() -> None:
     np.testing.assert_array_equal(a.pos, b.pos)
 
 
-@pytest.mark.parametrize("dt", [0.0, -0.1, float("nan"), float("inf")])
+@pytest.mark.parametrize("dt", [0.0, -0.1, float("nan"), float("inf"), 1.5])
 def test_invalid_dt_raises(dt: float) -> None:
     c = random_crowd(3, seed=0)
     before = c.copy()

@@ -66,15 +66,13 @@ def planners() -> None:
 
 
 def _load_params(value: str | None) -> Any:
-    from srfm.models import PRESETS, SRFMParams, load_params
+    from srfm.models import SRFMParams, load_params
 
     if value is None:
         return SRFMParams()
-    if value in PRESETS:
-        return PRESETS[value]
     if value.endswith(".toml") or Path(value).exists():
         return load_params(value)
-    return SRFMParams.preset(value)  # raises a ParameterError naming the presets
+    return SRFMParams.preset(value)  # an unknown name raises a ParameterError listing them
 
 
 @main.command()

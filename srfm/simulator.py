@@ -159,13 +159,16 @@ class TwinSimulator:
         if self.robot_active and command is None:
             raise PlannerError("the robot is active and needs a command")
         dt = self.scenario.dt_s
+        robot = self.robot
         if self.robot_active:  # validate before anything moves
-            next_robot = apply_command(self.robot, command, self.scenario.robot, dt)
+            next_robot = apply_command(robot, command, self.scenario.robot, dt)
+        elif robot.vx or robot.vy or robot.v or robot.omega:
+            next_robot = stopped(robot)  # once, in the step after the episode ended
         else:
-            next_robot = stopped(self.robot)
+            next_robot = robot
         body = self._robot_body
-        body[0] = self.robot.x
-        body[1] = self.robot.y
+        body[0] = robot.x
+        body[1] = robot.y
         f = self.factual
         c = self.counterfactual
         arrived = self._arrived

@@ -127,14 +127,6 @@ def _per_agent(value: Any, name: str, n: int) -> FloatArray:
     return out.copy()
 
 
-def _no_segments() -> FloatArray:
-    return _read_only(np.zeros((0, 4)))
-
-
-def _no_circles() -> FloatArray:
-    return _read_only(np.zeros((0, 3)))
-
-
 def _read_only(arr: FloatArray) -> FloatArray:
     arr.setflags(write=False)
     return arr
@@ -149,8 +141,8 @@ class Obstacles:
         circles: (K, 3) pillars as (cx, cy, radius) (m), radius >= 0.
     """
 
-    segments: FloatArray = attrs.field(factory=_no_segments)
-    circles: FloatArray = attrs.field(factory=_no_circles)
+    segments: FloatArray = attrs.field(factory=lambda: np.zeros((0, 4)))
+    circles: FloatArray = attrs.field(factory=lambda: np.zeros((0, 3)))
 
     def __attrs_post_init__(self) -> None:
         seg = float_array(self.segments, "segments", (None, 4), SimulationError)

@@ -182,5 +182,12 @@ def format_summary(s: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+# Subcommands that live in their own modules; each line imports one and adds it.
+# [cli:benchmark]
+# [cli:logging]
+# [cli:data]
+# [cli:train]
+
+
 if __name__ == "__main__":  # pragma: no cover
     main()

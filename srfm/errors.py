@@ -8,6 +8,8 @@ callers that do not know srfm.
 from __future__ import annotations
 
 __all__ = [
+    "BenchmarkError",
+    "MetricError",
     "ParameterError",
     "PlannerError",
     "ScenarioError",
@@ -34,3 +36,11 @@ class PlannerError(SrfmError, ValueError):
 
 class SimulationError(SrfmError, ValueError):
     """A simulation input (state, obstacle, horizon) is malformed."""
+
+
+class MetricError(SrfmError, ValueError):
+    """A metric was given malformed input (empty, wrongly shaped or non-finite arrays)."""
+
+
+class BenchmarkError(SrfmError, ValueError):
+    """A benchmark request or results folder is unusable (unknown names, mixed runs)."""

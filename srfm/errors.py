@@ -9,6 +9,7 @@ from __future__ import annotations
 
 __all__ = [
     "BenchmarkError",
+    "DatasetError",
     "MetricError",
     "ParameterError",
     "PlannerError",
@@ -44,3 +45,7 @@ class MetricError(SrfmError, ValueError):
 
 class BenchmarkError(SrfmError, ValueError):
     """A benchmark request or results folder is unusable (unknown names, mixed runs)."""
+
+
+class DatasetError(SrfmError, ValueError):
+    """A dataset file is malformed or unusable; the message names the file and the place."""

@@ -2,38 +2,19 @@
 
 from __future__ import annotations
 
-import functools
 import json
 import time
-from collections.abc import Callable
-from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any
 
 import click
 import numpy as np
 
-from srfm.errors import SrfmError
+from srfm._cli_common import UserError, load_params_option, user_errors
 
-F = TypeVar("F", bound=Callable[..., Any])
-
-
-class UserError(click.ClickException):
-    """A user mistake: printed as one line, exit code 2."""
-
-    exit_code = 2
-
-
-def _user_errors(func: F) -> F:
-    """Turn srfm's own errors into one-line messages with exit code 2."""
-
-    @functools.wraps(func)
-    def wrapper(*args: Any, **kwargs: Any) -> Any:
-        try:
-            return func(*args, **kwargs)
-        except SrfmError as exc:
-            raise UserError(str(exc)) from None
-
-    return wrapper  # type: ignore[return-value]
+# Older names, kept for modules that import them from here.
+_user_errors = user_errors
+_load_params = load_params_option
+__all__ = ["UserError", "main"]
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -63,16 +44,6 @@ def planners() -> None:
     width = max(len(p.name) for p in items)
     for p in items:
         click.echo(f"{p.name:<{width}}  {p.description}")
-
-
-def _load_params(value: str | None) -> Any:
-    from srfm.models import SRFMParams, load_params
-
-    if value is None:
-        return SRFMParams()
-    if value.endswith(".toml") or Path(value).exists():
-        return load_params(value)
-    return SRFMParams.preset(value)  # an unknown name raises a ParameterError listing them
 
 
 @main.command()
@@ -106,7 +77,7 @@ def _load_params(value: str | None) -> Any:
     "TOML file. Default: agrawal2024.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
-@_user_errors
+@user_errors
 def simulate(
     scenario_name: str, seed: int, planner_name: str, params_spec: str | None, as_json: bool
 ) -> None:
@@ -117,7 +88,7 @@ def simulate(
 
     scenario = load_scenario(scenario_name)
     planner = make_planner(planner_name)
-    params = _load_params(params_spec)
+    params = load_params_option(params_spec)
     start = time.perf_counter()
     record = run_episode(scenario, seed, planner, params)
     wall_s = time.perf_counter() - start
@@ -183,10 +154,14 @@ def format_summary(s: dict[str, Any]) -> str:
 
 
 # Subcommands that live in their own modules; each line imports one and adds it.
-# [cli:benchmark]
+from srfm._cli_benchmark import benchmark  # noqa: E402
+
+main.add_command(benchmark)
 # [cli:logging]
 # [cli:data]
-# [cli:train]
+from srfm._cli_train import train as _train  # noqa: E402
+
+main.add_command(_train)
 
 
 if __name__ == "__main__":  # pragma: no cover

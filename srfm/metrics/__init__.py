@@ -1,7 +1,48 @@
-"""Episode metrics (the exact Fréchet deviation, social-navigation metrics, statistics).
+"""Metrics: the exact Fréchet deviation, episode metrics, statistics and tables.
 
-Empty until the metrics issue lands; :class:`srfm.EpisodeRecord` already carries the
-arrays they are computed from.
+Definitions of every metric: :data:`EPISODE_METRICS`, :data:`PEDESTRIAN_METRICS` and
+``docs/metrics.md``.
 """
 
-__all__: list[str] = []
+from srfm.metrics.episode import (
+    EPISODE_METRICS,
+    PEDESTRIAN_METRICS,
+    EpisodeMetrics,
+    MetricInfo,
+    episode_metrics,
+)
+from srfm.metrics.frechet import frechet_distance, frechet_distances
+from srfm.metrics.stats import ALPHA, Comparison, Summary, compare, summarize
+from srfm.metrics.tables import (
+    OUTCOME_COLUMNS,
+    TABLE_COLUMNS,
+    BenchmarkTable,
+    Cell,
+    benchmark_table,
+    summary_dict,
+    to_latex,
+    to_markdown,
+)
+
+__all__ = [
+    "ALPHA",
+    "EPISODE_METRICS",
+    "OUTCOME_COLUMNS",
+    "PEDESTRIAN_METRICS",
+    "TABLE_COLUMNS",
+    "BenchmarkTable",
+    "Cell",
+    "Comparison",
+    "EpisodeMetrics",
+    "MetricInfo",
+    "Summary",
+    "benchmark_table",
+    "compare",
+    "episode_metrics",
+    "frechet_distance",
+    "frechet_distances",
+    "summarize",
+    "summary_dict",
+    "to_latex",
+    "to_markdown",
+]

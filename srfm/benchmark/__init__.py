@@ -1,0 +1,26 @@
+"""The benchmark: scenarios × planners × seeds into a results folder of tables and figures."""
+
+from srfm.benchmark._results import episode_path, read_episode
+from srfm.benchmark._runner import (
+    MANIFEST,
+    QUICK_SEEDS,
+    BenchmarkRequest,
+    BenchmarkSummary,
+    default_planners,
+    load_results,
+    run_benchmark,
+    write_reports,
+)
+
+__all__ = [
+    "MANIFEST",
+    "QUICK_SEEDS",
+    "BenchmarkRequest",
+    "BenchmarkSummary",
+    "default_planners",
+    "episode_path",
+    "load_results",
+    "read_episode",
+    "run_benchmark",
+    "write_reports",
+]

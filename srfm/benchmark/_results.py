@@ -1,0 +1,160 @@
+"""The results folder: per-episode metric files, CSV exports and the manifest."""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import io
+import json
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import attrs
+import numpy as np
+
+from srfm._io import atomic_write_text
+from srfm.errors import BenchmarkError
+from srfm.metrics import EPISODE_METRICS, PEDESTRIAN_METRICS, EpisodeMetrics
+from srfm.scenarios import Scenario
+
+__all__ = [
+    "EPISODES_DIR",
+    "episode_path",
+    "fingerprint",
+    "read_episode",
+    "write_episode",
+    "write_episodes_csv",
+    "write_pedestrians_csv",
+]
+
+EPISODES_DIR = "episodes"
+EPISODE_SCHEMA = "srfm.episode_metrics/1"
+
+
+def episode_path(out: Path, scenario: str, planner: str, seed: int) -> Path:
+    """Where the metrics of one episode live inside a results folder."""
+    return out / EPISODES_DIR / scenario / planner / f"seed-{seed:06d}.json"
+
+
+def _finite_or_none(x: float) -> float | None:
+    return None if math.isnan(x) else float(x)
+
+
+def _from_json(x: float | None) -> float:
+    return math.nan if x is None else float(x)
+
+
+def episode_json(metrics: EpisodeMetrics) -> str:
+    """The JSON text of one episode's metrics (floats round-trip exactly; NaN is null)."""
+    doc = {
+        "schema": EPISODE_SCHEMA,
+        "scenario": metrics.scenario,
+        "planner": metrics.planner,
+        "seed": metrics.seed,
+        "outcome": metrics.outcome,
+        "end_step": metrics.end_step,
+        "metrics": {m.name: _finite_or_none(metrics.values[m.name]) for m in EPISODE_METRICS},
+        "pedestrians": {
+            m.name: [_finite_or_none(v) for v in metrics.pedestrians[m.name].tolist()]
+            for m in PEDESTRIAN_METRICS
+        },
+    }
+    return json.dumps(doc, indent=1) + "\n"
+
+
+def write_episode(out: Path, metrics: EpisodeMetrics) -> Path:
+    """Write one episode's metrics atomically; return the file's path."""
+    path = episode_path(out, metrics.scenario, metrics.planner, metrics.seed)
+    atomic_write_text(path, episode_json(metrics), fsync=False)
+    return path
+
+
+def read_episode(path: Path) -> EpisodeMetrics:
+    """Read a file written by :func:`write_episode`."""
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+        if doc.get("schema") != EPISODE_SCHEMA:
+            raise BenchmarkError(
+                f"{path}: schema {doc.get('schema')!r}, expected {EPISODE_SCHEMA!r}"
+            )
+        values = {m.name: _from_json(doc["metrics"][m.name]) for m in EPISODE_METRICS}
+        peds = {
+            m.name: np.array([_from_json(v) for v in doc["pedestrians"][m.name]])
+            for m in PEDESTRIAN_METRICS
+        }
+        return EpisodeMetrics(
+            scenario=str(doc["scenario"]),
+            planner=str(doc["planner"]),
+            seed=int(doc["seed"]),
+            outcome=str(doc["outcome"]),
+            end_step=int(doc["end_step"]),
+            values=values,
+            pedestrians=peds,
+        )
+    except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
+        if isinstance(exc, BenchmarkError):
+            raise
+        raise BenchmarkError(f"{path}: not a readable episode metrics file: {exc}") from None
+
+
+def _csv_number(x: float) -> str:
+    return "" if math.isnan(x) else repr(float(x))
+
+
+def _write_csv(path: Path, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> None:
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(header)
+    writer.writerows(rows)
+    atomic_write_text(path, buf.getvalue())
+
+
+def write_episodes_csv(path: Path, results: Sequence[EpisodeMetrics]) -> None:
+    """One row per episode: identity, outcome and every :data:`EPISODE_METRICS` value
+    (empty cell for NaN)."""
+    header = ["scenario", "planner", "seed", "outcome", "end_step"]
+    header += [m.name for m in EPISODE_METRICS]
+    rows = (
+        [r.scenario, r.planner, r.seed, r.outcome, r.end_step]
+        + [_csv_number(r.values[m.name]) for m in EPISODE_METRICS]
+        for r in results
+    )
+    _write_csv(path, header, rows)
+
+
+def write_pedestrians_csv(path: Path, results: Sequence[EpisodeMetrics]) -> None:
+    """One row per (episode, pedestrian) with every :data:`PEDESTRIAN_METRICS` value."""
+    header = ["scenario", "planner", "seed", "pedestrian"]
+    header += [m.name for m in PEDESTRIAN_METRICS]
+    rows = (
+        [r.scenario, r.planner, r.seed, k]
+        + [_csv_number(r.pedestrians[m.name][k]) for m in PEDESTRIAN_METRICS]
+        for r in results
+        for k in range(len(r.pedestrians["frechet_m"]))
+    )
+    _write_csv(path, header, rows)
+
+
+def _plain(value: Any) -> Any:
+    """attrs instances, arrays and tuples as JSON-ready plain data."""
+    if attrs.has(type(value)):
+        return {f.name: _plain(getattr(value, f.name)) for f in attrs.fields(type(value))}
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, list | tuple):
+        return [_plain(v) for v in value]
+    if isinstance(value, Mapping):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def fingerprint(scenario: Scenario) -> str:
+    """SHA-256 of a scenario's content (every field but where it was read from)."""
+    data = _plain(scenario)
+    data.pop("source", None)
+    text = json.dumps(data, sort_keys=True, allow_nan=True)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()

@@ -1,0 +1,387 @@
+"""The benchmark runner: scenarios × planners × seeds in worker processes, resumable.
+
+Every finished episode is one small JSON file in ``OUT/episodes/`` written atomically
+(temporary file, then rename), so an interrupted run loses at most the episodes that
+were being simulated, and a re-run on the same folder skips every file that exists.
+Tables, CSV files and figures are rebuilt from those files at the end of each run, in
+a fixed order, so the same request gives byte-identical tables.
+"""
+
+from __future__ import annotations
+
+import json
+import multiprocessing
+import os
+import platform
+import sys
+import time
+from collections.abc import Callable, Sequence
+from importlib import metadata
+from pathlib import Path
+from typing import Any, Final
+
+import attrs
+
+from srfm._io import atomic_write_text
+from srfm.benchmark._results import (
+    EPISODES_DIR,
+    episode_path,
+    fingerprint,
+    read_episode,
+    write_episode,
+    write_episodes_csv,
+    write_pedestrians_csv,
+)
+from srfm.errors import BenchmarkError
+from srfm.metrics import (
+    OUTCOME_COLUMNS,
+    TABLE_COLUMNS,
+    EpisodeMetrics,
+    benchmark_table,
+    episode_metrics,
+    summary_dict,
+    to_latex,
+    to_markdown,
+)
+from srfm.models.params import SRFMParams
+from srfm.planners import available_planners, make_planner
+from srfm.scenarios import EVALUATION_SCENARIOS, Scenario, load_scenario
+
+__all__ = [
+    "MANIFEST",
+    "QUICK_SEEDS",
+    "BenchmarkRequest",
+    "BenchmarkSummary",
+    "default_planners",
+    "load_results",
+    "run_benchmark",
+    "write_reports",
+]
+
+MANIFEST: Final = "manifest.json"
+QUICK_SEEDS: Final = (0, 1, 2)
+"""Seeds of ``--quick``: enough for a mean, a standard deviation and the tests."""
+_CHUNK: Final = 5  # seeds per worker task: small enough for a smooth progress bar
+
+
+def default_planners() -> tuple[str, ...]:
+    """Every registered planner, by name."""
+    return tuple(p.name for p in available_planners())
+
+
+@attrs.frozen(kw_only=True, eq=False)
+class BenchmarkRequest:
+    """What to run.
+
+    Attributes:
+        scenarios: the scenarios (built-in or from files), in table order.
+        planners: planner names (registry names or ``module:attribute``), in table order.
+        seeds: episode seeds, shared by every (scenario, planner) cell.
+        params: SRFM parameters of the factual crowd.
+        reference: the planner others are tested against (None: no significance tests).
+        figure_seed: the seed drawn in the path figures (the first seed when None).
+    """
+
+    scenarios: tuple[Scenario, ...]
+    planners: tuple[str, ...]
+    seeds: tuple[int, ...]
+    params: SRFMParams = attrs.field(factory=SRFMParams)
+    reference: str | None = None
+    figure_seed: int | None = None
+
+    def __attrs_post_init__(self) -> None:
+        for label, items in (
+            ("scenario", [s.name for s in self.scenarios]),
+            ("planner", list(self.planners)),
+            ("seed", [str(s) for s in self.seeds]),
+        ):
+            if not items:
+                raise BenchmarkError(f"the benchmark needs at least one {label}")
+            dupes = sorted({x for x in items if items.count(x) > 1})
+            if dupes:
+                raise BenchmarkError(f"{label}s given twice: {', '.join(dupes)}")
+        bad = [s for s in self.seeds if not isinstance(s, int) or s < 0]
+        if bad:
+            raise BenchmarkError(f"seeds must be non-negative integers, got {bad[:5]}")
+        for name in self.planners:
+            if "/" in name or name.startswith("."):
+                raise BenchmarkError(f"planner name {name!r} cannot name a results folder")
+        if self.reference is not None and self.reference not in self.planners:
+            raise BenchmarkError(
+                f"reference planner {self.reference!r} is not among the planners "
+                f"{list(self.planners)}"
+            )
+        if self.figure_seed is not None and self.figure_seed not in self.seeds:
+            raise BenchmarkError(f"figure seed {self.figure_seed} is not among the seeds")
+
+    @classmethod
+    def create(
+        cls,
+        *,
+        scenarios: Sequence[str] | None = None,
+        planners: Sequence[str] | None = None,
+        seeds: Sequence[int] | None = None,
+        params: SRFMParams | None = None,
+        reference: str | None = None,
+        quick: bool = False,
+    ) -> BenchmarkRequest:
+        """A request with the defaults filled in: the five evaluation scenarios, every
+        registered planner, seeds 0–99 (``quick``: seeds 0–2); the reference is
+        ``td3-srfm`` when it runs, else none."""
+        scenario_objs = tuple(load_scenario(s) for s in (scenarios or EVALUATION_SCENARIOS))
+        planner_names = tuple(planners) if planners else default_planners()
+        for name in planner_names:
+            make_planner(name)  # an unknown name fails here, before any work
+        if seeds is None:
+            seeds = QUICK_SEEDS if quick else tuple(range(100))
+        if reference is None and "td3-srfm" in planner_names:
+            reference = "td3-srfm"
+        return cls(
+            scenarios=scenario_objs,
+            planners=planner_names,
+            seeds=tuple(int(s) for s in seeds),
+            params=params or SRFMParams(),
+            reference=reference,
+        )
+
+
+@attrs.frozen(kw_only=True)
+class BenchmarkSummary:
+    """What a run did.
+
+    Attributes:
+        out: the results folder.
+        episodes: episodes in the request.
+        simulated: episodes simulated by this run (the rest were already there).
+        wall_time_s: wall time of the simulation part (s).
+        files: the report files written, relative to ``out``.
+    """
+
+    out: Path
+    episodes: int
+    simulated: int
+    wall_time_s: float
+    files: tuple[str, ...]
+
+
+def _versions() -> dict[str, str]:
+    out = {"python": platform.python_version()}
+    for dist in ("srfm", "numpy", "numba", "scipy"):
+        try:
+            out[dist] = metadata.version(dist)
+        except metadata.PackageNotFoundError:  # pragma: no cover - always installed
+            out[dist] = "unknown"
+    return out
+
+
+def _manifest(request: BenchmarkRequest) -> dict[str, Any]:
+    """The identity of a results folder: what every episode file in it was run with."""
+    return {
+        "schema": "srfm.benchmark_manifest/1",
+        "versions": _versions(),
+        "params": request.params.as_dict(),
+        "scenarios": {s.name: fingerprint(s) for s in request.scenarios},
+    }
+
+
+def _check_manifest(out: Path, request: BenchmarkRequest) -> dict[str, Any]:
+    """Create the manifest, or check that an existing one matches the request.
+
+    Episodes of a folder must all come from the same parameters, scenario content and
+    package versions; adding scenarios, planners or seeds to a folder is fine.
+    """
+    path = out / MANIFEST
+    new = _manifest(request)
+    if not path.exists():
+        return new
+    try:
+        old = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise BenchmarkError(f"{path}: unreadable manifest ({exc}); use a new --out") from None
+    if old.get("schema") != new["schema"]:
+        raise BenchmarkError(f"{path}: not an srfm benchmark folder (schema {old.get('schema')})")
+    for key in ("versions", "params"):
+        if old.get(key) != new[key]:
+            raise BenchmarkError(
+                f"{out} holds episodes run with other {key} ({old.get(key)} != {new[key]}); "
+                "use a new --out folder"
+            )
+    known = old.get("scenarios", {})
+    for name, digest in new["scenarios"].items():
+        if name in known and known[name] != digest:
+            raise BenchmarkError(
+                f"{out} holds episodes of a different scenario {name!r} (content changed); "
+                "use a new --out folder"
+            )
+    merged = dict(new)
+    merged["scenarios"] = {**known, **new["scenarios"]}
+    return merged
+
+
+@attrs.frozen
+class _Task:
+    scenario: Scenario
+    planner: str
+    seeds: tuple[int, ...]
+    params: SRFMParams
+    out: str
+
+
+def _run_task(task: _Task) -> int:
+    """Worker: simulate and score the task's episodes, one atomic file each."""
+    from srfm.episode import run_episode
+
+    out = Path(task.out)
+    for seed in task.seeds:
+        planner = make_planner(task.planner)
+        record = run_episode(task.scenario, seed, planner, task.params, parallel=False)
+        metrics = episode_metrics(record)
+        if metrics.planner != task.planner:  # module:attribute planners report their own name
+            metrics = attrs.evolve(metrics, planner=task.planner)
+        write_episode(out, metrics)
+    return len(task.seeds)
+
+
+def _init_worker() -> None:
+    # One thread per worker process: threaded kernels stall when the cores are shared.
+    for var in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"):
+        os.environ[var] = "1"
+
+
+def _pending_tasks(out: Path, request: BenchmarkRequest) -> list[_Task]:
+    tasks = []
+    for scenario in request.scenarios:
+        for planner in request.planners:
+            todo = [
+                s
+                for s in request.seeds
+                if not episode_path(out, scenario.name, planner, s).exists()
+            ]
+            for k in range(0, len(todo), _CHUNK):
+                tasks.append(
+                    _Task(scenario, planner, tuple(todo[k : k + _CHUNK]), request.params, str(out))
+                )
+    return tasks
+
+
+def _remove_stale_temporaries(out: Path) -> None:
+    """Temporary files left by a killed run (never renamed into place)."""
+    root = out / EPISODES_DIR
+    if root.exists():
+        for tmp in root.rglob(".*.tmp"):
+            tmp.unlink(missing_ok=True)
+
+
+def run_benchmark(
+    request: BenchmarkRequest,
+    out: str | Path,
+    *,
+    jobs: int | None = None,
+    on_progress: Callable[[int], None] | None = None,
+    figures: bool = True,
+) -> BenchmarkSummary:
+    """Run (or finish) a benchmark into ``out`` and write its reports.
+
+    Args:
+        request: scenarios, planners, seeds and parameters.
+        out: results folder; created if missing, resumed if it holds an earlier run.
+        jobs: worker processes (default: the number of CPUs; 1 runs in this process).
+        on_progress: called with the number of episodes finished since the last call
+            (first with the number already present).
+        figures: also draw the PNG figures.
+
+    Returns:
+        A :class:`BenchmarkSummary`.
+    """
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise BenchmarkError(f"--out {out} exists and is not a folder")
+    if jobs is None:
+        jobs = os.cpu_count() or 1
+    if jobs < 1:
+        raise BenchmarkError(f"jobs must be at least 1, got {jobs}")
+    manifest = _check_manifest(out, request)
+    out.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
+    _remove_stale_temporaries(out)
+    tasks = _pending_tasks(out, request)
+    total = len(request.scenarios) * len(request.planners) * len(request.seeds)
+    pending = sum(len(t.seeds) for t in tasks)
+    if on_progress is not None:
+        on_progress(total - pending)
+    start = time.perf_counter()
+    if tasks and jobs == 1:
+        for task in tasks:
+            done = _run_task(task)
+            if on_progress is not None:
+                on_progress(done)
+    elif tasks:
+        context = multiprocessing.get_context("fork" if sys.platform != "win32" else "spawn")
+        with context.Pool(min(jobs, len(tasks)), initializer=_init_worker) as pool:
+            for done in pool.imap_unordered(_run_task, tasks):
+                if on_progress is not None:
+                    on_progress(done)
+    wall = time.perf_counter() - start
+    files = write_reports(out, request, figures=figures)
+    return BenchmarkSummary(
+        out=out, episodes=total, simulated=pending, wall_time_s=wall, files=files
+    )
+
+
+def load_results(out: Path, request: BenchmarkRequest) -> list[EpisodeMetrics]:
+    """The request's episode metrics from ``out``, in (scenario, planner, seed) order."""
+    results = []
+    for scenario in request.scenarios:
+        for planner in request.planners:
+            for seed in request.seeds:
+                path = episode_path(out, scenario.name, planner, seed)
+                if not path.exists():
+                    raise BenchmarkError(f"{path} is missing: run the benchmark to finish it")
+                results.append(read_episode(path))
+    return results
+
+
+def write_reports(out: Path, request: BenchmarkRequest, *, figures: bool = True) -> tuple[str, ...]:
+    """Write the tables, CSV files, JSON summary and figures from the episode files."""
+    results = load_results(out, request)
+    names = [s.name for s in request.scenarios]
+    table, outcomes = (
+        benchmark_table(
+            results,
+            scenarios=names,
+            planners=request.planners,
+            seeds=request.seeds,
+            reference=request.reference,
+            columns=columns,
+        )
+        for columns in (TABLE_COLUMNS, OUTCOME_COLUMNS)
+    )
+    write_episodes_csv(out / "episodes.csv", results)
+    write_pedestrians_csv(out / "pedestrians.csv", results)
+    atomic_write_text(out / "table.md", to_markdown(table))
+    atomic_write_text(out / "table.tex", to_latex(table))
+    atomic_write_text(out / "outcomes.md", to_markdown(outcomes))
+    summary = {
+        "request": {
+            "scenarios": names,
+            "planners": list(request.planners),
+            "seeds": list(request.seeds),
+            "params": request.params.as_dict(),
+        },
+        "table": summary_dict(table),
+        "outcomes": summary_dict(outcomes),
+    }
+    atomic_write_text(out / "summary.json", json.dumps(summary, indent=1) + "\n")
+    files = [
+        "episodes.csv",
+        "pedestrians.csv",
+        "table.md",
+        "table.tex",
+        "outcomes.md",
+        "summary.json",
+    ]
+    if figures:
+        from srfm.benchmark.figures import write_figures
+
+        files += write_figures(out, request, table)
+    return tuple(files)

@@ -1,0 +1,121 @@
+"""Benchmark figures (matplotlib, PNG): top-down paths and the deviation chart."""
+
+from __future__ import annotations
+
+import io
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from srfm._io import atomic_write_bytes
+from srfm.metrics import BenchmarkTable
+from srfm.record import EpisodeRecord
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from srfm.benchmark._runner import BenchmarkRequest
+
+__all__ = ["deviation_figure", "paths_figure", "write_figures"]
+
+_DPI = 110
+
+
+def _save(fig: Figure, path: Path) -> None:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=_DPI, metadata={"Software": None})
+    atomic_write_bytes(path, buf.getvalue())
+
+
+def _draw_episode(ax: Axes, record: EpisodeRecord, world: Sequence[float]) -> None:
+    from matplotlib import colormaps
+
+    x0, x1, y0, y1 = world
+    ax.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], color="0.6", lw=0.8)
+    colors = colormaps["tab10"](np.arange(record.n_pedestrians) % 10)
+    for i in range(record.n_pedestrians):
+        c = record.counterfactual_pos[:, i]
+        f = record.factual_pos[:, i]
+        ax.plot(c[:, 0], c[:, 1], ls="--", lw=0.9, color=colors[i], alpha=0.6)
+        ax.plot(f[:, 0], f[:, 1], lw=1.2, color=colors[i])
+        ax.plot(f[0, 0], f[0, 1], "o", ms=3, color=colors[i])
+    robot = record.robot_pose[: record.end_step + 1, :2]
+    ax.plot(robot[:, 0], robot[:, 1], color="black", lw=2.0)
+    ax.plot(robot[0, 0], robot[0, 1], "s", color="black", ms=5)
+    ax.plot(record.robot_goal[0], record.robot_goal[1], "*", color="black", ms=9)
+    ax.set_aspect("equal")
+    ax.set_xlim(x0 - 0.5, x1 + 0.5)
+    ax.set_ylim(y0 - 0.5, y1 + 0.5)
+    ax.set_title(f"{record.planner}: {record.outcome.replace('_', ' ')}", fontsize=9)
+    ax.tick_params(labelsize=7)
+
+
+def paths_figure(records: Sequence[EpisodeRecord], world: Sequence[float]) -> Figure:
+    """One panel per planner: factual paths (solid), counterfactual paths (dashed, same
+    colour per pedestrian), the robot path (black, square start, star goal)."""
+    from matplotlib.figure import Figure
+
+    cols = min(len(records), 4)
+    rows = -(-len(records) // cols)
+    fig = Figure(figsize=(3.2 * cols, 3.3 * rows), layout="constrained")
+    axes = fig.subplots(rows, cols, squeeze=False)
+    for ax, record in zip(axes.flat, records, strict=False):
+        _draw_episode(ax, record, world)
+    for ax in list(axes.flat)[len(records) :]:
+        ax.set_axis_off()
+    first = records[0]
+    fig.suptitle(
+        f"{first.scenario}, seed {first.seed}: factual (solid) vs counterfactual (dashed)",
+        fontsize=10,
+    )
+    return fig
+
+
+def deviation_figure(table: BenchmarkTable) -> Figure:
+    """Grouped bars: mean Fréchet deviation per scenario and planner, ± sample std."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(1.2 + 1.4 * len(table.scenarios), 3.6), layout="constrained")
+    ax = fig.subplots()
+    n = len(table.planners)
+    width = 0.8 / n
+    x = np.arange(len(table.scenarios))
+    for k, planner in enumerate(table.planners):
+        cells = [table.cells[(s, planner)]["frechet_m"].summary for s in table.scenarios]
+        means = [c.mean for c in cells]
+        stds = [0.0 if np.isnan(c.std) else c.std for c in cells]
+        ax.bar(x - 0.4 + width * (k + 0.5), means, width, yerr=stds, capsize=2, label=planner)
+    ax.set_xticks(x, list(table.scenarios), fontsize=8)
+    ax.set_ylabel("Fréchet deviation (m)")
+    ax.set_title("Pedestrian deviation caused by the robot (mean ± std over seeds)", fontsize=9)
+    ax.legend(fontsize=7, ncols=min(n, 4))
+    return fig
+
+
+def write_figures(out: Path, request: BenchmarkRequest, table: BenchmarkTable) -> list[str]:
+    """Draw ``figures/paths_<scenario>.png`` (one seed, every planner) and
+    ``figures/deviation.png``; return their paths relative to ``out``."""
+    from srfm.episode import run_episode
+    from srfm.planners import make_planner
+
+    seed = request.seeds[0] if request.figure_seed is None else request.figure_seed
+    written = []
+    for scenario in request.scenarios:
+        records = [
+            run_episode(scenario, seed, make_planner(p), request.params, parallel=False)
+            for p in request.planners
+        ]
+        w = scenario.world
+        fig = paths_figure(records, (w.x_min, w.x_max, w.y_min, w.y_max))
+        name = f"figures/paths_{scenario.name}.png"
+        _save(fig, out / name)
+        written.append(name)
+    _save(deviation_figure(table), out / "figures/deviation.png")
+    written.append("figures/deviation.png")
+    return written

@@ -1,0 +1,111 @@
+"""Aggregates over seeds and significance tests between planners."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from typing import Final
+
+import attrs
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy import stats
+
+__all__ = ["ALPHA", "Comparison", "Summary", "compare", "summarize"]
+
+ALPHA: Final = 0.05
+"""Significance level of every test (the paper's p = 0.05)."""
+
+
+@attrs.frozen
+class Summary:
+    """Mean and sample standard deviation of the finite values.
+
+    Attributes:
+        n: number of finite values (NaN entries, e.g. a time to goal that never
+            happened, are left out).
+        mean: their mean (NaN when n = 0).
+        std: their sample standard deviation, ddof = 1 (NaN when n < 2).
+    """
+
+    n: int
+    mean: float
+    std: float
+
+
+def summarize(values: ArrayLike) -> Summary:
+    """:class:`Summary` of the finite entries of ``values``."""
+    x = np.asarray(values, dtype=np.float64).ravel()
+    x = x[np.isfinite(x)]
+    n = int(x.size)
+    mean = float(x.mean()) if n else math.nan
+    std = float(x.std(ddof=1)) if n >= 2 else math.nan
+    return Summary(n=n, mean=mean, std=std)
+
+
+@attrs.frozen
+class Comparison:
+    """Two significance tests of a planner's metric against a reference planner's.
+
+    Attributes:
+        welch_p: two-sided p of Welch's unequal-variance t-test (the paper's
+            "independent t-test") over all finite episodes of each planner.
+        paired_p: two-sided p of the paired t-test over the seeds both planners have a
+            finite value for.
+        n_pairs: the number of those seeds.
+    """
+
+    welch_p: float
+    paired_p: float
+    n_pairs: int
+
+    @property
+    def welch_significant(self) -> bool:
+        """Welch's p below :data:`ALPHA` (False when the test is undefined)."""
+        return self.welch_p < ALPHA
+
+    @property
+    def paired_significant(self) -> bool:
+        """Paired p below :data:`ALPHA` (False when the test is undefined)."""
+        return self.paired_p < ALPHA
+
+
+def _p_value(result: object) -> float:
+    p = float(result.pvalue)  # type: ignore[attr-defined]
+    return p if math.isfinite(p) else math.nan
+
+
+def compare(
+    reference: ArrayLike,
+    other: ArrayLike,
+) -> Comparison:
+    """Welch's and the paired t-test of ``other`` against ``reference``.
+
+    Args:
+        reference: (S,) the reference planner's values, one per seed.
+        other: (S,) the other planner's values on the same seeds, in the same order.
+
+    Returns:
+        Both p-values; NaN where a test is undefined (fewer than two values, or no
+        variance at all).
+    """
+    a = np.asarray(reference, dtype=np.float64).ravel()
+    b = np.asarray(other, dtype=np.float64).ravel()
+    if a.shape != b.shape:
+        raise ValueError(f"need one value per shared seed, got {a.shape} and {b.shape}")
+    fa = a[np.isfinite(a)]
+    fb = b[np.isfinite(b)]
+    both = np.isfinite(a) & np.isfinite(b)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        welch = math.nan
+        if fa.size >= 2 and fb.size >= 2 and (_spread(fa) or _spread(fb)):
+            welch = _p_value(stats.ttest_ind(fa, fb, equal_var=False))
+        paired = math.nan
+        if np.count_nonzero(both) >= 2 and _spread(a[both] - b[both]):
+            paired = _p_value(stats.ttest_rel(a[both], b[both]))
+    return Comparison(welch_p=welch, paired_p=paired, n_pairs=int(np.count_nonzero(both)))
+
+
+def _spread(x: NDArray[np.float64]) -> bool:
+    return bool(x.size and np.ptp(x) > 0)

@@ -45,6 +45,7 @@ from srfm.metrics import (
 )
 from srfm.models.params import SRFMParams
 from srfm.planners import available_planners, make_planner
+from srfm.record import EpisodeRecord
 from srfm.scenarios import EVALUATION_SCENARIOS, Scenario, load_scenario
 
 __all__ = [
@@ -52,6 +53,7 @@ __all__ = [
     "QUICK_SEEDS",
     "BenchmarkRequest",
     "BenchmarkSummary",
+    "EpisodeWriter",
     "default_planners",
     "load_results",
     "run_benchmark",
@@ -218,6 +220,12 @@ def _check_manifest(out: Path, request: BenchmarkRequest) -> dict[str, Any]:
     return merged
 
 
+EpisodeWriter = Callable[[Path, EpisodeRecord, EpisodeMetrics], None]
+"""Called in the worker after each episode, before its metrics file is written, with the
+results folder, the record and its metrics: the hook for episode logs (.rrd, .mcap).
+It must be picklable (a module-level function or an instance of a module-level class)."""
+
+
 @attrs.frozen
 class _Task:
     scenario: Scenario
@@ -225,6 +233,7 @@ class _Task:
     seeds: tuple[int, ...]
     params: SRFMParams
     out: str
+    writer: EpisodeWriter | None
 
 
 def _run_task(task: _Task) -> int:
@@ -238,7 +247,9 @@ def _run_task(task: _Task) -> int:
         metrics = episode_metrics(record)
         if metrics.planner != task.planner:  # module:attribute planners report their own name
             metrics = attrs.evolve(metrics, planner=task.planner)
-        write_episode(out, metrics)
+        if task.writer is not None:
+            task.writer(out, record, metrics)
+        write_episode(out, metrics)  # last: an episode counts as done once this exists
     return len(task.seeds)
 
 
@@ -248,7 +259,9 @@ def _init_worker() -> None:
         os.environ[var] = "1"
 
 
-def _pending_tasks(out: Path, request: BenchmarkRequest) -> list[_Task]:
+def _pending_tasks(
+    out: Path, request: BenchmarkRequest, writer: EpisodeWriter | None
+) -> list[_Task]:
     tasks = []
     for scenario in request.scenarios:
         for planner in request.planners:
@@ -259,7 +272,14 @@ def _pending_tasks(out: Path, request: BenchmarkRequest) -> list[_Task]:
             ]
             for k in range(0, len(todo), _CHUNK):
                 tasks.append(
-                    _Task(scenario, planner, tuple(todo[k : k + _CHUNK]), request.params, str(out))
+                    _Task(
+                        scenario,
+                        planner,
+                        tuple(todo[k : k + _CHUNK]),
+                        request.params,
+                        str(out),
+                        writer,
+                    )
                 )
     return tasks
 
@@ -279,6 +299,7 @@ def run_benchmark(
     jobs: int | None = None,
     on_progress: Callable[[int], None] | None = None,
     figures: bool = True,
+    writer: EpisodeWriter | None = None,
 ) -> BenchmarkSummary:
     """Run (or finish) a benchmark into ``out`` and write its reports.
 
@@ -289,6 +310,7 @@ def run_benchmark(
         on_progress: called with the number of episodes finished since the last call
             (first with the number already present).
         figures: also draw the PNG figures.
+        writer: optional per-episode hook (see :data:`EpisodeWriter`), e.g. log files.
 
     Returns:
         A :class:`BenchmarkSummary`.
@@ -304,7 +326,7 @@ def run_benchmark(
     out.mkdir(parents=True, exist_ok=True)
     atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
     _remove_stale_temporaries(out)
-    tasks = _pending_tasks(out, request)
+    tasks = _pending_tasks(out, request, writer)
     total = len(request.scenarios) * len(request.planners) * len(request.seeds)
     pending = sum(len(t.seeds) for t in tasks)
     if on_progress is not None:

@@ -1,0 +1,195 @@
+"""``srfm train``: TD3 on ``srfm/SocialNav-v0`` (needs the ``rl`` extra)."""
+
+from __future__ import annotations
+
+import shlex
+import sys
+from pathlib import Path
+from typing import Any
+
+import click
+
+__all__ = ["train"]
+
+_DEFAULTS: dict[str, Any] = {}
+
+
+def _default(name: str) -> Any:
+    # TrainConfig's defaults without importing attrs classes at CLI start-up cost.
+    if not _DEFAULTS:
+        import attrs
+
+        from srfm.training import TrainConfig
+
+        _DEFAULTS.update({f.name: f.default for f in attrs.fields(TrainConfig)})
+    return _DEFAULTS[name]
+
+
+@click.command()
+@click.option(
+    "--run-dir",
+    type=click.Path(file_okay=False, path_type=Path),
+    required=True,
+    help="Directory for checkpoints, logs and evaluations (created).",
+)
+@click.option(
+    "--k-div",
+    type=click.FloatRange(min=0.0),
+    default=_default("k_div"),
+    show_default=True,
+    help="k2, weight of the one-step deviation penalty (1/m): > 0 trains the "
+    "SRFM-aware policy, 0 the RL_base policy.",
+)
+@click.option(
+    "--k-dist",
+    type=click.FloatRange(min=0.0),
+    default=_default("k_dist"),
+    show_default=True,
+    help="k1, weight of the normalised goal distance.",
+)
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
+@click.option(
+    "--steps",
+    type=click.IntRange(min=1),
+    default=_default("total_steps"),
+    show_default=True,
+    help="Total environment steps (including those of a resumed run).",
+)
+@click.option(
+    "--scenario",
+    default=_default("scenario"),
+    show_default=True,
+    help="Training scenario (name or TOML file).",
+)
+@click.option("--learning-rate", type=float, default=_default("learning_rate"), show_default=True)
+@click.option(
+    "--buffer-size", type=click.IntRange(min=1), default=_default("buffer_size"), show_default=True
+)
+@click.option(
+    "--learning-starts",
+    type=click.IntRange(min=0),
+    default=_default("learning_starts"),
+    show_default=True,
+    help="Random-action warm-up steps.",
+)
+@click.option(
+    "--batch-size", type=click.IntRange(min=1), default=_default("batch_size"), show_default=True
+)
+@click.option(
+    "--eval-every",
+    type=click.IntRange(min=0),
+    default=_default("eval_every"),
+    show_default=True,
+    help="Steps between evaluations on the five evaluation scenarios (0: never).",
+)
+@click.option(
+    "--eval-seeds",
+    type=click.IntRange(min=1),
+    default=_default("eval_seeds"),
+    show_default=True,
+    help="Seeds per scenario in an evaluation (10000, 10001, ...).",
+)
+@click.option(
+    "--checkpoint-every",
+    type=click.IntRange(min=0),
+    default=_default("checkpoint_every"),
+    show_default=True,
+    help="Steps between checkpoints (0: only at the end).",
+)
+@click.option(
+    "--resume",
+    type=click.Path(dir_okay=False, exists=True, path_type=Path),
+    default=None,
+    help="Continue from this checkpoint zip (and its <stem>_replay_buffer.pkl).",
+)
+@click.option(
+    "--twin/--no-twin",
+    default=_default("counterfactual_twin"),
+    show_default=True,
+    help="Also step the full counterfactual crowd (the reward does not need it).",
+)
+@click.option(
+    "--save-replay-buffer/--no-save-replay-buffer",
+    default=_default("save_replay_buffer"),
+    show_default=True,
+    help="Keep the replay buffer beside latest.zip, for --resume.",
+)
+@click.option("--torch-threads", type=click.IntRange(min=1), default=1, show_default=True)
+@click.option("--progress/--no-progress", default=True, show_default=True)
+def train(**options: Any) -> None:
+    """Train a TD3 navigation policy on srfm/SocialNav-v0 (stable-baselines3).
+
+    Defaults are the paper's TD3 set-up (docs/rl.md). Policy zips are loaded with
+    SB3's loader, which unpickles: use only checkpoints from a trusted source.
+    """
+    # Imported here, not at module level: srfm.cli imports this module.
+    from srfm.cli import _user_errors
+
+    _user_errors(_train)(**options)
+
+
+def _train(
+    run_dir: Path,
+    k_div: float,
+    k_dist: float,
+    seed: int,
+    steps: int,
+    scenario: str,
+    learning_rate: float,
+    buffer_size: int,
+    learning_starts: int,
+    batch_size: int,
+    eval_every: int,
+    eval_seeds: int,
+    checkpoint_every: int,
+    resume: Path | None,
+    twin: bool,
+    save_replay_buffer: bool,
+    torch_threads: int,
+    progress: bool,
+) -> None:
+    from srfm.training import TrainConfig
+    from srfm.training import train as run_training
+
+    config = TrainConfig(
+        total_steps=steps,
+        seed=seed,
+        scenario=scenario,
+        k_dist=k_dist,
+        k_div=k_div,
+        learning_rate=learning_rate,
+        buffer_size=buffer_size,
+        learning_starts=learning_starts,
+        batch_size=batch_size,
+        eval_every=eval_every,
+        eval_seeds=eval_seeds,
+        checkpoint_every=checkpoint_every,
+        counterfactual_twin=twin,
+        save_replay_buffer=save_replay_buffer,
+        torch_threads=torch_threads,
+    )
+    command = shlex.join(["srfm", *sys.argv[1:]])
+    if not progress:
+        result = run_training(config, run_dir, resume=resume, log=click.echo, command=command)
+    else:
+        with click.progressbar(
+            length=steps, label="training", show_pos=True, show_eta=True, file=sys.stderr
+        ) as bar:
+            done = [0]
+
+            def advance(n: int) -> None:
+                if n > done[0]:
+                    bar.update(n - done[0])
+                    done[0] = n
+
+            def say(message: str) -> None:
+                click.echo("", err=True)
+                click.echo(message)
+
+            result = run_training(
+                config, run_dir, resume=resume, progress=advance, log=say, command=command
+            )
+    click.echo(
+        f"trained {result.steps} steps in {result.wall_time_s:.0f} s "
+        f"({result.session_wall_time_s:.0f} s in this session); run in {result.run_dir}"
+    )

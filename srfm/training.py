@@ -1,0 +1,447 @@
+"""TD3 training on ``srfm/SocialNav-v0`` (stable-baselines3), and policy evaluation.
+
+Needs the ``rl`` extra (gymnasium, stable-baselines3, torch), imported lazily. The
+command line front end is ``srfm train``; the defaults are the paper's TD3 set-up
+(DESIGN §8): learning rate 1e-4, replay buffer 1e6, [256, 256] networks, batch 256,
+10,000 random warm-up steps, 5 gradient steps every 5 environment steps, τ = 0.005,
+γ = 0.99, policy delay 2, target noise 0.2 clipped at 0.5, Gaussian exploration
+noise σ = 0.3, up to 2e6 steps.
+
+A run directory holds::
+
+    config.json              the TrainConfig, the EnvConfig, versions, the command
+    state.json               steps trained and wall time so far (updated at checkpoints)
+    checkpoints/step_N.zip   periodic checkpoints (SB3 zips; no replay buffer)
+    latest.zip               the latest checkpoint, and beside it
+    latest_replay_buffer.pkl its replay buffer (for resuming)
+    best.zip                 the checkpoint with the best periodic evaluation
+    eval.jsonl               one line per evaluation
+    monitor.csv, logs/       SB3's episode monitor and CSV (and TensorBoard) logs
+
+Policy zips are read with SB3's loader, which unpickles: trusted files only.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import operator
+import platform
+import time
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any, Final
+
+import attrs
+import numpy as np
+
+from srfm._validate import non_negative, positive
+from srfm.errors import ParameterError, SrfmError
+
+__all__ = [
+    "EvalResult",
+    "TrainConfig",
+    "TrainResult",
+    "evaluate_planner",
+    "train",
+]
+
+EVAL_SEED_BASE: Final = 10_000
+
+
+def _pos(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    positive(value, f"train.{attribute.name}", ParameterError)
+
+
+def _nonneg(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    non_negative(value, f"train.{attribute.name}", ParameterError)
+
+
+def _count(minimum: int) -> Callable[[Any, attrs.Attribute[int], Any], None]:
+    def check(inst: Any, attribute: attrs.Attribute[int], value: Any) -> None:
+        try:
+            n = operator.index(value)
+        except TypeError:
+            n = minimum - 1
+        if isinstance(value, bool) or n < minimum:
+            raise ParameterError(
+                f"train.{attribute.name} must be an integer >= {minimum}, got {value!r}"
+            )
+
+    return check
+
+
+def _unit(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    v = positive(value, f"train.{attribute.name}", ParameterError)
+    if v > 1.0:
+        raise ParameterError(f"train.{attribute.name} must be in (0, 1], got {value!r}")
+
+
+def _net(inst: Any, attribute: attrs.Attribute[tuple[int, ...]], value: Any) -> None:
+    if (
+        not isinstance(value, tuple)
+        or not value
+        or not all(isinstance(v, int) and not isinstance(v, bool) and v > 0 for v in value)
+    ):
+        raise ParameterError(f"train.net_arch must be a tuple of positive integers, got {value!r}")
+
+
+@attrs.frozen(kw_only=True)
+class TrainConfig:
+    """TD3 hyperparameters and the run's schedule (defaults: the paper, DESIGN §8).
+
+    Attributes:
+        total_steps: environment steps to train in total (paper: up to 2e6).
+        seed: seed of SB3 (networks, exploration noise) and of the episode stream.
+        scenario: training scenario (``random``).
+        k_dist: k1, weight of the goal-distance term.
+        k_div: k2 (1/m), weight of the one-step deviation term: > 0 SRFM-aware,
+            0 RL_base.
+        learning_rate: Adam learning rate (paper: 1e-4).
+        buffer_size: replay buffer capacity (paper: 1e6).
+        batch_size: minibatch size.
+        learning_starts: random-action warm-up steps before learning.
+        train_freq: environment steps between updates.
+        gradient_steps: gradient steps per update.
+        tau: Polyak factor of the target networks.
+        gamma: discount factor.
+        policy_delay: critic updates per actor update.
+        target_policy_noise: std of the target policy smoothing noise.
+        target_noise_clip: clip of that noise.
+        action_noise_sigma: std of the Gaussian exploration noise (actions in [−1, 1]).
+        net_arch: hidden layer sizes of actor and critics.
+        eval_every: steps between evaluations on the evaluation scenarios (0: never).
+        eval_seeds: seeds per scenario in an evaluation (from ``EVAL_SEED_BASE``,
+            disjoint from the benchmark's seeds 0-99).
+        checkpoint_every: steps between checkpoints (0: only at the end).
+        counterfactual_twin: step the full counterfactual crowd during training (the
+            reward does not need it).
+        save_replay_buffer: keep the replay buffer beside ``latest.zip`` for resuming.
+        torch_threads: torch intra-op threads.
+    """
+
+    total_steps: int = attrs.field(default=2_000_000, validator=_count(1))
+    seed: int = attrs.field(default=0, validator=_count(0))
+    scenario: str = "random"
+    k_dist: float = attrs.field(default=0.1, validator=_nonneg)
+    k_div: float = attrs.field(default=5.0, validator=_nonneg)
+    learning_rate: float = attrs.field(default=1e-4, validator=_pos)
+    buffer_size: int = attrs.field(default=1_000_000, validator=_count(1))
+    batch_size: int = attrs.field(default=256, validator=_count(1))
+    learning_starts: int = attrs.field(default=10_000, validator=_count(0))
+    train_freq: int = attrs.field(default=5, validator=_count(1))
+    gradient_steps: int = attrs.field(default=5, validator=_count(1))
+    tau: float = attrs.field(default=0.005, validator=_unit)
+    gamma: float = attrs.field(default=0.99, validator=_unit)
+    policy_delay: int = attrs.field(default=2, validator=_count(1))
+    target_policy_noise: float = attrs.field(default=0.2, validator=_nonneg)
+    target_noise_clip: float = attrs.field(default=0.5, validator=_nonneg)
+    action_noise_sigma: float = attrs.field(default=0.3, validator=_nonneg)
+    net_arch: tuple[int, ...] = attrs.field(default=(256, 256), validator=_net)
+    eval_every: int = attrs.field(default=25_000, validator=_count(0))
+    eval_seeds: int = attrs.field(default=5, validator=_count(1))
+    checkpoint_every: int = attrs.field(default=25_000, validator=_count(0))
+    counterfactual_twin: bool = False
+    save_replay_buffer: bool = True
+    torch_threads: int = attrs.field(default=1, validator=_count(1))
+
+
+@attrs.frozen(kw_only=True)
+class EvalResult:
+    """A policy's evaluation over scenarios × seeds (full twin episodes).
+
+    Attributes:
+        steps: training steps of the evaluated policy.
+        episodes: episodes run.
+        success_rate, collision_rate, timeout_rate: fractions of episodes.
+        mean_deviation_m: mean over episodes of the mean over pedestrians of the largest
+            factual-counterfactual distance (m).
+        per_scenario: the same four numbers per scenario.
+    """
+
+    steps: int
+    episodes: int
+    success_rate: float
+    collision_rate: float
+    timeout_rate: float
+    mean_deviation_m: float
+    per_scenario: dict[str, dict[str, float]]
+
+    def better_than(self, other: EvalResult | None) -> bool:
+        """Higher success, then fewer collisions, then less deviation."""
+        if other is None:
+            return True
+        mine = (-self.success_rate, self.collision_rate, self.mean_deviation_m)
+        theirs = (-other.success_rate, other.collision_rate, other.mean_deviation_m)
+        return mine < theirs
+
+
+@attrs.frozen(kw_only=True)
+class TrainResult:
+    """What a call of :func:`train` did."""
+
+    run_dir: Path
+    steps: int
+    wall_time_s: float
+    session_wall_time_s: float
+    best_eval: EvalResult | None
+
+
+def evaluate_planner(
+    make_planner: Callable[[], Any],
+    scenarios: Sequence[str],
+    seeds: Sequence[int],
+    steps: int = 0,
+) -> EvalResult:
+    """Run full twin episodes (:func:`srfm.run_episode`) and summarise them."""
+    from srfm.episode import run_episode
+
+    outcomes: dict[str, list[str]] = {}
+    deviations: dict[str, list[float]] = {}
+    for name in scenarios:
+        for seed in seeds:
+            record = run_episode(name, seed, make_planner())
+            outcomes.setdefault(name, []).append(record.outcome)
+            deviations.setdefault(name, []).append(
+                float(record.twin_separation_m().max(axis=0).mean())
+            )
+
+    def summary(outs: list[str], devs: list[float]) -> dict[str, float]:
+        n = len(outs)
+        return {
+            "success_rate": outs.count("goal_reached") / n,
+            "collision_rate": outs.count("collision") / n,
+            "timeout_rate": outs.count("timeout") / n,
+            "mean_deviation_m": float(np.mean(devs)),
+        }
+
+    per = {name: summary(outcomes[name], deviations[name]) for name in outcomes}
+    all_out = [o for name in outcomes for o in outcomes[name]]
+    all_dev = [d for name in deviations for d in deviations[name]]
+    total = summary(all_out, all_dev)
+    return EvalResult(steps=steps, episodes=len(all_out), per_scenario=per, **total)
+
+
+def _versions() -> dict[str, str]:
+    out = {"python": platform.python_version()}
+    for mod in ("srfm", "numpy", "numba", "gymnasium", "stable_baselines3", "torch"):
+        try:
+            m = importlib.import_module(mod)
+            out[mod] = str(getattr(m, "__version__", "?"))
+        except ImportError:
+            out[mod] = "missing"
+    return out
+
+
+def _best_so_far(path: Path) -> EvalResult | None:
+    """The best evaluation recorded in an ``eval.jsonl`` (None when there is none)."""
+    best: EvalResult | None = None
+    if not path.exists():
+        return None
+    names = {f.name for f in attrs.fields(EvalResult)}
+    for line in path.read_text().splitlines():
+        if not line.strip():
+            continue
+        row = json.loads(line)
+        result = EvalResult(**{k: v for k, v in row.items() if k in names})
+        if result.better_than(best):
+            best = result
+    return best
+
+
+def _read_json(path: Path) -> dict[str, Any]:
+    if not path.exists():
+        return {}
+    data = json.loads(path.read_text())
+    return data if isinstance(data, dict) else {}
+
+
+def train(
+    config: TrainConfig,
+    run_dir: str | Path,
+    *,
+    resume: str | Path | None = None,
+    progress: Callable[[int], None] | None = None,
+    log: Callable[[str], None] | None = None,
+    command: str | None = None,
+) -> TrainResult:
+    """Train a TD3 policy on ``srfm/SocialNav-v0``; see the module docstring.
+
+    Args:
+        config: hyperparameters and schedule.
+        run_dir: where checkpoints and logs go (created).
+        resume: a checkpoint zip to continue from (its replay buffer
+            ``<stem>_replay_buffer.pkl`` is loaded when it lies beside it); training
+            continues until ``config.total_steps`` steps in total.
+        progress: called with the number of steps done, every few hundred steps.
+        log: called with one-line messages (evaluations, checkpoints).
+        command: the command line, recorded in ``config.json``.
+
+    Raises:
+        MissingDependencyError: the ``rl`` extra is not installed.
+        SrfmError: a bad resume file or run directory.
+    """
+    from srfm.env._deps import require
+
+    require("gymnasium")
+    sb3 = require("stable_baselines3")
+    torch = require("torch")
+    from stable_baselines3.common.callbacks import BaseCallback
+    from stable_baselines3.common.logger import configure
+    from stable_baselines3.common.monitor import Monitor
+    from stable_baselines3.common.noise import NormalActionNoise
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    from srfm.env import EnvConfig, SocialNavEnv
+    from srfm.planners.td3 import NumpyActor, PolicyPlanner
+    from srfm.scenarios import EVALUATION_SCENARIOS
+
+    say = log or (lambda message: None)
+    run = Path(run_dir)
+    run.mkdir(parents=True, exist_ok=True)
+    (run / "checkpoints").mkdir(exist_ok=True)
+    torch.set_num_threads(config.torch_threads)
+
+    env_config = EnvConfig(
+        k1=config.k_dist, k2=config.k_div, counterfactual_twin=config.counterfactual_twin
+    )
+    probe = SocialNavEnv(config.scenario, env_config)
+    env_config = env_config.replace(kinematics=probe.scenario.robot.kinematics)
+    saved_env_config = attrs.asdict(env_config)
+
+    def make_env() -> Any:
+        env = SocialNavEnv(config.scenario, env_config)
+        return Monitor(env, filename=str(run / "monitor.csv"), info_keywords=("outcome",))
+
+    vec_env = DummyVecEnv([make_env])
+    state_path = run / "state.json"
+    state = _read_json(state_path)
+    previous_wall = float(state.get("wall_time_s", 0.0)) if resume is not None else 0.0
+
+    if resume is not None:
+        resume = Path(resume)
+        if not resume.is_file():
+            raise SrfmError(f"checkpoint {str(resume)!r} does not exist")
+        model = sb3.TD3.load(resume, env=vec_env, device="cpu")
+        buffer = resume.with_name(resume.stem + "_replay_buffer.pkl")
+        if buffer.is_file():
+            model.load_replay_buffer(buffer)
+            say(f"resumed from {resume} at step {model.num_timesteps} with its replay buffer")
+        else:
+            say(f"resumed from {resume} at step {model.num_timesteps} (empty replay buffer)")
+        vec_env.seed(config.seed + int(model.num_timesteps))
+        reset = False
+    else:
+        n_actions = 2
+        model = sb3.TD3(
+            "MlpPolicy",
+            vec_env,
+            learning_rate=config.learning_rate,
+            buffer_size=config.buffer_size,
+            learning_starts=config.learning_starts,
+            batch_size=config.batch_size,
+            tau=config.tau,
+            gamma=config.gamma,
+            train_freq=(config.train_freq, "step"),
+            gradient_steps=config.gradient_steps,
+            action_noise=NormalActionNoise(
+                np.zeros(n_actions), config.action_noise_sigma * np.ones(n_actions)
+            ),
+            policy_delay=config.policy_delay,
+            target_policy_noise=config.target_policy_noise,
+            target_noise_clip=config.target_noise_clip,
+            policy_kwargs={"net_arch": list(config.net_arch)},
+            seed=config.seed,
+            device="cpu",
+            verbose=0,
+        )
+        reset = True
+    model.srfm_env_config = saved_env_config
+    formats = ["csv"]
+    if importlib.util.find_spec("tensorboard") is not None:
+        formats.append("tensorboard")
+    model.set_logger(configure(str(run / "logs"), formats))
+
+    meta = {
+        "train_config": {
+            k: list(v) if isinstance(v, tuple) else v for k, v in attrs.asdict(config).items()
+        },
+        "env_config": saved_env_config,
+        "versions": _versions(),
+        "command": command,
+        "resumed_from": None if resume is None else str(resume),
+    }
+    (run / ("config.json" if resume is None else "config_resume.json")).write_text(
+        json.dumps(meta, indent=2, sort_keys=True) + "\n"
+    )
+
+    start = time.perf_counter()
+    best: list[EvalResult | None] = [None]
+    if resume is not None:
+        best[0] = _best_so_far(run / "eval.jsonl")
+    eval_seeds = list(range(EVAL_SEED_BASE, EVAL_SEED_BASE + config.eval_seeds))
+
+    def wall() -> float:
+        return previous_wall + time.perf_counter() - start
+
+    def save(steps: int) -> None:
+        model.save(run / "checkpoints" / f"step_{steps:09d}.zip")
+        model.save(run / "latest.zip")
+        if config.save_replay_buffer:
+            model.save_replay_buffer(run / "latest_replay_buffer.pkl")
+        state_path.write_text(json.dumps({"steps": steps, "wall_time_s": wall()}, indent=2) + "\n")
+        say(f"step {steps}: checkpoint saved ({wall():.0f} s of training so far)")
+
+    def evaluate(steps: int) -> None:
+        actor = NumpyActor.from_sb3(model.actor)
+        result = evaluate_planner(
+            lambda: PolicyPlanner(actor, env_config, "policy"),
+            EVALUATION_SCENARIOS,
+            eval_seeds,
+            steps,
+        )
+        with (run / "eval.jsonl").open("a") as fh:
+            fh.write(json.dumps({**attrs.asdict(result), "wall_time_s": wall()}) + "\n")
+        if result.better_than(best[0]):
+            best[0] = result
+            model.save(run / "best.zip")
+        say(
+            f"step {steps}: eval success {result.success_rate:.2f}, collisions "
+            f"{result.collision_rate:.2f}, timeouts {result.timeout_rate:.2f}, mean "
+            f"deviation {result.mean_deviation_m:.3f} m"
+        )
+
+    class _Callback(BaseCallback):
+        def _on_step(self) -> bool:
+            steps = int(self.num_timesteps)
+            if progress is not None and steps % 100 == 0:
+                progress(steps)
+            if config.checkpoint_every and steps % config.checkpoint_every == 0:
+                save(steps)
+            if config.eval_every and steps % config.eval_every == 0:
+                evaluate(steps)
+            return True
+
+    remaining = config.total_steps - int(model.num_timesteps)
+    if remaining > 0:
+        model.learn(
+            total_timesteps=remaining,
+            callback=_Callback(),
+            reset_num_timesteps=reset,
+            progress_bar=False,
+        )
+    steps = int(model.num_timesteps)
+    if progress is not None:
+        progress(steps)
+    save(steps)
+    if config.eval_every and best[0] is None:
+        evaluate(steps)
+    vec_env.close()
+    session = time.perf_counter() - start
+    return TrainResult(
+        run_dir=run,
+        steps=steps,
+        wall_time_s=wall(),
+        session_wall_time_s=session,
+        best_eval=best[0],
+    )

@@ -1,0 +1,258 @@
+"""The benchmark runner: results folder, resuming, reproducible tables, CLI."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from srfm import SRFMParams
+from srfm.benchmark import BenchmarkRequest, episode_path, read_episode, run_benchmark
+from srfm.cli import main
+from srfm.errors import BenchmarkError
+from srfm.metrics import episode_metrics
+from srfm.scenarios import load_scenario
+from tests.conftest import REPO, write_scenario
+
+TABLES = ("table.md", "table.tex", "outcomes.md", "summary.json", "episodes.csv", "pedestrians.csv")
+
+SHORT = (REPO / "srfm/scenarios/crosswalk.toml").read_text(encoding="utf-8")
+SHORT = SHORT.replace('name = "crosswalk"', 'name = "short"').replace(
+    "horizon_steps = 750", "horizon_steps = 120"
+)
+
+
+@pytest.fixture(scope="module")
+def short_scenario(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    return write_scenario(tmp_path_factory.mktemp("scn") / "short.toml", SHORT)
+
+
+def _request(scenario: Path, seeds: range, **kwargs: object) -> BenchmarkRequest:
+    return BenchmarkRequest.create(
+        scenarios=[str(scenario), "concert"],
+        planners=["straight", "tests.benchmark.test_runner:Waiter"],
+        seeds=list(seeds),
+        **kwargs,  # type: ignore[arg-type]
+    )
+
+
+class Waiter:
+    """Waits 20 steps, then drives at half speed: a second planner that differs."""
+
+    name = "waiter"
+    detection_range_m = 2.0
+
+    def reset(self, context, rng):  # type: ignore[no-untyped-def]
+        self.goal = context.robot_goal
+
+    def act(self, observation):  # type: ignore[no-untyped-def]
+        import numpy as np
+
+        r = observation.robot
+        if observation.step < 20:
+            return np.zeros(2)
+        heading = np.arctan2(self.goal[1] - r.y, self.goal[0] - r.x)
+        err = (heading - r.theta + np.pi) % (2 * np.pi) - np.pi
+        return np.array([0.25, 2.0 * err])
+
+
+def _tables(out: Path) -> dict[str, bytes]:
+    return {name: (out / name).read_bytes() for name in TABLES}
+
+
+@pytest.fixture(scope="module")
+def reference_run(short_scenario: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("ref")
+    summary = run_benchmark(_request(short_scenario, range(4)), out, jobs=2)
+    assert summary.episodes == summary.simulated == 2 * 2 * 4
+    return out
+
+
+def test_results_folder_layout(reference_run: Path) -> None:
+    out = reference_run
+    for name in (*TABLES, "manifest.json", "figures/deviation.png", "figures/paths_short.png"):
+        assert (out / name).is_file(), name
+    assert (out / "figures/paths_concert.png").read_bytes()[:4] == b"\x89PNG"
+    rows = list(csv.DictReader((out / "episodes.csv").open()))
+    assert len(rows) == 16
+    assert {r["planner"] for r in rows} == {"straight", "tests.benchmark.test_runner:Waiter"}
+    peds = list(csv.DictReader((out / "pedestrians.csv").open()))
+    assert len(peds) == 160
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["params"] == SRFMParams().as_dict()
+    assert set(manifest["scenarios"]) == {"short", "concert"}
+    assert "numpy" in manifest["versions"]
+    md = (out / "table.md").read_text()
+    assert md.count("| short |") == 2
+    assert "Fréchet" in md
+
+
+def test_episode_files_hold_the_metrics_of_the_episode(reference_run: Path) -> None:
+    from srfm.episode import run_episode
+
+    expected = episode_metrics(run_episode("concert", 2, "straight"))
+    got = read_episode(episode_path(reference_run, "concert", "straight", 2))
+    assert (got.scenario, got.planner, got.seed) == ("concert", "straight", 2)
+    assert got.values.keys() == expected.values.keys()
+    for name, value in expected.values.items():
+        assert got.values[name] == value or (math.isnan(value) and math.isnan(got.values[name]))
+    for name, arr in expected.pedestrians.items():
+        np.testing.assert_array_equal(got.pedestrians[name], arr)
+
+
+def test_same_request_gives_byte_identical_tables(
+    reference_run: Path, short_scenario: Path, tmp_path: Path
+) -> None:
+    run_benchmark(_request(short_scenario, range(4)), tmp_path, jobs=1)
+    assert _tables(tmp_path) == _tables(reference_run)
+    assert (tmp_path / "figures/deviation.png").read_bytes() == (
+        reference_run / "figures/deviation.png"
+    ).read_bytes()
+
+
+def test_resume_skips_finished_episodes(
+    reference_run: Path, short_scenario: Path, tmp_path: Path
+) -> None:
+    request = _request(short_scenario, range(4))
+    run_benchmark(request, tmp_path, jobs=2, figures=False)
+    gone = [
+        episode_path(tmp_path, "short", "straight", 1),
+        episode_path(tmp_path, "concert", "tests.benchmark.test_runner:Waiter", 3),
+    ]
+    for path in gone:
+        path.unlink()
+    stale = gone[0].parent / ".seed-000001.json.abc.tmp"
+    stale.write_text("half")
+    seen: list[int] = []
+    summary = run_benchmark(request, tmp_path, jobs=2, figures=False, on_progress=seen.append)
+    assert summary.simulated == 2
+    assert seen[0] == 14
+    assert sum(seen) == 16
+    assert not stale.exists()
+    assert _tables(tmp_path) == _tables(reference_run)
+
+
+def test_interrupted_run_resumes_to_the_same_tables(short_scenario: Path, tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    cmd = [
+        sys.executable,
+        "-m",
+        "srfm.cli",
+        "benchmark",
+        "-s",
+        str(short_scenario),
+        "-p",
+        "straight",
+        "--seeds",
+        "0-199",
+        "--out",
+        str(out),
+        "-j",
+        "2",
+        "--no-figures",
+    ]
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    episodes = out / "episodes" / "short" / "straight"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and len(list(episodes.glob("seed-*.json"))) < 10:
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)
+    proc.wait(timeout=60)
+    done = len(list(episodes.glob("seed-*.json")))
+    assert 10 <= done < 200, "the run was not interrupted part way"
+    for path in episodes.glob("seed-*.json"):
+        json.loads(path.read_text())  # every file that exists is complete
+    resumed = run_benchmark(
+        BenchmarkRequest.create(
+            scenarios=[str(short_scenario)], planners=["straight"], seeds=range(200)
+        ),
+        out,
+        jobs=2,
+        figures=False,
+    )
+    assert resumed.simulated == 200 - done
+    fresh = tmp_path / "fresh"
+    run_benchmark(
+        BenchmarkRequest.create(
+            scenarios=[str(short_scenario)], planners=["straight"], seeds=range(200)
+        ),
+        fresh,
+        jobs=2,
+        figures=False,
+    )
+    assert _tables(out) == _tables(fresh)
+
+
+def test_folder_of_another_run_is_refused(reference_run: Path, short_scenario: Path) -> None:
+    other = _request(short_scenario, range(4), params=SRFMParams(a_robot=1.0))
+    with pytest.raises(BenchmarkError, match="other params"):
+        run_benchmark(other, reference_run, jobs=1)
+    changed = write_scenario(
+        short_scenario.parent / "changed.toml",
+        SHORT.replace("horizon_steps = 120", "horizon_steps = 90"),
+    )
+    with pytest.raises(BenchmarkError, match="different scenario 'short'"):
+        run_benchmark(_request(changed, range(4)), reference_run, jobs=1)
+
+
+def test_bad_requests_name_the_bad_value(short_scenario: Path) -> None:
+    with pytest.raises(BenchmarkError, match="seeds given twice: 3"):
+        BenchmarkRequest.create(scenarios=["concert"], planners=["straight"], seeds=[3, 3])
+    with pytest.raises(BenchmarkError, match="reference planner 'vo'"):
+        BenchmarkRequest.create(scenarios=["concert"], planners=["straight"], reference="vo")
+    with pytest.raises(ValueError, match="unknown planner 'nope'"):
+        BenchmarkRequest.create(scenarios=["concert"], planners=["nope"])
+    with pytest.raises(ValueError, match="nowhere"):
+        BenchmarkRequest.create(scenarios=["nowhere"], planners=["straight"])
+    scenario = load_scenario(short_scenario)
+    with pytest.raises(BenchmarkError, match="at least one seed"):
+        BenchmarkRequest(scenarios=(scenario,), planners=("straight",), seeds=())
+
+
+def test_cli_quick_run_and_errors(short_scenario: Path, tmp_path: Path) -> None:
+    runner = CliRunner()
+    out = tmp_path / "cli"
+    result = runner.invoke(
+        main,
+        [
+            "benchmark",
+            "--quick",
+            "-s",
+            str(short_scenario),
+            "-p",
+            "straight",
+            "--out",
+            str(out),
+            "-j",
+            "1",
+            "--no-figures",
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    assert "| short | straight |" in result.output
+    assert len(list((out / "episodes/short/straight").glob("*.json"))) == 3
+    bad = runner.invoke(main, ["benchmark", "--seeds", "5-2", "--out", str(out)])
+    assert bad.exit_code == 2
+    assert "'5-2' is not a seed" in bad.output
+    unknown = runner.invoke(main, ["benchmark", "-p", "teleport", "--out", str(out)])
+    assert unknown.exit_code == 2
+    assert "unknown planner 'teleport'" in unknown.output
+
+
+def test_file_instead_of_folder(tmp_path: Path, short_scenario: Path) -> None:
+    target = tmp_path / "file"
+    target.write_text("keep me")
+    with pytest.raises(BenchmarkError, match="not a folder"):
+        run_benchmark(_request(short_scenario, range(1)), target, jobs=1)
+    assert target.read_text() == "keep me"
+    assert os.path.exists(target)

@@ -10,6 +10,7 @@ from __future__ import annotations
 __all__ = [
     "BenchmarkError",
     "DatasetError",
+    "LogError",
     "MetricError",
     "ParameterError",
     "PlannerError",
@@ -49,3 +50,8 @@ class BenchmarkError(SrfmError, ValueError):
 
 class DatasetError(SrfmError, ValueError):
     """A dataset file is malformed or unusable; the message names the file and the place."""
+
+
+class LogError(SrfmError, ValueError):
+    """A run log (.mcap, .rrd) is unreadable, truncated, foreign or inconsistent; the
+    message names the file."""

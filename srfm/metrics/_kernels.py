@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["coupling_bound_sq", "frechet_sq", "frechet_sq_batch"]
+__all__ = ["coupling_bound_sq", "frechet_sq", "frechet_sq_batch", "hausdorff_lower_sq"]
 
 
 @njit(cache=True)
@@ -73,24 +73,120 @@ def coupling_bound_sq(p: np.ndarray, q: np.ndarray) -> float:
 
 
 @njit(cache=True)
-def frechet_sq(p: np.ndarray, q: np.ndarray, prev: np.ndarray, cur: np.ndarray) -> float:
-    """Squared discrete Fréchet distance between ``p`` (n, 2) and ``q`` (m, 2), n ≥ m ≥ 1.
+def hausdorff_lower_sq(p: np.ndarray, q: np.ndarray) -> float:
+    """max over j of min over i of the squared distance from q_j to p_i (m = len(q)).
 
-    ``prev`` and ``cur`` are scratch rows of length ≥ m (the only memory used,
-    O(min(n, m))). Rows run over the longer curve, columns over the shorter.
+    Every coupling visits each q_j with some p_i, so this directed Hausdorff distance
+    is a lower bound on the (squared) Fréchet distance. Points are taken in decreasing
+    order of their distance to the proportional partner; the scan for each stops as soon
+    as it finds a p_i within the current maximum, and the whole search stops once no
+    remaining point can raise it.
     """
     n = p.shape[0]
     m = q.shape[0]
-    start = _dist_sq(p, 0, q, 0)
-    end = _dist_sq(p, n - 1, q, m - 1)
-    lower = max(start, end)
+    partner = np.empty(m)
+    for j in range(m):
+        i0 = (j * (n - 1)) // (m - 1) if m > 1 else 0
+        partner[j] = _dist_sq(p, i0, q, j)
+    order = np.argsort(-partner)
+    h = 0.0
+    for k in range(m):
+        j = order[k]
+        best = partner[j]
+        if best <= h:
+            break
+        i0 = (j * (n - 1)) // (m - 1) if m > 1 else 0
+        for off in range(1, n):
+            a = i0 - off
+            b = i0 + off
+            if a < 0 and b >= n:
+                break
+            if a >= 0:
+                d = _dist_sq(p, a, q, j)
+                if d < best:
+                    best = d
+            if b < n:
+                d = _dist_sq(p, b, q, j)
+                if d < best:
+                    best = d
+            if best <= h:
+                break
+        if best > h:
+            h = best
+    return h
+
+
+@njit(cache=True)
+def frechet_sq(p: np.ndarray, q: np.ndarray, prev: np.ndarray, cur: np.ndarray) -> float:
+    """Squared discrete Fréchet distance between ``p`` (n, 2) and ``q`` (m, 2), n ≥ m ≥ 1.
+
+    ``prev`` and ``cur`` are scratch rows of length ≥ m; with four suffix bounding-box
+    arrays of length m they are the only memory used, O(min(n, m)). Rows run over the
+    longer curve, columns over the shorter.
+
+    Exact shortcuts (each keeps the result equal to the plain recurrence):
+
+    - a lower bound L (end points, directed Hausdorff) and an upper bound U (two
+      couplings) bracket the answer; when they meet, it is returned at once;
+    - cells with d > U are unreachable (their value would exceed the answer);
+    - values are clamped from below at L, which changes nothing at the end;
+    - a row whose values from column f to the end are all one value V (a "flat"
+      suffix, kept implicit) stays flat in the next row when every point of q[f:] lies
+      within V of the row's point (checked against the bounding box of q[f:]): then
+      only the columns before the flat part, and until the value reaches V again, are
+      computed. This is what makes long stretches of standing or converged twins cheap.
+    """
+    n = p.shape[0]
+    m = q.shape[0]
+    lower = max(_dist_sq(p, 0, q, 0), _dist_sq(p, n - 1, q, m - 1))
     bound = coupling_bound_sq(p, q)
     if bound <= lower:  # the answer lies in [lower, bound]
         return bound
+    lower = max(lower, hausdorff_lower_sq(p, q))
+    if n == m:  # the other direction needs memory of the longer curve's length
+        lower = max(lower, hausdorff_lower_sq(q, p))
+    if bound <= lower:
+        return bound
+    # Bounding boxes of the suffixes q[j:].
+    bx0 = np.empty(m)
+    bx1 = np.empty(m)
+    by0 = np.empty(m)
+    by1 = np.empty(m)
+    bx0[m - 1] = bx1[m - 1] = q[m - 1, 0]
+    by0[m - 1] = by1[m - 1] = q[m - 1, 1]
+    for j in range(m - 2, -1, -1):
+        bx0[j] = min(bx0[j + 1], q[j, 0])
+        bx1[j] = max(bx1[j + 1], q[j, 0])
+        by0[j] = min(by0[j + 1], q[j, 1])
+        by1[j] = max(by1[j + 1], q[j, 1])
+    # Often the lower bound is the answer: a cheap pass over the narrow band of cells
+    # within it decides that; otherwise the full pass within the upper bound.
+    if _band_dp(p, q, lower, lower, prev, cur, bx0, bx1, by0, by1) <= lower:
+        return lower
+    return _band_dp(p, q, lower, bound, prev, cur, bx0, bx1, by0, by1)
+
+
+@njit(cache=True)
+def _band_dp(
+    p: np.ndarray,
+    q: np.ndarray,
+    lower: float,
+    bound: float,
+    prev: np.ndarray,
+    cur: np.ndarray,
+    bx0: np.ndarray,
+    bx1: np.ndarray,
+    by0: np.ndarray,
+    by1: np.ndarray,
+) -> float:
+    """The recurrence with values clamped below at ``lower`` and cells farther than
+    ``bound`` unreachable; inf when the end cannot be reached within ``bound``."""
+    n = p.shape[0]
+    m = q.shape[0]
     inf = np.inf
     # Row 0: a running maximum along q, reachable while it stays within the bound.
     hi = -1
-    running = 0.0
+    running = lower
     for j in range(m):
         d = _dist_sq(p, 0, q, j)
         if d > running:
@@ -100,41 +196,75 @@ def frechet_sq(p: np.ndarray, q: np.ndarray, prev: np.ndarray, cur: np.ndarray) 
         prev[j] = running
         hi = j
     lo = 0
+    flat = m  # prev[j] == flat_value for flat <= j <= hi (implicit); m: no flat part
+    flat_value = inf
+    if hi == m - 1:
+        flat = m - 1
+        flat_value = prev[m - 1]
+        while flat > 0 and prev[flat - 1] == flat_value:
+            flat -= 1
     for i in range(1, n):
+        px = p[i, 0]
+        py = p[i, 1]
+        free = False
+        if flat <= hi:
+            fx = max(abs(px - bx0[flat]), abs(px - bx1[flat]))
+            fy = max(abs(py - by0[flat]), abs(py - by1[flat]))
+            free = fx * fx + fy * fy <= flat_value
         new_lo = -1
         new_hi = -1
-        left = inf  # c(i, j - 1)
+        new_flat = m
+        left = inf  # value of (i, j - 1)
         j = lo
         while j < m:
             best = left
             if j <= hi:
-                up = prev[j]
+                up = flat_value if j >= flat else prev[j]
                 if up < best:
                     best = up
             if lo <= j - 1 <= hi:
-                diag = prev[j - 1]
+                diag = flat_value if j - 1 >= flat else prev[j - 1]
                 if diag < best:
                     best = diag
             value = inf
             if best < inf:
                 d = _dist_sq(p, i, q, j)
                 if d <= bound:
-                    value = d if d > best else best
+                    value = best
+                    if d > value:
+                        value = d
             cur[j] = value
             if value < inf:
                 if new_lo < 0:
                     new_lo = j
                 new_hi = j
+                if free and j >= flat and value == flat_value:
+                    new_flat = j  # every later cell of this row equals flat_value
+                    new_hi = m - 1
+                    break
             elif j > hi:
                 break  # past the previous row only the left neighbour leads on
             left = value
             j += 1
         if new_lo < 0:
-            return inf  # unreachable with a valid bound
+            return inf  # nothing of this row is reachable within the bound
+        if new_flat < m:
+            new_value = flat_value
+        else:
+            new_value = inf
+            if new_hi == m - 1:
+                new_value = cur[m - 1]
+                new_flat = m - 1
+                while new_flat > new_lo and cur[new_flat - 1] == new_value:
+                    new_flat -= 1
         lo = new_lo
         hi = new_hi
+        flat = new_flat
+        flat_value = new_value
         prev, cur = cur, prev
-    result: float = prev[m - 1] if hi == m - 1 else inf
+    if hi < m - 1:
+        return inf
+    result: float = flat_value if m - 1 >= flat else prev[m - 1]
     return result
 
 

@@ -128,6 +128,26 @@ def train(**options: Any) -> None:
     _user_errors(_train)(**options)
 
 
+def _command_line() -> str:
+    """``srfm train`` with every option spelled out (the exact, reproducible command)."""
+    ctx = click.get_current_context()
+    words = ["srfm", "train"]
+    for param in ctx.command.params:
+        if not isinstance(param, click.Option) or param.name is None:
+            continue
+        value = ctx.params.get(param.name)
+        if value is None or param.name == "progress":
+            continue
+        if param.is_flag and param.secondary_opts:
+            words.append(param.opts[0] if value else param.secondary_opts[0])
+        elif param.is_flag:
+            if value:
+                words.append(param.opts[0])
+        else:
+            words += [param.opts[0], str(value)]
+    return shlex.join(words)
+
+
 def _train(
     run_dir: Path,
     k_div: float,
@@ -168,7 +188,7 @@ def _train(
         save_replay_buffer=save_replay_buffer,
         torch_threads=torch_threads,
     )
-    command = shlex.join(["srfm", *sys.argv[1:]])
+    command = _command_line()
     if not progress:
         result = run_training(config, run_dir, resume=resume, log=click.echo, command=command)
     else:

@@ -1,0 +1,144 @@
+"""``srfm train``: a tiny real TD3 run, checkpoints, evaluation, resume."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+import srfm
+from srfm.cli import main
+from srfm.errors import ParameterError
+from srfm.training import EvalResult, TrainConfig, evaluate_planner
+
+pytest.importorskip("stable_baselines3")
+
+TINY = [
+    "--learning-starts",
+    "100",
+    "--buffer-size",
+    "2000",
+    "--batch-size",
+    "32",
+    "--eval-every",
+    "100",
+    "--eval-seeds",
+    "1",
+    "--checkpoint-every",
+    "100",
+]
+
+
+def test_train_checkpoint_evaluate_and_resume(tmp_path: Path) -> None:
+    run = tmp_path / "run"
+    runner = CliRunner()
+    result = runner.invoke(
+        main,
+        [
+            "train",
+            "--run-dir",
+            str(run),
+            "--steps",
+            "200",
+            "--k-div",
+            "2.5",
+            "--no-progress",
+            *TINY,
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    assert "trained 200 steps" in result.output
+    for name in ("latest.zip", "latest_replay_buffer.pkl", "best.zip", "config.json"):
+        assert (run / name).is_file(), name
+    assert (run / "checkpoints" / "step_000000100.zip").is_file()
+    assert (run / "checkpoints" / "step_000000200.zip").is_file()
+    meta = json.loads((run / "config.json").read_text())
+    assert meta["env_config"]["k2"] == 2.5
+    assert meta["train_config"]["learning_rate"] == 1e-4
+    assert meta["command"].startswith("srfm train --run-dir")
+    assert "--k-div 2.5" in meta["command"]
+    assert "--steps 200" in meta["command"]
+    evals = [json.loads(line) for line in (run / "eval.jsonl").read_text().splitlines()]
+    assert [e["steps"] for e in evals] == [100, 200]
+    assert all(e["episodes"] == 5 for e in evals)
+    assert json.loads((run / "state.json").read_text())["steps"] == 200
+
+    # Resume to 450 steps, with the progress bar.
+    result = runner.invoke(
+        main,
+        [
+            "train",
+            "--run-dir",
+            str(run),
+            "--steps",
+            "300",
+            "--k-div",
+            "2.5",
+            "--resume",
+            str(run / "latest.zip"),
+            *TINY,
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    assert "resumed from" in result.output
+    assert "with its replay buffer" in result.output
+    assert "trained 300 steps" in result.output
+    assert json.loads((run / "state.json").read_text())["steps"] == 300
+    assert (run / "checkpoints" / "step_000000300.zip").is_file()
+
+    # The checkpoint runs as a planner.
+    from srfm.planners.td3 import TD3Planner
+
+    record = srfm.run_episode("concert", 0, TD3Planner(run / "latest.zip", "ckpt"))
+    assert record.outcome in {"goal_reached", "collision", "out_of_bounds", "timeout"}
+
+
+def test_train_rejects_bad_values(tmp_path: Path) -> None:
+    result = CliRunner().invoke(main, ["train", "--run-dir", str(tmp_path), "--k-div", "-1"])
+    assert result.exit_code == 2
+    with pytest.raises(ParameterError, match="gamma"):
+        TrainConfig(gamma=1.5)
+    with pytest.raises(ParameterError, match="net_arch"):
+        TrainConfig(net_arch=(256, 0))
+
+
+def test_paper_defaults() -> None:
+    c = TrainConfig()
+    assert (c.learning_rate, c.buffer_size, c.batch_size, c.learning_starts) == (
+        1e-4,
+        1_000_000,
+        256,
+        10_000,
+    )
+    assert (c.train_freq, c.gradient_steps, c.tau, c.gamma, c.policy_delay) == (
+        5,
+        5,
+        0.005,
+        0.99,
+        2,
+    )
+    assert (c.target_policy_noise, c.target_noise_clip, c.action_noise_sigma) == (0.2, 0.5, 0.3)
+    assert c.net_arch == (256, 256)
+    assert c.total_steps == 2_000_000
+
+
+def test_evaluate_planner_counts_outcomes() -> None:
+    result = evaluate_planner(lambda: srfm.planners.make_planner("straight"), ["concert"], [0, 1])
+    assert isinstance(result, EvalResult)
+    assert result.episodes == 2
+    total = result.success_rate + result.collision_rate + result.timeout_rate
+    assert 0.0 <= total <= 1.0
+    assert result.per_scenario["concert"]["mean_deviation_m"] == result.mean_deviation_m
+    better = EvalResult(
+        steps=0,
+        episodes=2,
+        success_rate=1.0,
+        collision_rate=0.0,
+        timeout_rate=0.0,
+        mean_deviation_m=9.0,
+        per_scenario={},
+    )
+    assert better.better_than(result) or result.success_rate == 1.0
+    assert better.better_than(None)

@@ -36,6 +36,7 @@ from srfm.errors import BenchmarkError
 from srfm.metrics import (
     OUTCOME_COLUMNS,
     TABLE_COLUMNS,
+    BenchmarkTable,
     EpisodeMetrics,
     benchmark_table,
     episode_metrics,
@@ -58,6 +59,7 @@ __all__ = [
     "load_results",
     "run_benchmark",
     "write_reports",
+    "write_tables",
 ]
 
 MANIFEST: Final = "manifest.json"
@@ -366,14 +368,46 @@ def load_results(out: Path, request: BenchmarkRequest) -> list[EpisodeMetrics]:
 def write_reports(out: Path, request: BenchmarkRequest, *, figures: bool = True) -> tuple[str, ...]:
     """Write the tables, CSV files, JSON summary and figures from the episode files."""
     results = load_results(out, request)
-    names = [s.name for s in request.scenarios]
+    files, table = write_tables(
+        out,
+        results,
+        scenarios=[s.name for s in request.scenarios],
+        planners=request.planners,
+        seeds=request.seeds,
+        params=request.params,
+        reference=request.reference,
+    )
+    if figures:
+        from srfm.benchmark.figures import write_figures
+
+        files += write_figures(out, request, table)
+    return tuple(files)
+
+
+def write_tables(
+    out: Path,
+    results: Sequence[EpisodeMetrics],
+    *,
+    scenarios: Sequence[str],
+    planners: Sequence[str],
+    seeds: Sequence[int],
+    params: SRFMParams,
+    reference: str | None,
+) -> tuple[list[str], BenchmarkTable]:
+    """Write the tables, CSV files and JSON summary of ``results`` (every scenario ×
+    planner × seed) into ``out``; also used by ``srfm score`` on re-scored logs.
+
+    Returns:
+        The files written (relative to ``out``) and the Table 3 layout table.
+    """
+    names = list(scenarios)
     table, outcomes = (
         benchmark_table(
             results,
             scenarios=names,
-            planners=request.planners,
-            seeds=request.seeds,
-            reference=request.reference,
+            planners=planners,
+            seeds=seeds,
+            reference=reference,
             columns=columns,
         )
         for columns in (TABLE_COLUMNS, OUTCOME_COLUMNS)
@@ -386,9 +420,9 @@ def write_reports(out: Path, request: BenchmarkRequest, *, figures: bool = True)
     summary = {
         "request": {
             "scenarios": names,
-            "planners": list(request.planners),
-            "seeds": list(request.seeds),
-            "params": request.params.as_dict(),
+            "planners": list(planners),
+            "seeds": list(seeds),
+            "params": params.as_dict(),
         },
         "table": summary_dict(table),
         "outcomes": summary_dict(outcomes),
@@ -402,8 +436,4 @@ def write_reports(out: Path, request: BenchmarkRequest, *, figures: bool = True)
         "outcomes.md",
         "summary.json",
     ]
-    if figures:
-        from srfm.benchmark.figures import write_figures
-
-        files += write_figures(out, request, table)
-    return tuple(files)
+    return files, table

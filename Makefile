@@ -8,7 +8,7 @@ BIN := $(VENV)/bin
 PIP_INSTALL := $(BIN)/python -m pip install --disable-pip-version-check -q -c constraints.txt
 STAMP := $(VENV)/.installed
 
-.PHONY: setup benchmark test lint typecheck pytest bench-perf clean
+.PHONY: setup benchmark benchmark-full test lint typecheck pytest bench-perf clean
 
 setup: $(STAMP)
 
@@ -17,14 +17,14 @@ $(STAMP): pyproject.toml constraints.txt
 	$(PIP_INSTALL) -e '.[dev,rl]'
 	@touch $(STAMP)
 
-# The main job: every built-in evaluation scenario with every registered planner.
+# The main job: the benchmark on the built-in evaluation scenarios with every
+# registered planner. --quick runs seeds 0-2 in seconds; `make benchmark-full` runs the
+# paper's 100 seeds. Results (tables, CSV, figures) go to results/.
 benchmark: $(STAMP)
-	@for scenario in footpath crosswalk cross_footpath circle concert; do \
-		for planner in $$($(BIN)/srfm planners | cut -d' ' -f1); do \
-			$(BIN)/srfm simulate --scenario $$scenario --planner $$planner --seed 0 || exit 1; \
-			echo; \
-		done; \
-	done
+	$(BIN)/srfm benchmark --quick --out results/quick
+
+benchmark-full: $(STAMP)
+	$(BIN)/srfm benchmark --out results/full
 
 test: $(STAMP) lint typecheck pytest
 
@@ -43,6 +43,7 @@ bench-perf: $(STAMP)
 	$(PIP_INSTALL) -e '.[dev,bench]'
 	$(BIN)/python tools/bench_crowd_step.py
 	$(BIN)/python tools/bench_episode.py
+	$(BIN)/python tools/bench_frechet.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache .hypothesis

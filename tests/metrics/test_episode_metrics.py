@@ -112,3 +112,11 @@ def test_same_record_same_numbers() -> None:
     assert a.values == b.values
     for name in a.pedestrians:
         np.testing.assert_array_equal(a.pedestrians[name], b.pedestrians[name])
+
+
+def test_every_metric_is_documented() -> None:
+    from tests.conftest import REPO
+
+    doc = (REPO / "docs" / "metrics.md").read_text(encoding="utf-8")
+    for info in (*EPISODE_METRICS, *PEDESTRIAN_METRICS):
+        assert f"`{info.name}`" in doc, info.name

@@ -81,7 +81,7 @@ def deviation_figure(table: BenchmarkTable) -> Figure:
     """Grouped bars: mean Fréchet deviation per scenario and planner, ± sample std."""
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(1.2 + 1.4 * len(table.scenarios), 3.6), layout="constrained")
+    fig = Figure(figsize=(max(6.0, 1.2 + 1.6 * len(table.scenarios)), 4.0), layout="constrained")
     ax = fig.subplots()
     n = len(table.planners)
     width = 0.8 / n
@@ -94,7 +94,7 @@ def deviation_figure(table: BenchmarkTable) -> Figure:
     ax.set_xticks(x, list(table.scenarios), fontsize=8)
     ax.set_ylabel("Fréchet deviation (m)")
     ax.set_title("Pedestrian deviation caused by the robot (mean ± std over seeds)", fontsize=9)
-    ax.legend(fontsize=7, ncols=min(n, 4))
+    fig.legend(fontsize=8, ncols=min(n, 6), loc="outside lower center")
     return fig
 
 

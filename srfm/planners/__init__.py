@@ -7,14 +7,26 @@ from srfm.planners._registry import (
     make_planner,
     register_planner,
 )
+from srfm.planners.dwa import DWAConfig, DWAPlanner
+from srfm.planners.orca import ORCAConfig, ORCAPlanner
+from srfm.planners.social_force import SocialForceConfig, SocialForcePlanner
 from srfm.planners.straight import StraightPlanner
+from srfm.planners.velocity_obstacles import VelocityObstaclePlanner, VOConfig
 
 __all__ = [
+    "DWAConfig",
+    "DWAPlanner",
+    "ORCAConfig",
+    "ORCAPlanner",
     "Observation",
     "Planner",
     "PlannerContext",
     "PlannerInfo",
+    "SocialForceConfig",
+    "SocialForcePlanner",
     "StraightPlanner",
+    "VOConfig",
+    "VelocityObstaclePlanner",
     "available_planners",
     "make_planner",
     "register_planner",
@@ -22,4 +34,14 @@ __all__ = [
 
 register_planner(
     "straight", StraightPlanner, "drive straight to the goal at top speed, ignoring people"
+)
+register_planner(
+    "dwa", DWAPlanner, "Dynamic Window Approach (Fox et al. 1997): best arc of the dynamic window"
+)
+register_planner(
+    "vo", VelocityObstaclePlanner, "Velocity Obstacles: admissible velocity closest to the goal"
+)
+register_planner("orca", ORCAPlanner, "ORCA (van den Berg et al. 2011): reciprocal half-planes")
+register_planner(
+    "social-force", SocialForcePlanner, "the robot moved toward its goal by a social force model"
 )

@@ -1,0 +1,162 @@
+"""Shared parts of the classical planners: config validators, static geometry, and
+the per-episode set-up every kernel-backed planner does at reset."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import attrs
+import numpy as np
+
+from srfm._validate import finite_float, non_negative, positive, unit_interval
+from srfm.errors import PlannerError
+from srfm.planners import _kernels
+from srfm.planners._base import FloatArray, PlannerContext
+from srfm.robot import RobotConfig
+from srfm.scenarios import WorldBounds
+from srfm.state import Obstacles
+
+__all__ = [
+    "DEFAULT_DT_S",
+    "KernelPlanner",
+    "check_detection_range",
+    "check_non_negative",
+    "check_positive",
+    "check_positive_int",
+    "check_unit_open",
+    "static_geometry",
+]
+
+DEFAULT_DT_S = 1.0 / 15.0
+
+
+def _field(inst: Any, attribute: attrs.Attribute[Any]) -> str:
+    return f"{type(inst).__name__}.{attribute.name}"
+
+
+def check_positive(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
+    """attrs validator: a finite number > 0."""
+    positive(value, _field(inst, attribute), PlannerError)
+
+
+def check_non_negative(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
+    """attrs validator: a finite number >= 0."""
+    non_negative(value, _field(inst, attribute), PlannerError)
+
+
+def check_finite(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
+    """attrs validator: a finite number."""
+    finite_float(value, _field(inst, attribute), PlannerError)
+
+
+def check_unit_open(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
+    """attrs validator: a number in (0, 1]."""
+    out = finite_float(value, _field(inst, attribute), PlannerError)
+    if not 0.0 < out <= 1.0:
+        raise PlannerError(f"{_field(inst, attribute)} must be in (0, 1], got {value!r}")
+
+
+def check_unit_interval(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
+    """attrs validator: a number in [0, 1]."""
+    unit_interval(value, _field(inst, attribute), PlannerError)
+
+
+def check_positive_int(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
+    """attrs validator: an integer >= 1 (and at most 10,000: a per-step sample count)."""
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        raise PlannerError(f"{_field(inst, attribute)} must be an integer, got {value!r}")
+    if not 1 <= value <= 10_000:
+        raise PlannerError(f"{_field(inst, attribute)} must be in [1, 10000], got {value!r}")
+
+
+def check_bool(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
+    """attrs validator: True or False."""
+    if not isinstance(value, bool):
+        raise PlannerError(f"{_field(inst, attribute)} must be True or False, got {value!r}")
+
+
+def check_detection_range(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
+    """attrs validator: None (observe everyone) or a finite number >= 0 (m)."""
+    if value is not None:
+        non_negative(value, _field(inst, attribute), PlannerError)
+
+
+def check_optional_positive(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
+    """attrs validator: None or a finite number > 0."""
+    if value is not None:
+        positive(value, _field(inst, attribute), PlannerError)
+
+
+def world_edges(world: WorldBounds) -> FloatArray:
+    """(4, 4) segments along the edges of the world rectangle."""
+    x0, x1, y0, y1 = world.x_min, world.x_max, world.y_min, world.y_max
+    return np.array([[x0, y0, x1, y0], [x1, y0, x1, y1], [x1, y1, x0, y1], [x0, y1, x0, y0]])
+
+
+def static_geometry(
+    obstacles: Obstacles, world: WorldBounds | None, avoid_world_edges: bool
+) -> tuple[FloatArray, FloatArray]:
+    """Writable, C-contiguous (segments (M, 4), circles (K, 3)) for the kernels: the
+    scenario's walls (plus the world's edges when ``avoid_world_edges``) and pillars."""
+    segments = np.array(obstacles.segments, dtype=np.float64)
+    if avoid_world_edges and world is not None:
+        segments = np.concatenate([segments, world_edges(world)])
+    circles = np.array(obstacles.circles, dtype=np.float64)
+    return np.ascontiguousarray(segments), np.ascontiguousarray(circles)
+
+
+class KernelPlanner:
+    """Base of the planners whose step is one numba kernel call.
+
+    Subclasses set ``name``, fill their own entries of the parameter vector in
+    :meth:`_fill_params` and implement ``act``. Everything a planner knows about an
+    episode is rebuilt by :meth:`reset`; nothing carries over between episodes and no
+    randomness is drawn.
+    """
+
+    name: str = ""
+    _n_params: int = _kernels.N_COMMON
+
+    def __init__(
+        self,
+        detection_range_m: float | None,
+        safety_margin_m: float,
+        heading_gain_per_s: float,
+        avoid_world_edges: bool,
+    ) -> None:
+        self.detection_range_m: float | None = detection_range_m
+        self._margin = float(safety_margin_m)
+        self._heading_gain = float(heading_gain_per_s)
+        self._avoid_edges = avoid_world_edges
+        self._configure(RobotConfig(), DEFAULT_DT_S, None, Obstacles())
+
+    def reset(self, context: PlannerContext, rng: np.random.Generator) -> None:
+        """Take the robot's limits, the step and the static obstacles of the episode.
+
+        The planner is deterministic: it draws nothing from ``rng``.
+        """
+        self._configure(context.robot, context.dt_s, context.world, context.obstacles)
+
+    def _configure(
+        self, robot: RobotConfig, dt_s: float, world: WorldBounds | None, obstacles: Obstacles
+    ) -> None:
+        self._robot = robot
+        self._unicycle = robot.kinematics == "unicycle"
+        self._segments, self._circles = static_geometry(obstacles, world, self._avoid_edges)
+        self._near = np.zeros(self._segments.shape[0])
+        params = np.zeros(self._n_params)
+        params[_kernels.P_RADIUS] = robot.radius_m
+        params[_kernels.P_VMAX] = robot.max_speed_mps
+        params[_kernels.P_WMAX] = robot.max_angular_speed_radps
+        params[_kernels.P_HEADING_GAIN] = self._heading_gain
+        params[_kernels.P_UNICYCLE] = 1.0 if self._unicycle else 0.0
+        params[_kernels.P_MARGIN] = self._margin
+        params[_kernels.P_DT] = dt_s
+        params[_kernels.P_GOAL_RADIUS] = robot.goal_radius_m
+        self._fill_params(params, robot, dt_s)
+        if np.any(np.isnan(params)):
+            raise PlannerError(f"{self.name}: NaN in the planner parameters {params!r}")
+        self._params = params
+
+    def _fill_params(self, params: FloatArray, robot: RobotConfig, dt_s: float) -> None:
+        """Write the planner's own entries of the kernel parameter vector."""

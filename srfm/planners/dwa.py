@@ -1,0 +1,174 @@
+"""The Dynamic Window Approach (Fox, Burgard, Thrun 1997), planner name ``dwa``.
+
+At every step the planner searches the *dynamic window*: the velocities the robot can
+reach within one step of its acceleration limits, intersected with its speed limits,
+
+    V_r = [v − a dt, v + a dt] ∩ [v_min, v_max]  ×  [ω − α dt, ω + α dt] ∩ [−ω_max, ω_max],
+
+with a and α the robot's ``max_accel_mps2`` and ``max_angular_accel_radps2``. A grid
+of ``v_samples`` × ``omega_samples`` (v, ω) pairs is forward-simulated as arcs for
+``horizon_s`` seconds in steps of ``rollout_step_s``, against the observed pedestrians
+(moved at constant velocity when ``predict_pedestrians``), the walls, the pillars and
+the world's edges, all inflated by ``safety_margin_m``. An arc that touches anything
+within the horizon is inadmissible (Fox et al. only demand that the robot can brake
+before the contact; with people walking into the robot's path, a colliding arc is
+never safe). Among the admissible arcs the planner maximises
+
+    G(v, ω) = α · heading + β · clearance + γ · velocity,
+
+    heading   = 1 − |angle between the robot's heading at the end of the arc and the
+                direction from there to the goal| / π   (1 when the arc reaches the goal)
+    clearance = min(smallest gap along the arc, clearance_cap_m) / clearance_cap_m
+    velocity  = v / v_max
+
+with α, β, γ the ``heading_weight``, ``clearance_weight`` and ``velocity_weight``.
+Each term lies in [0, 1]; Fox et al. also smooth and normalise the terms over the
+window, which is left out here. When no arc is admissible, the one whose first contact
+comes latest (then: the one with the larger clearance) is taken.
+
+A holonomic robot searches a disc of (vx, vy) within one step of acceleration of its
+velocity (``holonomic_samples`` per axis), rolls out straight lines and takes the
+direction of motion as its heading.
+
+The rollouts are one numba kernel (:func:`srfm.planners._kernels.dwa_unicycle`).
+"""
+
+from __future__ import annotations
+
+import attrs
+import numpy as np
+
+from srfm.errors import PlannerError
+from srfm.planners import _kernels
+from srfm.planners._base import FloatArray, Observation
+from srfm.planners._common import (
+    KernelPlanner,
+    check_bool,
+    check_detection_range,
+    check_finite,
+    check_non_negative,
+    check_optional_positive,
+    check_positive,
+    check_positive_int,
+)
+from srfm.robot import RobotConfig
+
+__all__ = ["DWAConfig", "DWAPlanner"]
+
+
+@attrs.frozen(kw_only=True)
+class DWAConfig:
+    """Parameters of :class:`DWAPlanner`.
+
+    Attributes:
+        detection_range_m: pedestrians closer than this to the robot are observed (m);
+            None observes everyone. Default 2 m (the paper).
+        window_time_s: the window holds the velocities reachable within this time at
+            the acceleration limits (s); None for one simulation step (Fox et al.).
+        horizon_s: how far ahead each (v, ω) is simulated (s).
+        rollout_step_s: integration step of the rollouts (s).
+        v_samples: samples of v across the window (unicycle).
+        omega_samples: samples of ω across the window (unicycle).
+        holonomic_samples: samples per axis of (vx, vy) (holonomic robot).
+        min_speed_mps: v_min, the lowest linear speed searched (m/s); 0 drives forward
+            only. Must lie in [−v_max, v_max] of the robot.
+        heading_weight: α, weight of the heading term.
+        clearance_weight: β, weight of the clearance term.
+        velocity_weight: γ, weight of the velocity term.
+        clearance_cap_m: gaps beyond this count as free space (m).
+        safety_margin_m: added to every radius in the rollouts (m).
+        predict_pedestrians: move pedestrians at their observed velocity in the
+            rollouts; False treats them as standing still (the original DWA).
+        avoid_world_edges: treat the edges of the world as walls.
+    """
+
+    detection_range_m: float | None = attrs.field(default=2.0, validator=check_detection_range)
+    window_time_s: float | None = attrs.field(default=0.25, validator=check_optional_positive)
+    horizon_s: float = attrs.field(default=2.0, validator=check_positive)
+    rollout_step_s: float = attrs.field(default=0.2, validator=check_positive)
+    v_samples: int = attrs.field(default=5, validator=check_positive_int)
+    omega_samples: int = attrs.field(default=11, validator=check_positive_int)
+    holonomic_samples: int = attrs.field(default=9, validator=check_positive_int)
+    min_speed_mps: float = attrs.field(default=0.0, validator=check_finite)
+    heading_weight: float = attrs.field(default=1.0, validator=check_non_negative)
+    clearance_weight: float = attrs.field(default=0.3, validator=check_non_negative)
+    velocity_weight: float = attrs.field(default=0.3, validator=check_non_negative)
+    clearance_cap_m: float = attrs.field(default=1.0, validator=check_positive)
+    safety_margin_m: float = attrs.field(default=0.1, validator=check_non_negative)
+    predict_pedestrians: bool = attrs.field(default=True, validator=check_bool)
+    avoid_world_edges: bool = attrs.field(default=True, validator=check_bool)
+
+    def __attrs_post_init__(self) -> None:
+        if self.rollout_step_s > self.horizon_s:
+            raise PlannerError(
+                f"DWAConfig.rollout_step_s must be <= horizon_s ({self.horizon_s!r}), "
+                f"got {self.rollout_step_s!r}"
+            )
+        if round(self.horizon_s / self.rollout_step_s) > 10_000:
+            raise PlannerError(
+                f"DWAConfig: horizon_s / rollout_step_s must be <= 10000 rollout steps, got "
+                f"{self.horizon_s!r} / {self.rollout_step_s!r}"
+            )
+
+
+class DWAPlanner(KernelPlanner):
+    """The Dynamic Window Approach for a unicycle (and a holonomic) robot.
+
+    Args:
+        config: parameters; the defaults of :class:`DWAConfig` when omitted.
+    """
+
+    name = "dwa"
+    _n_params = _kernels.N_DWA
+
+    def __init__(self, config: DWAConfig | None = None) -> None:
+        self.config = config if config is not None else DWAConfig()
+        c = self.config
+        super().__init__(c.detection_range_m, c.safety_margin_m, 0.0, c.avoid_world_edges)
+
+    def _fill_params(self, params: FloatArray, robot: RobotConfig, dt_s: float) -> None:
+        c = self.config
+        if not -robot.max_speed_mps <= c.min_speed_mps <= robot.max_speed_mps:
+            raise PlannerError(
+                f"DWAConfig.min_speed_mps must lie in [-v_max, v_max] = "
+                f"[{-robot.max_speed_mps!r}, {robot.max_speed_mps!r}], got {c.min_speed_mps!r}"
+            )
+        params[_kernels.DWA_VMIN] = c.min_speed_mps
+        params[_kernels.DWA_ACCEL] = robot.max_accel_mps2
+        params[_kernels.DWA_WACCEL] = robot.max_angular_accel_radps2
+        params[_kernels.DWA_STEPS] = max(1, round(c.horizon_s / c.rollout_step_s))
+        params[_kernels.DWA_SIM_STEP] = c.rollout_step_s
+        if robot.kinematics == "unicycle":
+            params[_kernels.DWA_NV] = c.v_samples
+            params[_kernels.DWA_NW] = c.omega_samples
+        else:
+            params[_kernels.DWA_NV] = c.holonomic_samples
+            params[_kernels.DWA_NW] = 1
+        params[_kernels.DWA_HEADING_W] = c.heading_weight
+        params[_kernels.DWA_CLEAR_W] = c.clearance_weight
+        params[_kernels.DWA_VEL_W] = c.velocity_weight
+        params[_kernels.DWA_CLEAR_CAP] = c.clearance_cap_m
+        params[_kernels.DWA_PREDICT] = 1.0 if c.predict_pedestrians else 0.0
+        params[_kernels.DWA_WINDOW_T] = dt_s if c.window_time_s is None else c.window_time_s
+
+    def window(self, v: float, omega: float) -> tuple[float, float, float, float]:
+        """The dynamic window (v_lo, v_hi, ω_lo, ω_hi) at (v, ω) for the current robot."""
+        return _kernels.dynamic_window(float(v), float(omega), self._params)
+
+    def act(self, observation: Observation) -> FloatArray:
+        """(v, ω) for a unicycle, (vx, vy) for a holonomic robot."""
+        r = observation.robot
+        g = observation.robot_goal
+        if self._unicycle:
+            c0, c1 = _kernels.dwa_unicycle(
+                r.x, r.y, r.theta, r.v, r.omega, g[0], g[1],
+                observation.ped_pos, observation.ped_vel, observation.ped_radius,
+                self._segments, self._circles, self._params, self._near,
+            )  # fmt: skip
+        else:
+            c0, c1 = _kernels.dwa_holonomic(
+                r.x, r.y, r.theta, r.vx, r.vy, g[0], g[1],
+                observation.ped_pos, observation.ped_vel, observation.ped_radius,
+                self._segments, self._circles, self._params, self._near,
+            )  # fmt: skip
+        return np.array((c0, c1))

@@ -1,0 +1,113 @@
+"""A social-force robot, planner name ``social-force``: the robot is moved toward its
+goal by a social force model (Helbing and Molnár 1995), like the pedestrians of the
+SRFM, within its own limits.
+
+Each step the robot feels (unit mass, so forces are accelerations)
+
+    F = (v_des − v) / τ
+        + Σ_j A exp((r_R + r_j − d_j) / B) ψ(φ_j; λ) n_j      (observed pedestrians)
+        + Σ_o A_o exp((r_R − d_o) / B_o) n_o                   (walls, pillars, edges)
+
+with v_des = (g − x) capped at the desired speed (the robot slows down within one
+second of its goal, as SRFM pedestrians do), n the unit vector from the pedestrian
+(the obstacle's closest point) to the robot, d the centre distance (the distance to
+the obstacle's surface) and ψ = λ + (1 − λ)(1 + cos φ)/2 with φ the angle between the
+robot's heading and the direction to the pedestrian. The new velocity is
+v + F dt capped at v_max (semi-implicit Euler with the simulation step), where v is
+the robot's current velocity. A holonomic robot is commanded that velocity; a
+unicycle turns toward it with ω = clip(k_θ e, ±ω_max) and drives at
+|v| max(cos e, 0), e the heading error.
+
+The defaults of the pedestrian terms are the SRFM pedestrian parameters of the
+``agrawal2024`` preset (A = 2.0 m/s², B = 0.89 m, λ = 0.4, τ = 0.6 s) and the
+obstacle terms those of the model (A_o = 25 m/s², B_o = 0.08 m): the robot avoids
+people the way the simulated people avoid each other.
+"""
+
+from __future__ import annotations
+
+import attrs
+import numpy as np
+
+from srfm.planners import _kernels
+from srfm.planners._base import FloatArray, Observation
+from srfm.planners._common import (
+    KernelPlanner,
+    check_bool,
+    check_detection_range,
+    check_non_negative,
+    check_optional_positive,
+    check_positive,
+    check_unit_interval,
+)
+from srfm.robot import RobotConfig
+
+__all__ = ["SocialForceConfig", "SocialForcePlanner"]
+
+
+@attrs.frozen(kw_only=True)
+class SocialForceConfig:
+    """Parameters of :class:`SocialForcePlanner`.
+
+    Attributes:
+        detection_range_m: pedestrians closer than this to the robot are observed (m);
+            None observes everyone. Default 2 m (the paper).
+        desired_speed_mps: speed toward the goal (m/s); None for the robot's top speed.
+        tau_s: τ, relaxation time of the goal term (s).
+        ped_strength_mps2: A, strength of the pedestrian repulsion (m/s²).
+        ped_range_m: B, range of the pedestrian repulsion (m).
+        anisotropy: λ in [0, 1], the weight of pedestrians behind the robot.
+        obstacle_strength_mps2: A_o, strength of the wall and pillar repulsion (m/s²).
+        obstacle_range_m: B_o, range of the wall and pillar repulsion (m).
+        heading_gain_per_s: k_θ of the unicycle heading control (1/s).
+        avoid_world_edges: the edges of the world repel the robot like walls.
+    """
+
+    detection_range_m: float | None = attrs.field(default=2.0, validator=check_detection_range)
+    desired_speed_mps: float | None = attrs.field(default=None, validator=check_optional_positive)
+    tau_s: float = attrs.field(default=0.4, validator=check_positive)
+    ped_strength_mps2: float = attrs.field(default=2.0, validator=check_non_negative)
+    ped_range_m: float = attrs.field(default=0.4, validator=check_positive)
+    anisotropy: float = attrs.field(default=0.4, validator=check_unit_interval)
+    obstacle_strength_mps2: float = attrs.field(default=25.0, validator=check_non_negative)
+    obstacle_range_m: float = attrs.field(default=0.08, validator=check_positive)
+    heading_gain_per_s: float = attrs.field(default=4.0, validator=check_positive)
+    avoid_world_edges: bool = attrs.field(default=True, validator=check_bool)
+
+
+class SocialForcePlanner(KernelPlanner):
+    """A robot driven by a social force model toward its goal.
+
+    Args:
+        config: parameters; the defaults of :class:`SocialForceConfig` when omitted.
+    """
+
+    name = "social-force"
+    _n_params = _kernels.N_SF
+
+    def __init__(self, config: SocialForceConfig | None = None) -> None:
+        self.config = config if config is not None else SocialForceConfig()
+        c = self.config
+        super().__init__(c.detection_range_m, 0.0, c.heading_gain_per_s, c.avoid_world_edges)
+
+    def _fill_params(self, params: FloatArray, robot: RobotConfig, dt_s: float) -> None:
+        c = self.config
+        vdes = robot.max_speed_mps if c.desired_speed_mps is None else c.desired_speed_mps
+        params[_kernels.SF_VDES] = vdes
+        params[_kernels.SF_TAU] = c.tau_s
+        params[_kernels.SF_A] = c.ped_strength_mps2
+        params[_kernels.SF_B] = c.ped_range_m
+        params[_kernels.SF_LAMBDA] = c.anisotropy
+        params[_kernels.SF_A_OBS] = c.obstacle_strength_mps2
+        params[_kernels.SF_B_OBS] = c.obstacle_range_m
+
+    def act(self, observation: Observation) -> FloatArray:
+        """(v, ω) for a unicycle, (vx, vy) for a holonomic robot."""
+        r = observation.robot
+        g = observation.robot_goal
+        c0, c1 = _kernels.social_force_command(
+            r.x, r.y, r.theta, r.vx, r.vy, g[0], g[1],
+            observation.ped_pos, observation.ped_vel, observation.ped_radius,
+            self._segments, self._circles, self._params,
+        )  # fmt: skip
+        return np.array((c0, c1))

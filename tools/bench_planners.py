@@ -1,0 +1,187 @@
+"""Planning cost per step: microseconds per ``Planner.act`` call, per planner and scenario.
+
+For each planner and evaluation scenario, the script runs the episodes of seeds
+``0 .. --seeds − 1`` once, recording every observation the planner was given (so the
+workload is exactly what the benchmark sees: the pedestrians inside the planner's
+detection range at every step while the robot is active). It then resets a fresh
+planner with the same episode context and replays the recorded observations through
+``act`` in a tight loop, ``--repeats`` times, timing each pass with
+``time.perf_counter``; the best pass is reported as µs per act (mean over the calls
+of that pass). The planners keep no state between steps that depends on the
+observations, so a replay does the same work as the live episode.
+
+It also reports the mean number of observed pedestrians per call and the median wall
+time of a whole episode (``srfm.run_episode(..., parallel=False)``), which includes
+the simulation of both crowds.
+
+Usage::
+
+    .venv/bin/python tools/bench_planners.py
+    .venv/bin/python tools/bench_planners.py --seeds 5 --planners dwa orca
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from srfm.planners import Observation
+
+DEFAULT_PLANNERS = ("straight", "dwa", "vo", "orca", "social-force")
+
+
+class Recorder:
+    """Wraps a planner and keeps every observation it is given."""
+
+    def __init__(self, planner: Any) -> None:
+        self.inner = planner
+        self.name = planner.name
+        self.detection_range_m = planner.detection_range_m
+        self.observations: list[Observation] = []
+        self.context: Any = None
+
+    def reset(self, context: Any, rng: np.random.Generator) -> None:
+        """Reset the wrapped planner and remember the context."""
+        self.context = context
+        self.inner.reset(context, rng)
+
+    def act(self, observation: Observation) -> Any:
+        """Record, then delegate."""
+        self.observations.append(observation)
+        return self.inner.act(observation)
+
+
+def _cpu_busy_other() -> tuple[int, int]:
+    with open("/proc/stat", encoding="ascii") as f:
+        fields = [int(x) for x in f.readline().split()[1:]]
+    idle = fields[3] + fields[4]
+    return sum(fields) - idle, sum(fields)
+
+
+def _self_cpu_ticks() -> int:
+    t = os.times()
+    return round((t.user + t.system) * os.sysconf("SC_CLK_TCK"))
+
+
+def bench(
+    planner_name: str, scenario: str, seeds: int, repeats: int
+) -> tuple[float, float, int, float]:
+    """(µs per act, mean observed pedestrians, calls, median episode ms)."""
+    import srfm
+    from srfm.episode import planner_rng
+    from srfm.planners import make_planner
+
+    calls: list[tuple[Any, list[Observation]]] = []
+    episode_s: list[float] = []
+    for seed in range(seeds):
+        rec = Recorder(make_planner(planner_name))
+        srfm.run_episode(scenario, seed, rec, parallel=False)
+        calls.append((rec.context, rec.observations))
+        t0 = time.perf_counter()
+        srfm.run_episode(scenario, seed, planner_name, parallel=False)
+        episode_s.append(time.perf_counter() - t0)
+    n_calls = sum(len(obs) for _, obs in calls)
+    peds = sum(int(o.ped_ids.shape[0]) for _, obs in calls for o in obs)
+    planners = [make_planner(planner_name) for _ in calls]
+    for p, (context, _) in zip(planners, calls, strict=True):
+        p.reset(context, planner_rng(context.seed))
+    best = float("inf")
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        for p, (_, obs) in zip(planners, calls, strict=True):
+            act = p.act
+            for o in obs:
+                act(o)
+        best = min(best, time.perf_counter() - t0)
+    return best / n_calls * 1e6, peds / n_calls, n_calls, statistics.median(episode_s) * 1e3
+
+
+def _commit() -> str:
+    root = Path(__file__).resolve().parents[1]
+    try:
+        out = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True,
+            cwd=root,
+        )  # fmt: skip
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--", "srfm"], capture_output=True, text=True,
+            check=True, cwd=root,
+        )  # fmt: skip
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+    return out.stdout.strip() + (" (srfm/ modified)" if dirty.stdout.strip() else "")
+
+
+def parse_args(argv: list[str] | None) -> argparse.Namespace:
+    parser = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0] if __doc__ else None,
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+    )
+    parser.add_argument("--seeds", type=int, default=10, help="episodes per scenario")
+    parser.add_argument("--repeats", type=int, default=5, help="timed replays; the best counts")
+    parser.add_argument("--planners", nargs="+", default=list(DEFAULT_PLANNERS), metavar="NAME")
+    parser.add_argument(
+        "--scenarios", nargs="+", metavar="NAME", help="default: the evaluation set"
+    )
+    return parser.parse_args(argv)
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parse_args(argv)
+    import numba
+
+    import srfm
+
+    scenarios = args.scenarios or list(srfm.EVALUATION_SCENARIOS)
+    t0 = time.perf_counter()
+    srfm.run_episode(scenarios[0], 0, args.planners[0], parallel=False)  # load the kernels
+    for name in args.planners:
+        srfm.run_episode(scenarios[0], 0, name, parallel=False)
+    warm = time.perf_counter() - t0
+    busy0, total0 = _cpu_busy_other()
+    self0 = _self_cpu_ticks()
+    load0 = os.getloadavg()[0]
+    rows: dict[str, dict[str, tuple[float, float, int, float]]] = {}
+    for name in args.planners:
+        rows[name] = {s: bench(name, s, args.seeds, args.repeats) for s in scenarios}
+    busy1, total1 = _cpu_busy_other()
+    self1 = _self_cpu_ticks()
+    other = max(0, (busy1 - busy0) - (self1 - self0)) / max(1, total1 - total0)
+    print(
+        f"srfm commit {_commit()}; Python {platform.python_version()}, numpy {np.__version__}, "
+        f"numba {numba.__version__} ({numba.config.NUMBA_NUM_THREADS} threads); "
+        f"{os.cpu_count()} CPUs; load average {load0:.2f} at the start; other processes "
+        f"used {100 * other:.1f} % of the machine's CPU time during the run; seeds "
+        f"0..{args.seeds - 1}, best of {args.repeats} replays; warm-up {warm:.1f} s"
+    )
+    print("\nµs per act (mean over the recorded calls of the best replay):\n")
+    print("| planner | " + " | ".join(scenarios) + " | all |")
+    print("|---|" + "---:|" * (len(scenarios) + 1))
+    for name, per in rows.items():
+        total_us = sum(us * n for us, _, n, _ in per.values())
+        total_n = sum(n for _, _, n, _ in per.values())
+        cells = " | ".join(f"{per[s][0]:.1f}" for s in scenarios)
+        print(f"| {name} | {cells} | {total_us / total_n:.1f} |")
+    print("\nMean observed pedestrians per call / calls per episode / median episode (ms):\n")
+    print("| planner | " + " | ".join(scenarios) + " |")
+    print("|---|" + "---|" * len(scenarios))
+    for name, per in rows.items():
+        cells = " | ".join(
+            f"{per[s][1]:.2f} / {per[s][2] / args.seeds:.0f} / {per[s][3]:.1f}" for s in scenarios
+        )
+        print(f"| {name} | {cells} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,460 @@
+"""``srfm data convert|info``, ``srfm fit`` and ``srfm ade``: datasets, learning, evaluation.
+
+Hooked into the ``srfm`` group at the end of :mod:`srfm.cli`. This module imports
+:mod:`srfm.cli` only when a command runs, so importing either module first is safe.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import math
+import sys
+import time
+import warnings
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any, TypeVar
+
+import click
+
+from srfm.errors import DatasetError
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+DATASETS = ("jrdb", "eth-ucy", "navwareset")
+
+
+def _user_errors(func: F) -> F:
+    """srfm's errors as one-line messages with exit code 2 (srfm.cli's handler, lazily)."""
+
+    @functools.wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        from srfm.cli import _user_errors as handler
+
+        return handler(func)(*args, **kwargs)
+
+    return wrapper  # type: ignore[return-value]
+
+
+def _echo_warnings(caught: Sequence[warnings.WarningMessage]) -> None:
+    for w in caught:
+        click.echo(f"warning: {w.message}", err=True)
+
+
+# --------------------------------------------------------------------------------------
+# srfm data
+
+
+@click.group("data")
+def data() -> None:
+    """Convert datasets to srfm's MCAP layout and inspect the result."""
+
+
+def _parse_dt(values: Sequence[str]) -> tuple[float | None, dict[str, float]]:
+    default: float | None = None
+    per_file: dict[str, float] = {}
+    for item in values:
+        key, sep, text = item.rpartition("=")
+        try:
+            value = float(text)
+        except ValueError:
+            raise DatasetError(f"--dt expects SECONDS or FILE=SECONDS, got {item!r}") from None
+        if not (math.isfinite(value) and value > 0):
+            raise DatasetError(f"--dt must be a positive number of seconds, got {item!r}")
+        if sep:
+            per_file[key] = value
+        else:
+            default = value
+    return default, per_file
+
+
+@data.command("convert")
+@click.argument("dataset", type=click.Choice(DATASETS))
+@click.argument("src", type=click.Path(path_type=Path))
+@click.argument("out", type=click.Path(dir_okay=False, path_type=Path))
+@click.option(
+    "--dt",
+    "dt_values",
+    multiple=True,
+    metavar="SECONDS|FILE=SECONDS",
+    help="eth-ucy: time between annotated frames, for every file (default 0.4) or for one "
+    "file by name or stem (biwi_eth.txt=0.6667). Repeatable.",
+)
+@click.option(
+    "--odometry",
+    type=click.Path(exists=True, path_type=Path),
+    default=None,
+    help="jrdb: robot pose file, or folder of <sequence>.json pose files. Without it the "
+    "scenes stay in the robot's moving frame.",
+)
+@_user_errors
+def convert(
+    dataset: str, src: Path, out: Path, dt_values: Sequence[str], odometry: Path | None
+) -> None:
+    """Convert a DATASET (jrdb, eth-ucy, navwareset) at SRC (a file or folder) to OUT.mcap.
+
+    Nothing is written unless every source file reads cleanly.
+    """
+    from srfm.datasets import eth_ucy, jrdb, navwareset, write_mcap
+
+    if dt_values and dataset != "eth-ucy":
+        raise DatasetError("--dt applies to eth-ucy only")
+    if odometry is not None and dataset != "jrdb":
+        raise DatasetError("--odometry applies to jrdb only")
+    readers: dict[str, tuple[Callable[[Path], list[Path]], Callable[[Path], Any]]]
+    dt_default, dt_files = _parse_dt(dt_values)
+    dt_s = eth_ucy.DEFAULT_DT_S if dt_default is None else dt_default
+    readers = {
+        "eth-ucy": (
+            eth_ucy.list_sources,
+            lambda f: eth_ucy.read_file(f, eth_ucy.dt_for(f, dt_s, dt_files)),
+        ),
+        "navwareset": (navwareset.list_sources, navwareset.read_file),
+        "jrdb": (jrdb.list_sources, lambda f: jrdb.read_sequence(f, odometry=odometry)),
+    }
+    list_sources, read_one = readers[dataset]
+    files = list_sources(src)
+    if dataset == "eth-ucy":
+        eth_ucy.check_overrides(files, dt_files)
+    if dataset == "jrdb" and odometry is not None and odometry.is_file() and len(files) > 1:
+        raise DatasetError(
+            f"{odometry}: one odometry file given for {len(files)} sequences; "
+            "pass a folder of <sequence>.json pose files"
+        )
+    start = time.perf_counter()
+    scenes = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with click.progressbar(
+            files, label=f"reading {len(files)} {dataset} file(s)", file=sys.stderr
+        ) as bar:
+            for f in bar:
+                scenes.append(read_one(f))
+    _echo_warnings(caught)
+    write_mcap(out, scenes, dataset=dataset, metadata={"source": str(src)})
+    samples = sum(s.n_samples for s in scenes)
+    click.echo(
+        f"wrote {out}: {len(scenes)} scene(s), {samples} samples "
+        f"({time.perf_counter() - start:.1f} s)"
+    )
+    if any(s.frame_of_reference == "robot" for s in scenes):
+        click.echo(
+            "note: no odometry, so positions are in the robot's moving frame "
+            "(fine for viewing; srfm fit and srfm ade need world coordinates)"
+        )
+
+
+@data.command("info")
+@click.argument("file", type=click.Path(path_type=Path))
+@click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
+@_user_errors
+def info(file: Path, as_json: bool) -> None:
+    """Summarise an srfm dataset MCAP FILE: scenes, agents, frames, rates, speeds."""
+    from srfm.datasets import read_mcap
+
+    dataset_file = read_mcap(file)
+    scenes = [s.summary() for s in dataset_file.scenes]
+    if as_json:
+        payload = {
+            "file": str(file),
+            "dataset": dataset_file.dataset,
+            "metadata": dict(dataset_file.metadata),
+            "scenes": scenes,
+        }
+        click.echo(json.dumps(payload, indent=2, sort_keys=True))
+        return
+    meta = dataset_file.metadata
+    click.echo(
+        f"{file}: {dataset_file.dataset} dataset, {len(scenes)} scene(s), schema "
+        f"{meta.get('schema', '?')}, written by srfm {meta.get('srfm_version', '?')}"
+    )
+    head = ("scene", "frame", "peds", "robot", "frames", "duration", "dt", "median speed")
+    rows = [
+        (
+            s["scene"],
+            s["frame_of_reference"],
+            str(s["pedestrians"]),
+            "yes" if s["robot"] else "no",
+            str(s["frames"]),
+            f"{s['duration_s']:.1f} s",
+            "-" if s["median_dt_s"] is None else f"{s['median_dt_s']:.3f} s",
+            "-" if s["median_speed_mps"] is None else f"{s['median_speed_mps']:.2f} m/s",
+        )
+        for s in scenes
+    ]
+    click.echo(_table(head, rows))
+    total_peds = sum(s["pedestrians"] for s in scenes)
+    total_samples = sum(s["samples"] for s in scenes)
+    click.echo(f"total: {total_peds} pedestrians, {total_samples} samples")
+
+
+def _table(head: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
+    widths = [max(len(str(r[i])) for r in (head, *rows)) for i in range(len(head))]
+    lines = ["  ".join(str(c).ljust(w) for c, w in zip(head, widths, strict=True)).rstrip()]
+    for row in rows:
+        lines.append("  ".join(str(c).ljust(w) for c, w in zip(row, widths, strict=True)).rstrip())
+    return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------------------
+# srfm fit / srfm ade
+
+
+def _window_options(func: F) -> F:
+    options = [
+        click.option(
+            "--horizon",
+            "horizon_s",
+            type=float,
+            default=4.8,
+            show_default=True,
+            help="Prediction horizon of each window (s).",
+        ),
+        click.option(
+            "--stride",
+            "stride_s",
+            type=float,
+            default=0.4,
+            show_default=True,
+            help="Time between the starts of consecutive windows of a track (s).",
+        ),
+        click.option(
+            "--interaction-radius",
+            "interaction_radius_m",
+            type=float,
+            default=3.0,
+            show_default=True,
+            help="Windows that come this close to the robot (m) are interaction windows.",
+        ),
+        click.option(
+            "--ped-radius",
+            "ped_radius_m",
+            type=float,
+            default=0.3,
+            show_default=True,
+            help="Pedestrian radius (m), as in the simulator.",
+        ),
+        click.option(
+            "--robot-radius",
+            "robot_radius_m",
+            type=float,
+            default=0.2,
+            show_default=True,
+            help="Robot radius (m), as in the simulator.",
+        ),
+    ]
+    for option in reversed(options):
+        func = option(func)
+    return func
+
+
+def _load_windows(files: Sequence[Path], **config: float) -> Any:
+    from srfm.datasets import read_mcap
+    from srfm.errors import ParameterError
+    from srfm.fitting import WindowConfig, build_windows
+
+    try:
+        window_config = WindowConfig(**config)
+    except ParameterError as exc:
+        raise ParameterError(f"window option: {exc}") from None
+    scenes = [scene for f in files for scene in read_mcap(f).scenes]
+    return build_windows(scenes, window_config)
+
+
+def _load_params(spec: str | None) -> Any:
+    from srfm.models import SRFMParams, load_params
+
+    if spec is None:
+        return SRFMParams()
+    if spec.endswith(".toml") or Path(spec).exists():
+        return load_params(spec)
+    return SRFMParams.preset(spec)
+
+
+@click.command("fit")
+@click.argument("files", nargs=-1, required=True, type=click.Path(path_type=Path))
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, path_type=Path),
+    required=True,
+    help="Parameter file to write (TOML, accepted by --params of srfm simulate).",
+)
+@click.option(
+    "--start",
+    "start_spec",
+    default=None,
+    metavar="PRESET|FILE",
+    help="Starting parameters, kept for whatever is not fitted. Default: agrawal2024.",
+)
+@click.option(
+    "--stage",
+    "stages",
+    multiple=True,
+    type=click.Choice(["pedestrian", "robot"]),
+    help="Fit only this stage (repeatable). Default: both; a stage without windows is skipped.",
+)
+@click.option(
+    "--max-nfev",
+    type=click.IntRange(min=1),
+    default=200,
+    show_default=True,
+    help="Most model evaluations per starting point.",
+)
+@_window_options
+@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@_user_errors
+def fit(
+    files: Sequence[Path],
+    output: Path,
+    start_spec: str | None,
+    stages: Sequence[str],
+    max_nfev: int,
+    as_json: bool,
+    **window: float,
+) -> None:
+    """Learn SRFM parameters from dataset MCAP FILES by nonlinear least squares.
+
+    Stage 1 fits A_p, B_p, λ, τ on non-interaction windows (farther than the
+    interaction radius from the robot), stage 2 fits A_r, B_r on interaction windows
+    with the pedestrian part fixed. See docs/fitting.md for the residual.
+    """
+    from srfm import __version__
+    from srfm.fitting import fit_params
+    from srfm.models import save_params
+
+    start = _load_params(start_spec)
+    windows = _load_windows(files, **window)
+    chosen = tuple(stages) or ("pedestrian", "robot")
+    t0 = time.perf_counter()
+    log = None if as_json else (lambda msg: click.echo(f"  {msg}", err=True))
+    result = fit_params(windows, start=start, stages=chosen, max_nfev=max_nfev, log=log)
+    elapsed = time.perf_counter() - t0
+    done = [s for s in result.stages if not s.skipped]
+    if not done:
+        reasons = "; ".join(f"{s.stage}: {s.message}" for s in result.stages)
+        raise DatasetError(f"nothing to fit ({reasons})")
+    meta: dict[str, Any] = {
+        "created_by": f"srfm fit (srfm {__version__})",
+        "data": ", ".join(f.name for f in files),
+        "start": start_spec or "agrawal2024",
+        **{k: float(v) for k, v in window.items()},
+        "fit_time_s": round(elapsed, 1),
+    }
+    for s in result.stages:
+        meta[f"{s.stage}_stage"] = "skipped" if s.skipped else "fitted"
+        if not s.skipped:
+            meta[f"{s.stage}_windows"] = s.n_windows
+            meta[f"{s.stage}_tracks"] = s.n_tracks
+            meta[f"{s.stage}_ade_m"] = round(s.ade_m, 6)
+            meta[f"{s.stage}_rms_m"] = round(s.rms_m, 6)
+    save_params(result.params, output, meta=meta)
+    if as_json:
+        payload = {
+            "output": str(output),
+            "params": result.params.as_dict(),
+            "stages": [_stage_dict(s) for s in result.stages],
+            "fit_time_s": elapsed,
+        }
+        click.echo(json.dumps(payload, indent=2, sort_keys=True))
+        return
+    head = ("stage", "windows", "tracks", "ADE start", "ADE fitted", "fitted parameters")
+    rows = []
+    for s in result.stages:
+        if s.skipped:
+            rows.append((s.stage, "0", "0", "-", "-", s.message))
+            continue
+        values = ", ".join(f"{k} = {v:.4g}" for k, v in s.fitted.items())
+        rows.append(
+            (
+                s.stage,
+                str(s.n_windows),
+                str(s.n_tracks),
+                f"{s.ade_start_m:.3f} m",
+                f"{s.ade_m:.3f} m",
+                values,
+            )
+        )
+    click.echo(_table(head, rows))
+    click.echo(f"wrote {output} ({elapsed:.1f} s)")
+
+
+def _stage_dict(s: Any) -> dict[str, Any]:
+    return {
+        "stage": s.stage,
+        "skipped": s.skipped,
+        "fitted": s.fitted,
+        "start": s.start,
+        "windows": s.n_windows,
+        "tracks": s.n_tracks,
+        "ade_start_m": None if math.isnan(s.ade_start_m) else s.ade_start_m,
+        "ade_m": None if math.isnan(s.ade_m) else s.ade_m,
+        "rms_m": None if math.isnan(s.rms_m) else s.rms_m,
+        "nfev": s.nfev,
+        "success": s.success,
+        "message": s.message,
+    }
+
+
+@click.command("ade")
+@click.argument("files", nargs=-1, required=True, type=click.Path(path_type=Path))
+@click.option(
+    "--params",
+    "params_spec",
+    default=None,
+    metavar="PRESET|FILE",
+    help="SRFM parameters: a preset or a parameter file (e.g. from srfm fit). "
+    "Default: agrawal2024.",
+)
+@_window_options
+@click.option("--json", "as_json", is_flag=True, help="Print the table as JSON.")
+@_user_errors
+def ade(files: Sequence[Path], params_spec: str | None, as_json: bool, **window: float) -> None:
+    """ADE/FDE of the paper's models and a constant-velocity baseline on dataset FILES.
+
+    Rows: CV and SFM on non-interaction windows; CV, SFM (robot ignored), SFM (robot as
+    a pedestrian) and SRFM on interaction windows. The paper's JRDB values are shown
+    beside its three rows.
+    """
+    from srfm.fitting import evaluate_ade
+
+    params = _load_params(params_spec)
+    windows = _load_windows(files, **window)
+    rows = evaluate_ade(windows, params)
+    if as_json:
+        payload = {
+            "files": [str(f) for f in files],
+            "params": params.as_dict(),
+            "window": window,
+            "rows": [
+                {
+                    "model": r.model,
+                    "forces": r.forces,
+                    "tracks": r.tracks,
+                    "windows": r.n_windows,
+                    "n_tracks": r.n_tracks,
+                    "ade_m": None if math.isnan(r.ade_m) else r.ade_m,
+                    "fde_m": None if math.isnan(r.fde_m) else r.fde_m,
+                    "paper_ade_m": r.paper_ade_m,
+                }
+                for r in rows
+            ],
+        }
+        click.echo(json.dumps(payload, indent=2, sort_keys=True))
+        return
+    head = ("model", "forces", "tracks", "windows", "ADE", "FDE", "paper ADE (JRDB)")
+    body = [
+        (
+            r.model,
+            r.forces,
+            f"{r.tracks} ({r.n_tracks})",
+            str(r.n_windows),
+            "-" if math.isnan(r.ade_m) else f"{r.ade_m:.3f} m",
+            "-" if math.isnan(r.fde_m) else f"{r.fde_m:.3f} m",
+            "" if r.paper_ade_m is None else f"{r.paper_ade_m:.2f} m",
+        )
+        for r in rows
+    ]
+    click.echo(_table(head, body))
+    click.echo(f"parameters: {params_spec or 'agrawal2024'}; horizon {window['horizon_s']:g} s")

@@ -1,0 +1,177 @@
+"""ETH (BIWI) and UCY pedestrian tracks: four-column text files -> :class:`Trajectories`.
+
+Raw layout (``datasets/eth_ucy.md``): one row per pedestrian per annotated frame,
+whitespace-separated ``frame ped_id x y`` (frame and id may be written as floats,
+``780.0``), positions in metres in a fixed world frame, rows sorted by frame. Frame
+ids advance by a fixed step (10 in the common copies); the time between two annotated
+frames, ``dt_s``, is not in the file and must be given per file (0.4 s by convention,
+but about 0.667 s for ``biwi_eth.txt``). Every file is one scene without a robot.
+
+Timestamps: t = frame / frame_step · dt_s, frame_step the greatest common divisor of the
+differences between consecutive distinct frame ids.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Final
+
+import numpy as np
+
+from srfm.datasets._parse import integer, median_speed, number, read_text_lines, warn_if_fast
+from srfm.datasets._trajectories import PEDESTRIAN, Trajectories
+from srfm.errors import DatasetError
+
+__all__ = ["DEFAULT_DT_S", "check_overrides", "dt_for", "list_sources", "read_eth_ucy", "read_file"]
+
+DEFAULT_DT_S: Final = 0.4
+NAME: Final = "eth-ucy"
+SUFFIXES: Final = (".txt", ".tsv", ".csv")
+
+
+def list_sources(src: str | Path) -> list[Path]:
+    """The files to read: ``src`` itself, or the ``*.txt`` / ``*.tsv`` files of a folder."""
+    src = Path(src)
+    if src.is_file():
+        return [src]
+    if src.is_dir():
+        files = sorted(p for p in src.iterdir() if p.is_file() and p.suffix in SUFFIXES)
+        if not files:
+            raise DatasetError(f"{src}: no ETH/UCY files (*.txt) in this folder")
+        return files
+    raise DatasetError(f"{src}: no such file or folder")
+
+
+def dt_for(path: Path, dt_s: float, overrides: Mapping[str, float] | None) -> float:
+    """The frame interval for ``path``: an override keyed by file name or stem, else ``dt_s``."""
+    for key in (path.name, path.stem):
+        if overrides and key in overrides:
+            return overrides[key]
+    return dt_s
+
+
+def read_eth_ucy(
+    src: str | Path,
+    dt_s: float = DEFAULT_DT_S,
+    dt_overrides: Mapping[str, float] | None = None,
+) -> list[Trajectories]:
+    """Read one ETH/UCY file or every file of a folder, one scene per file.
+
+    Args:
+        src: a file or a folder of files.
+        dt_s: time between consecutive annotated frames (s), for every file.
+        dt_overrides: per-file ``dt_s`` keyed by file name or stem
+            (e.g. ``{"biwi_eth.txt": 0.6667}``); a key matching no file is an error.
+
+    Returns:
+        One scene per file, named after the file's stem.
+
+    Raises:
+        DatasetError: a malformed file (the message names the file and line).
+    """
+    files = list_sources(src)
+    check_overrides(files, dt_overrides)
+    return [read_file(f, dt_for(f, dt_s, dt_overrides)) for f in files]
+
+
+def check_overrides(files: list[Path], overrides: Mapping[str, float] | None) -> None:
+    known = {f.name for f in files} | {f.stem for f in files}
+    for key in overrides or {}:
+        if key not in known:
+            names = ", ".join(f.name for f in files)
+            raise DatasetError(f"dt given for {key!r}, which is not among the files: {names}")
+
+
+def read_file(path: str | Path, dt_s: float = DEFAULT_DT_S) -> Trajectories:
+    """Read one four-column ETH/UCY file into a scene named after the file's stem.
+
+    Warns (:class:`srfm.datasets.DatasetWarning`) when the median walking speed
+    exceeds 2 m/s, the sign of a wrong ``dt_s``.
+
+    Args:
+        path: the file.
+        dt_s: time between consecutive annotated frames (s), > 0.
+
+    Raises:
+        DatasetError: empty file, wrong column count, non-numeric or non-finite value,
+            non-integer frame or id, frames going backwards, or a pedestrian twice in a
+            frame; the message names the file and line.
+    """
+    path = Path(path)
+    if not (isinstance(dt_s, int | float) and math.isfinite(dt_s) and dt_s > 0):
+        raise DatasetError(f"{path}: dt_s must be a positive number of seconds, got {dt_s!r}")
+    frames: list[int] = []
+    ids: list[int] = []
+    xy: list[tuple[float, float]] = []
+    seen: dict[tuple[int, int], int] = {}
+    last_frame: int | None = None
+    last_line = 0
+    for lineno, line in enumerate(read_text_lines(path), start=1):
+        fields = line.split()
+        if not fields:
+            continue
+        where = f"{path}:{lineno}"
+        if len(fields) != 4:
+            raise DatasetError(
+                f"{where}: expected 4 columns (frame ped_id x y), got {len(fields)}: "
+                f"{line.strip()!r}"
+            )
+        frame = integer(fields[0], where, "frame (column 1)")
+        pid = integer(fields[1], where, "pedestrian id (column 2)")
+        x = number(fields[2], where, "x (column 3)")
+        y = number(fields[3], where, "y (column 4)")
+        if last_frame is not None and frame < last_frame:
+            raise DatasetError(
+                f"{where}: frames go backwards: frame {frame} after frame {last_frame} "
+                f"(line {last_line}); rows must be sorted by frame"
+            )
+        if frame < 0:
+            raise DatasetError(f"{where}: frame must be >= 0, got {frame}")
+        if (frame, pid) in seen:
+            raise DatasetError(
+                f"{where}: pedestrian {pid} appears twice in frame {frame} "
+                f"(also line {seen[(frame, pid)]})"
+            )
+        seen[(frame, pid)] = lineno
+        last_frame, last_line = frame, lineno
+        frames.append(frame)
+        ids.append(pid)
+        xy.append((x, y))
+    if not frames:
+        raise DatasetError(f"{path}: no data rows (empty file)")
+
+    frame_a = np.array(frames, dtype=np.int64)
+    distinct = np.unique(frame_a)
+    step = int(np.gcd.reduce(np.diff(distinct))) if distinct.size > 1 else 1
+    # Integer nanoseconds per frame step, then exact integer arithmetic per frame.
+    t_ns = np.rint(frame_a.astype(np.float64) * (dt_s * 1e9 / step)).astype(np.int64)
+    uniq_ids = sorted(set(ids))
+    index = {pid: i for i, pid in enumerate(uniq_ids)}
+    agent = np.array([index[p] for p in ids], dtype=np.int64)
+    xy_a = np.array(xy, dtype=np.float64)
+    speed = median_speed(agent, t_ns, xy_a)
+    warn_if_fast(
+        f"{path}",
+        speed,
+        f"is dt = {dt_s:g} s per frame step right? (biwi_eth.txt needs about 0.667 s; "
+        "set it with --dt FILE=SECONDS, see datasets/eth_ucy.md)",
+    )
+    return Trajectories.from_samples(
+        scene=path.stem,
+        agent_ids=[str(p) for p in uniq_ids],
+        kinds=[PEDESTRIAN] * len(uniq_ids),
+        agent=agent,
+        frame=frame_a,
+        t_ns=t_ns,
+        xy=xy_a,
+        frame_of_reference="world",
+        source={
+            "dataset": NAME,
+            "file": path.name,
+            "dt_s": repr(float(dt_s)),
+            "frame_step": str(step),
+            "median_speed_mps": f"{speed:.3f}",
+        },
+    )

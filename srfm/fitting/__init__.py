@@ -1,0 +1,31 @@
+"""SRFM parameter learning from dataset trajectories, and ADE/FDE evaluation.
+
+Tracks are cut into prediction windows (:func:`build_windows`); in each window one
+pedestrian is simulated with the SRFM from its observed state while its neighbours and
+the robot are replayed as observed (:func:`predict`). :func:`fit_params` learns the
+pedestrian and robot parameters by nonlinear least squares on those predictions, as in
+the paper; :func:`evaluate_ade` reports the paper's ADE table. See ``docs/fitting.md``.
+"""
+
+from srfm.fitting._ade import ADE_ROWS, AdeRow, evaluate_ade, window_errors
+from srfm.fitting._fit import BOUNDS, STAGE_FIELDS, FitResult, StageResult, fit_params
+from srfm.fitting._predict import MODES, displacement_errors, predict
+from srfm.fitting._windows import WindowConfig, Windows, build_windows
+
+__all__ = [
+    "ADE_ROWS",
+    "BOUNDS",
+    "MODES",
+    "STAGE_FIELDS",
+    "AdeRow",
+    "FitResult",
+    "StageResult",
+    "WindowConfig",
+    "Windows",
+    "build_windows",
+    "displacement_errors",
+    "evaluate_ade",
+    "fit_params",
+    "predict",
+    "window_errors",
+]

@@ -1,0 +1,209 @@
+"""srfm data convert|info, srfm fit and srfm ade through click's CliRunner."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import tomllib
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+import srfm
+from srfm.cli import main
+from srfm.datasets import read_mcap, write_mcap
+from tests.datasets._synthetic import simulate_scene, write_jrdb
+
+
+def run(*args: str) -> tuple[int, str]:
+    result = CliRunner().invoke(main, list(args))
+    return result.exit_code, result.output
+
+
+@pytest.mark.parametrize("cmd", [["data"], ["data", "convert"], ["data", "info"], ["fit"], ["ade"]])
+def test_help(cmd: list[str]) -> None:
+    code, out = run(*cmd, "--help")
+    assert code == 0
+    assert "Usage:" in out
+
+
+def test_convert_jrdb_world_and_robot_frame(tmp_path: Path) -> None:
+    write_jrdb(tmp_path / "jrdb", sequence="seq_a")
+    write_jrdb(tmp_path / "jrdb", sequence="seq_b", n_frames=30)
+    out = tmp_path / "jrdb.mcap"
+    code, text = run(
+        "data",
+        "convert",
+        "jrdb",
+        str(tmp_path / "jrdb"),
+        str(out),
+        "--odometry",
+        str(tmp_path / "jrdb" / "odometry"),
+    )
+    assert code == 0, text
+    assert "reading 2 jrdb file(s)" in text
+    assert f"wrote {out}: 2 scene(s)" in text
+    scenes = read_mcap(out).scenes
+    assert [s.scene for s in scenes] == ["seq_a", "seq_b"]
+    assert all(s.frame_of_reference == "world" for s in scenes)
+    code, text = run("data", "convert", "jrdb", str(tmp_path / "jrdb"), str(tmp_path / "r.mcap"))
+    assert code == 0, text
+    assert "robot's moving frame" in text
+    code, text = run("fit", str(tmp_path / "r.mcap"), "-o", str(tmp_path / "p.toml"))
+    assert code == 2
+    assert "robot's moving frame" in text
+    assert not (tmp_path / "p.toml").exists()
+
+
+def test_malformed_input_leaves_no_output(tmp_path: Path) -> None:
+    truth = write_jrdb(tmp_path / "jrdb")
+    labels = truth["labels"]
+    assert isinstance(labels, Path)
+    labels.write_text(labels.read_text().replace('"cy": ', '"cy": "oops", "_": ', 1))
+    out = tmp_path / "out.mcap"
+    code, text = run("data", "convert", "jrdb", str(tmp_path / "jrdb"), str(out))
+    assert code == 2
+    assert "Error:" in text
+    assert ".box.cy: expected a number, got 'oops'" in text
+    assert str(labels) in text
+    assert not out.exists()
+    assert not any(p.name.startswith(".out.mcap") for p in tmp_path.iterdir())
+
+
+def test_convert_eth_ucy_dt_options(tmp_path: Path) -> None:
+    src = tmp_path / "eth"
+    src.mkdir()
+    rows = "".join(f"{10 * k}\t1\t{1.2 * k}\t0.0\n" for k in range(5))  # 1.2 m per step
+    (src / "fast.txt").write_text(rows)
+    (src / "slow.txt").write_text(rows)
+    out = tmp_path / "eth.mcap"
+    code, text = run("data", "convert", "eth-ucy", str(src), str(out))
+    assert code == 0, text
+    assert "warning:" in text
+    assert "3.00 m/s is implausible" in text
+    code, text = run(
+        "data", "convert", "eth-ucy", str(src), str(out), "--dt", "0.8", "--dt", "slow.txt=1.2"
+    )
+    assert code == 0, text
+    assert "warning" not in text
+    fast, slow = read_mcap(out).scenes
+    assert fast.t_ns[-1] == 4 * 800_000_000
+    assert slow.t_ns[-1] == 4 * 1_200_000_000
+    for bad, match in [
+        ("x=abc", "--dt expects SECONDS or FILE=SECONDS"),
+        ("-1", "--dt must be a positive"),
+        ("other.txt=0.4", "dt given for 'other.txt'"),
+    ]:
+        code, text = run("data", "convert", "eth-ucy", str(src), str(out), "--dt", bad)
+        assert code == 2
+        assert match in text
+    code, text = run("data", "convert", "navwareset", str(src), str(out), "--dt", "0.4")
+    assert code == 2
+    assert "--dt applies to eth-ucy only" in text
+
+
+def test_info_text_and_json(tmp_path: Path) -> None:
+    path = tmp_path / "s.mcap"
+    scenes = [simulate_scene(srfm.SRFMParams(), 1, name="synthetic_a", robot=True)]
+    write_mcap(path, scenes, dataset="synthetic")
+    code, text = run("data", "info", str(path))
+    assert code == 0, text
+    assert "synthetic dataset, 1 scene(s), schema srfm.datasets.AgentFrame.v1" in text
+    assert "synthetic_a" in text
+    assert "world" in text
+    assert "yes" in text
+    code, text = run("data", "info", str(path), "--json")
+    assert code == 0
+    info = json.loads(text)
+    (scene,) = info["scenes"]
+    assert scene["pedestrians"] == 10
+    assert scene["robot"] is True
+    assert scene["median_dt_s"] == pytest.approx(1 / 15, abs=1e-9)
+    code, text = run("data", "info", str(tmp_path / "missing.mcap"))
+    assert code == 2
+    assert "file not found" in text
+
+
+def test_fit_then_ade_then_simulate(tmp_path: Path) -> None:
+    true = srfm.SRFMParams(a_ped=2.0, b_ped=0.5, lambda_ped=0.4, tau=0.6, a_robot=6.0, b_robot=0.8)
+    data = tmp_path / "synthetic.mcap"
+    scenes = [simulate_scene(true, 3, name="peds")]
+    scenes.append(simulate_scene(true, 4, name="robot", robot=True))
+    write_mcap(data, scenes, dataset="synthetic")
+    params = tmp_path / "fitted.toml"
+    code, text = run("fit", str(data), "-o", str(params), "--stride", "2.4", "--max-nfev", "30")
+    assert code == 0, text
+    assert f"wrote {params}" in text
+    assert "pedestrian" in text
+    assert "robot" in text
+    fitted = srfm.load_params(params)
+    assert fitted != srfm.SRFMParams()
+    meta = tomllib.loads(params.read_text())["meta"]
+    assert meta["pedestrian_windows"] > 0
+    assert meta["robot_windows"] > 0
+    assert meta["horizon_s"] == 4.8
+    assert meta["stride_s"] == 2.4
+    assert meta["robot_ade_m"] > 0
+    code, text = run("ade", str(data), "--params", str(params), "--stride", "2.4", "--json")
+    assert code == 0, text
+    rows = json.loads(text)["rows"]
+    assert [r["model"] for r in rows][-1] == "SRFM"
+    assert all(r["ade_m"] > 0 for r in rows)
+    code, text = run("ade", str(data), "--stride", "2.4")
+    assert code == 0, text
+    assert "paper ADE (JRDB)" in text
+    assert "0.59 m" in text
+    code, text = run("simulate", "--scenario", "crosswalk", "--params", str(params))
+    assert code == 0, text
+    # One stage only; a stage without windows is an error when it is all there is.
+    code, text = run(
+        "fit",
+        str(data),
+        "-o",
+        str(tmp_path / "r.toml"),
+        "--stage",
+        "robot",
+        "--stride",
+        "2.4",
+        "--max-nfev",
+        "5",
+        "--json",
+    )
+    assert code == 0, text
+    (stage,) = json.loads(text)["stages"]
+    assert stage["stage"] == "robot"
+    write_mcap(tmp_path / "peds.mcap", scenes[:1], dataset="synthetic")
+    code, text = run(
+        "fit", str(tmp_path / "peds.mcap"), "-o", str(tmp_path / "x.toml"), "--stage", "robot"
+    )
+    assert code == 2
+    assert "nothing to fit" in text
+    assert "no interaction windows" in text
+    code, text = run("fit", str(data), "-o", str(tmp_path / "x.toml"), "--horizon", "-1")
+    assert code == 2
+    assert "horizon_s must be > 0" in text
+
+
+def test_convert_real_data(real_data: Path, tmp_path: Path) -> None:
+    out = tmp_path / "nav.mcap"
+    code, text = run("data", "convert", "navwareset", str(real_data / "navwareset"), str(out))
+    assert code == 0, text
+    assert "12 scene(s)" in text
+    code, text = run("data", "info", str(out))
+    assert code == 0
+    assert text.count("yes") == 12
+    src = tmp_path / "eth"
+    shutil.copytree(real_data / "eth_ucy", src)
+    code, text = run(
+        "data",
+        "convert",
+        "eth-ucy",
+        str(src),
+        str(tmp_path / "eth.mcap"),
+        "--dt",
+        "biwi_eth.txt=0.6667",
+    )
+    assert code == 0, text
+    assert "warning" not in text
+    assert len(read_mcap(tmp_path / "eth.mcap").scenes) == 4

@@ -1,0 +1,114 @@
+"""ETH/UCY adapter: frames, ids and times; dt per file; speed warning; malformed files."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from srfm.datasets import DatasetWarning, eth_ucy, read_mcap, write_mcap
+from srfm.errors import DatasetError
+
+SMALL = (
+    "0\t1.0\t1.0\t2.0\n0\t2.0\t5.0\t5.0\n10\t1.0\t1.5\t2.0\n20\t1.0\t2.0\t2.0\n20\t2.0\t5.0\t4.5\n"
+)
+
+
+def test_small_file_frames_ids_and_times(tmp_path: Path) -> None:
+    path = tmp_path / "tiny.txt"
+    path.write_text(SMALL)
+    scene = eth_ucy.read_file(path, dt_s=0.4)
+    assert scene.scene == "tiny"
+    assert scene.agent_ids == ("1", "2")
+    assert scene.kinds == ("pedestrian", "pedestrian")
+    assert scene.robot_index is None
+    assert scene.frame.tolist() == [0, 0, 10, 20, 20]
+    # frame step 10 -> 0.4 s per step: frame 20 is at 0.8 s.
+    assert scene.t_ns.tolist() == [0, 0, 400_000_000, 800_000_000, 800_000_000]
+    f, t, xy = scene.track("1")
+    assert (f.tolist(), t.tolist()) == ([0, 10, 20], [0, 400_000_000, 800_000_000])
+    assert xy.tolist() == [[1.0, 2.0], [1.5, 2.0], [2.0, 2.0]]
+    assert scene.source["frame_step"] == "10"
+    assert scene.source["dt_s"] == "0.4"
+    # Pedestrian 2 is absent at frame 10: its track has a gap, not an invented sample.
+    assert scene.track("2")[0].tolist() == [0, 20]
+
+
+def test_dt_scales_time_and_overrides_by_name(tmp_path: Path) -> None:
+    (tmp_path / "a.txt").write_text(SMALL)
+    (tmp_path / "b.txt").write_text(SMALL)
+    a, b = eth_ucy.read_eth_ucy(tmp_path, dt_s=0.4, dt_overrides={"b.txt": 2 / 3})
+    assert a.t_ns[-1] == 800_000_000
+    assert b.t_ns[-1] == round(2 * 2 / 3 * 1e9)
+    with pytest.raises(DatasetError, match=r"dt given for 'c\.txt'"):
+        eth_ucy.read_eth_ucy(tmp_path, dt_overrides={"c.txt": 0.5})
+
+
+def test_fast_walkers_warn(tmp_path: Path) -> None:
+    path = tmp_path / "fast.txt"
+    path.write_text("".join(f"{10 * k}\t1\t{1.2 * k}\t0.0\n" for k in range(5)))  # 3 m/s
+    with pytest.warns(DatasetWarning, match=r"median pedestrian speed 3\.00 m/s"):
+        eth_ucy.read_file(path, dt_s=0.4)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        scene = eth_ucy.read_file(path, dt_s=0.8)  # 1.5 m/s: no warning
+    assert float(scene.source["median_speed_mps"]) == pytest.approx(1.5)
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ("", r"bad\.txt: no data rows \(empty file\)"),
+        ("\n\n", "no data rows"),
+        ("0 1 2.0\n", r"bad\.txt:1: expected 4 columns"),
+        ("0 1 2.0 3.0\n10 1 abc 3.0\n", r"bad\.txt:2: x \(column 3\) is not a number: 'abc'"),
+        ("0 1 2.0 nan\n", r"bad\.txt:1: y \(column 4\) must be finite, got 'nan'"),
+        ("0 1 inf 2\n", r"bad\.txt:1: x \(column 3\) must be finite"),
+        ("10 1 2 3\n0 2 2 3\n", r"bad\.txt:2: frames go backwards: frame 0 after frame 10"),
+        (
+            "0 1 2 3\n0 1 2 4\n",
+            r"bad\.txt:2: pedestrian 1 appears twice in frame 0 \(also line 1\)",
+        ),
+        ("0.5 1 2 3\n", r"bad\.txt:1: frame \(column 1\) must be an integer"),
+    ],
+)
+def test_malformed_files_name_file_and_line(tmp_path: Path, text: str, match: str) -> None:
+    path = tmp_path / "bad.txt"
+    path.write_text(text)
+    with pytest.raises(DatasetError, match=match):
+        eth_ucy.read_file(path)
+
+
+def test_missing_source() -> None:
+    with pytest.raises(DatasetError, match="no such file or folder"):
+        eth_ucy.list_sources("/nonexistent/eth")
+
+
+def test_real_files(real_data: Path, tmp_path: Path) -> None:
+    folder = real_data / "eth_ucy"
+    with pytest.warns(DatasetWarning, match=r"biwi_eth\.txt: median pedestrian speed 2\.4"):
+        scenes = eth_ucy.read_eth_ucy(folder)
+    assert [s.scene for s in scenes] == ["biwi_eth", "biwi_hotel", "students003", "uni_examples"]
+    raw = np.loadtxt(folder / "students003.txt")
+    students = scenes[2]
+    assert students.n_samples == raw.shape[0]
+    assert students.n_agents == np.unique(raw[:, 1]).size
+    assert students.frame.min() == raw[:, 0].min()
+    assert students.frame.max() == raw[:, 0].max()
+    # A row reads back exactly: frame, id and position, at t = frame / 10 * 0.4 s.
+    frame, pid, x, y = raw[1234]
+    f, t, xy = students.track(str(int(pid)))
+    k = int(np.flatnonzero(f == int(frame))[0])
+    assert xy[k].tolist() == [x, y]
+    assert t[k] == round(frame / 10 * 0.4 * 1e9)
+    # The documented fix for biwi_eth: dt = 0.667 s gives a plausible median speed.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        eth = eth_ucy.read_file(folder / "biwi_eth.txt", dt_s=2 / 3)
+    assert 1.3 < float(eth.source["median_speed_mps"]) < 1.6
+    path = tmp_path / "eth.mcap"
+    write_mcap(path, [*scenes[1:], eth], dataset="eth-ucy")
+    back = read_mcap(path).scenes
+    assert all(a.equals(b) for a, b in zip([*scenes[1:], eth], back, strict=True))

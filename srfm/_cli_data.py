@@ -1,12 +1,11 @@
 """``srfm data convert|info``, ``srfm fit`` and ``srfm ade``: datasets, learning, evaluation.
 
-Hooked into the ``srfm`` group at the end of :mod:`srfm.cli`. This module imports
-:mod:`srfm.cli` only when a command runs, so importing either module first is safe.
+Hooked into the ``srfm`` group at the end of :mod:`srfm.cli`; shared pieces come from
+:mod:`srfm._cli_common`, so there is no import cycle.
 """
 
 from __future__ import annotations
 
-import functools
 import json
 import math
 import sys
@@ -18,23 +17,12 @@ from typing import Any, TypeVar
 
 import click
 
+from srfm._cli_common import load_params_option, user_errors
 from srfm.errors import DatasetError
 
 F = TypeVar("F", bound=Callable[..., Any])
 
 DATASETS = ("jrdb", "eth-ucy", "navwareset")
-
-
-def _user_errors(func: F) -> F:
-    """srfm's errors as one-line messages with exit code 2 (srfm.cli's handler, lazily)."""
-
-    @functools.wraps(func)
-    def wrapper(*args: Any, **kwargs: Any) -> Any:
-        from srfm.cli import _user_errors as handler
-
-        return handler(func)(*args, **kwargs)
-
-    return wrapper  # type: ignore[return-value]
 
 
 def _echo_warnings(caught: Sequence[warnings.WarningMessage]) -> None:
@@ -88,7 +76,7 @@ def _parse_dt(values: Sequence[str]) -> tuple[float | None, dict[str, float]]:
     help="jrdb: robot pose file, or folder of <sequence>.json pose files. Without it the "
     "scenes stay in the robot's moving frame.",
 )
-@_user_errors
+@user_errors
 def convert(
     dataset: str, src: Path, out: Path, dt_values: Sequence[str], odometry: Path | None
 ) -> None:
@@ -148,7 +136,7 @@ def convert(
 @data.command("info")
 @click.argument("file", type=click.Path(path_type=Path))
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
-@_user_errors
+@user_errors
 def info(file: Path, as_json: bool) -> None:
     """Summarise an srfm dataset MCAP FILE: scenes, agents, frames, rates, speeds."""
     from srfm.datasets import read_mcap
@@ -262,16 +250,6 @@ def _load_windows(files: Sequence[Path], **config: float) -> Any:
     return build_windows(scenes, window_config)
 
 
-def _load_params(spec: str | None) -> Any:
-    from srfm.models import SRFMParams, load_params
-
-    if spec is None:
-        return SRFMParams()
-    if spec.endswith(".toml") or Path(spec).exists():
-        return load_params(spec)
-    return SRFMParams.preset(spec)
-
-
 @click.command("fit")
 @click.argument("files", nargs=-1, required=True, type=click.Path(path_type=Path))
 @click.option(
@@ -304,7 +282,7 @@ def _load_params(spec: str | None) -> Any:
 )
 @_window_options
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
-@_user_errors
+@user_errors
 def fit(
     files: Sequence[Path],
     output: Path,
@@ -324,7 +302,7 @@ def fit(
     from srfm.fitting import fit_params
     from srfm.models import save_params
 
-    start = _load_params(start_spec)
+    start = load_params_option(start_spec)
     windows = _load_windows(files, **window)
     chosen = tuple(stages) or ("pedestrian", "robot")
     t0 = time.perf_counter()
@@ -409,7 +387,7 @@ def _stage_dict(s: Any) -> dict[str, Any]:
 )
 @_window_options
 @click.option("--json", "as_json", is_flag=True, help="Print the table as JSON.")
-@_user_errors
+@user_errors
 def ade(files: Sequence[Path], params_spec: str | None, as_json: bool, **window: float) -> None:
     """ADE/FDE of the paper's models and a constant-velocity baseline on dataset FILES.
 
@@ -419,7 +397,7 @@ def ade(files: Sequence[Path], params_spec: str | None, as_json: bool, **window:
     """
     from srfm.fitting import evaluate_ade
 
-    params = _load_params(params_spec)
+    params = load_params_option(params_spec)
     windows = _load_windows(files, **window)
     rows = evaluate_ade(windows, params)
     if as_json:

@@ -158,7 +158,13 @@ from srfm._cli_benchmark import benchmark  # noqa: E402
 
 main.add_command(benchmark)
 # [cli:logging]
-# [cli:data]
+from srfm._cli_data import ade as _ade  # noqa: E402
+from srfm._cli_data import data as _data  # noqa: E402
+from srfm._cli_data import fit as _fit  # noqa: E402
+
+main.add_command(_data)
+main.add_command(_fit)
+main.add_command(_ade)
 from srfm._cli_train import train as _train  # noqa: E402
 
 main.add_command(_train)

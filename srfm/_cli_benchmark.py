@@ -4,10 +4,15 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
 from srfm._cli_common import load_params_option, user_errors
+
+if TYPE_CHECKING:
+    from srfm.benchmark import BenchmarkRequest
+    from srfm.logs import EpisodeLogger
 
 __all__ = ["benchmark"]
 
@@ -33,6 +38,76 @@ def _parse_seeds(text: str) -> list[int]:
     if any(s < 0 for s in seeds):
         raise click.BadParameter(f"seeds must be non-negative, got {text!r}", param_hint="--seeds")
     return seeds
+
+
+def _parse_rrd_seeds(text: str) -> int | None:
+    """``"all"`` (None) or a non-negative count."""
+    if text.strip().lower() == "all":
+        return None
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise click.BadParameter(
+            f"{text!r} is not a number of seeds (0, 1, 2, ...) or 'all'", param_hint="--rrd-seeds"
+        )
+    return value
+
+
+def _log_writer(
+    request: BenchmarkRequest,
+    out: Path,
+    logs: bool,
+    mcap: bool,
+    mcap_profile: str,
+    rrd_seeds: str,
+    forces: bool,
+) -> EpisodeLogger | None:
+    """The per-episode writer the options ask for (None: no logs)."""
+    from srfm.logs import EpisodeLogger, LogOptions, remove_stale_temporaries
+
+    rrd_count = _parse_rrd_seeds(rrd_seeds)
+    if not logs or (not mcap and rrd_count == 0):
+        return None
+    compact = mcap_profile == "compact"
+    options = LogOptions(
+        mcap=mcap,
+        mcap_profile="compact" if compact else "full",
+        rrd=rrd_count != 0,
+        rrd_seeds=rrd_count,
+        forces=forces,
+        share_counterfactual=compact,
+    )
+    if out.is_dir():
+        remove_stale_temporaries(out)
+    return EpisodeLogger.create(
+        options,
+        scenarios=request.scenarios,
+        planners=request.planners,
+        seeds=request.seeds,
+        reference=request.reference,
+    )
+
+
+def _logs_line(out: Path) -> str:
+    """What OUT/logs holds: file counts and sizes by kind."""
+    from srfm.logs import LOGS_DIR
+    from srfm.logs._writer import COUNTERFACTUAL_DIR
+
+    sizes: dict[str, list[int]] = {"episode .mcap": [], "counterfactual .mcap": [], ".rrd": []}
+    root = out / LOGS_DIR
+    if root.is_dir():
+        for path in root.rglob("*"):
+            if path.name.startswith(".") or not path.is_file():
+                continue
+            if path.suffix == ".rrd":
+                sizes[".rrd"].append(path.stat().st_size)
+            elif path.suffix == ".mcap":
+                kind = "counterfactual" if path.parent.name == COUNTERFACTUAL_DIR else "episode"
+                sizes[f"{kind} .mcap"].append(path.stat().st_size)
+    parts = [f"{len(v)} {k} files ({sum(v) / 1e6:.1f} MB)" for k, v in sizes.items() if v]
+    return f"logs in {root}: " + (", ".join(parts) if parts else "none")
 
 
 def _split(values: tuple[str, ...]) -> list[str]:
@@ -92,6 +167,30 @@ def _split(values: tuple[str, ...]) -> list[str]:
     help="Planner the others are tested against. Default: td3-srfm when it runs.",
 )
 @click.option("--no-figures", is_flag=True, help="Skip the PNG figures.")
+@click.option(
+    "--logs/--no-logs",
+    default=True,
+    show_default=True,
+    help="Write episode logs into OUT/logs (docs/logging.md).",
+)
+@click.option("--mcap/--no-mcap", default=True, show_default=True, help="With --logs: MCAP files.")
+@click.option(
+    "--mcap-profile",
+    type=click.Choice(["compact", "full"]),
+    default="compact",
+    show_default=True,
+    help="compact: every episode's exact trajectories, the Foxglove scene at 5 Hz, the "
+    "counterfactual crowd stored once per scenario and seed; full: everything, per step.",
+)
+@click.option(
+    "--rrd-seeds",
+    default="1",
+    show_default=True,
+    metavar="N|all",
+    help="With --logs: a Rerun recording for the first N seeds of each scenario × planner "
+    "cell (0: none).",
+)
+@click.option("--forces", is_flag=True, help="Force arrows in the Rerun recordings.")
 @user_errors
 def benchmark(
     scenarios: tuple[str, ...],
@@ -103,13 +202,20 @@ def benchmark(
     params_spec: str | None,
     reference: str | None,
     no_figures: bool,
+    logs: bool,
+    mcap: bool,
+    mcap_profile: str,
+    rrd_seeds: str,
+    forces: bool,
 ) -> None:
     """Run scenarios × planners × seeds of twin episodes and write tables and figures.
 
     Writes into --out: episodes/ (one metrics file per episode), episodes.csv,
     pedestrians.csv, table.md and table.tex (the paper's Table 3 layout),
-    outcomes.md, summary.json, figures/ and manifest.json. Re-running on the same
-    folder skips finished episodes.
+    outcomes.md, summary.json, figures/ and manifest.json, and the episode logs in
+    logs/ (by default an MCAP file for every episode and a Rerun recording for the
+    first seed of each cell; `srfm score OUT` re-scores them). Re-running on the same
+    folder skips finished episodes (their logs are not rewritten).
     """
     from srfm.benchmark import BenchmarkRequest, run_benchmark
 
@@ -121,21 +227,20 @@ def benchmark(
         reference=reference,
         quick=quick,
     )
+    writer = _log_writer(request, out, logs, mcap, mcap_profile, rrd_seeds, forces)
     total = len(request.scenarios) * len(request.planners) * len(request.seeds)
     click.echo(
         f"benchmark: {len(request.scenarios)} scenarios × {len(request.planners)} planners "
         f"× {len(request.seeds)} seeds = {total} episodes -> {out}",
         err=True,
     )
-    with click.progressbar(
-        length=total, label="episodes", file=sys.stderr
-    ) as bar:
+    with click.progressbar(length=total, label="episodes", file=sys.stderr) as bar:
 
         def advance(n: int) -> None:
             bar.update(n)
 
         summary = run_benchmark(
-            request, out, jobs=jobs, on_progress=advance, figures=not no_figures
+            request, out, jobs=jobs, on_progress=advance, figures=not no_figures, writer=writer
         )
     click.echo(
         f"simulated {summary.simulated} of {summary.episodes} episodes in "
@@ -144,3 +249,5 @@ def benchmark(
     )
     click.echo((out / "table.md").read_text(encoding="utf-8"))
     click.echo(f"results in {out}: " + ", ".join(summary.files))
+    if writer is not None:
+        click.echo(_logs_line(out), err=True)

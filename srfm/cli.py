@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import time
+from pathlib import Path
 from typing import Any
 
 import click
@@ -77,15 +78,43 @@ def planners() -> None:
     "TOML file. Default: agrawal2024.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
+@click.option(
+    "--out",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=None,
+    help="Write the episode's logs into OUT/logs/<scenario>/<planner>/: an MCAP file and "
+    "a Rerun recording (docs/logging.md).",
+)
+@click.option("--no-mcap", is_flag=True, help="With --out: no MCAP file.")
+@click.option("--no-rrd", is_flag=True, help="With --out: no Rerun recording.")
+@click.option(
+    "--mcap-profile",
+    type=click.Choice(["full", "compact"]),
+    default="full",
+    show_default=True,
+    help="full: every channel at every step; compact: the benchmark's smaller files.",
+)
+@click.option("--forces", is_flag=True, help="With --out: force arrows in the recording.")
 @user_errors
 def simulate(
-    scenario_name: str, seed: int, planner_name: str, params_spec: str | None, as_json: bool
+    scenario_name: str,
+    seed: int,
+    planner_name: str,
+    params_spec: str | None,
+    as_json: bool,
+    out: Path | None,
+    no_mcap: bool,
+    no_rrd: bool,
+    mcap_profile: str,
+    forces: bool,
 ) -> None:
-    """Run one twin episode and print a short summary."""
+    """Run one twin episode and print a short summary (and write its logs with --out)."""
     from srfm.episode import run_episode
     from srfm.planners import make_planner
     from srfm.scenarios import load_scenario
 
+    if out is not None and no_mcap and no_rrd:
+        raise UserError("--out with --no-mcap and --no-rrd writes nothing; drop one of them")
     scenario = load_scenario(scenario_name)
     planner = make_planner(planner_name)
     params = load_params_option(params_spec)
@@ -94,6 +123,20 @@ def simulate(
     wall_s = time.perf_counter() - start
     summary = episode_summary(record)
     summary["wall_time_s"] = wall_s
+    if out is not None:
+        from srfm.logs import LogOptions, write_episode_logs
+        from srfm.metrics import episode_metrics
+
+        options = LogOptions(
+            mcap=not no_mcap,
+            rrd=not no_rrd,
+            mcap_profile="full" if mcap_profile == "full" else "compact",
+            forces=forces,
+        )
+        paths = write_episode_logs(
+            out, record, episode_metrics(record), scenario=scenario, options=options
+        )
+        summary["logs"] = [str(p) for p in paths]
     if as_json:
         click.echo(json.dumps(summary, indent=2, sort_keys=True))
         return
@@ -150,6 +193,8 @@ def format_summary(s: dict[str, Any]) -> str:
             f"wall time  {s['wall_time_s'] * 1e3:.1f} ms (the first episode in a process "
             "includes loading the compiled kernels)"
         )
+    for path in s.get("logs", ()):
+        lines.append(f"log        {path}")
     return "\n".join(lines)
 
 
@@ -157,7 +202,11 @@ def format_summary(s: dict[str, Any]) -> str:
 from srfm._cli_benchmark import benchmark  # noqa: E402
 
 main.add_command(benchmark)
-# [cli:logging]
+from srfm._cli_logs import score as _score  # noqa: E402
+from srfm._cli_logs import view as _view  # noqa: E402
+
+main.add_command(_score)
+main.add_command(_view)
 from srfm._cli_data import ade as _ade  # noqa: E402
 from srfm._cli_data import data as _data  # noqa: E402
 from srfm._cli_data import fit as _fit  # noqa: E402

@@ -1,0 +1,832 @@
+"""The MCAP sink and reader: one file per twin episode, JSON messages, zstd chunks.
+
+Message times are integer nanoseconds of simulated time (sample k at
+``round(k * dt * 1e9)``). What each channel holds: :mod:`srfm.logs._schemas` and
+``docs/logging.md``. Two profiles:
+
+- ``full``: every channel, the Foxglove scene at every sample, exact per-sample
+  pedestrian states, and exact velocities in the trajectory blocks: a complete
+  :class:`~srfm.record.EpisodeRecord` can be rebuilt bit for bit.
+- ``compact`` (the benchmark's default): no per-sample pedestrian messages, the scene
+  every third sample, positions and goals exact but no pedestrian velocities, and the
+  counterfactual crowd (identical for every planner of a scenario and seed) may live in
+  a shared file that the episode names and fingerprints.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import math
+import struct
+from collections.abc import Iterator, Mapping
+from importlib import metadata
+from pathlib import Path
+from typing import Any, Final, Literal
+
+import attrs
+import numpy as np
+from numpy.typing import NDArray
+
+from srfm._io import atomic_write_bytes
+from srfm.errors import LogError, SrfmError
+from srfm.logs._codec import decode_array, encode_array
+from srfm.logs._foxglove import scene_messages
+from srfm.logs._schemas import CHANNELS, SCHEMA_VERSION
+from srfm.metrics import EPISODE_METRICS, PEDESTRIAN_METRICS, EpisodeMetrics
+from srfm.models.params import SRFMParams
+from srfm.record import EVENT_KINDS, ROBOT_OUTCOMES, EpisodeRecord, Event
+from srfm.scenarios import Scenario, episode_setup
+
+__all__ = [
+    "PROFILES",
+    "LogFile",
+    "LoggedEpisode",
+    "Profile",
+    "counterfactual_digest",
+    "episode_from_log",
+    "load_episode",
+    "read_log",
+    "write_counterfactual_mcap",
+    "write_episode_mcap",
+]
+
+Profile = Literal["full", "compact"]
+PROFILES: Final = ("full", "compact")
+_SCENE_STRIDE: Final = {"full": 1, "compact": 3}
+_CHUNK_BYTES: Final = 4 * 1024 * 1024
+_SEPARATORS: Final = (",", ":")
+FloatArray = NDArray[np.float64]
+
+
+def _version() -> str:
+    try:
+        return metadata.version("srfm")
+    except metadata.PackageNotFoundError:  # pragma: no cover - always installed
+        return "unknown"
+
+
+def times_ns(n_samples: int, dt_s: float) -> list[int]:
+    """Message time (ns) of each sample: ``round(k * dt * 1e9)``."""
+    return [round(k * dt_s * 1e9) for k in range(n_samples)]
+
+
+def counterfactual_digest(pos: FloatArray, goal: FloatArray) -> str:
+    """SHA-256 of the counterfactual positions and goals (float64, C order, with shapes)."""
+    h = hashlib.sha256()
+    for a in (pos, goal):
+        arr = np.ascontiguousarray(a, dtype="<f8")
+        h.update(repr(arr.shape).encode())
+        h.update(arr.tobytes())
+    return h.hexdigest()
+
+
+def _json(doc: Any) -> bytes:
+    return json.dumps(doc, separators=_SEPARATORS, allow_nan=False).encode("utf-8")
+
+
+def _nan_to_none(values: list[float]) -> list[float | None]:
+    return [None if math.isnan(v) else v for v in values]
+
+
+def _scenario_info(scenario: Scenario, record: EpisodeRecord) -> dict[str, Any]:
+    """What a reader needs to know about the world and the agents (exact floats)."""
+    crowd = episode_setup(scenario, record.seed).crowd
+    w = scenario.world
+    robot = scenario.robot
+    return {
+        "scenario": record.scenario,
+        "scenario_description": scenario.description,
+        "seed": record.seed,
+        "dt_s": record.dt_s,
+        "horizon_steps": record.horizon_steps,
+        "n_pedestrians": record.n_pedestrians,
+        "params": record.params.as_dict(),
+        "world": {"x_min": w.x_min, "x_max": w.x_max, "y_min": w.y_min, "y_max": w.y_max},
+        "obstacles": {
+            "segments": scenario.obstacles.segments.tolist(),
+            "circles": scenario.obstacles.circles.tolist(),
+        },
+        "pedestrians": {
+            "radius_m": record.ped_radius.tolist(),
+            "desired_speed_mps": crowd.v0.tolist(),
+            "max_speed_mps": crowd.vmax.tolist(),
+            "goal_radius_m": scenario.ped_goal_radius_m,
+        },
+        "robot": {
+            "kinematics": record.robot_kinematics,
+            "radius_m": record.robot_radius,
+            "max_speed_mps": robot.max_speed_mps,
+            "max_angular_speed_radps": robot.max_angular_speed_radps,
+            "goal_radius_m": robot.goal_radius_m,
+            "goal": record.robot_goal.tolist(),
+        },
+    }
+
+
+def metrics_doc(metrics: EpisodeMetrics) -> dict[str, Any]:
+    """The JSON document of one episode's metrics (NaN as null)."""
+    return {
+        "schema_version": SCHEMA_VERSION,
+        "scenario": metrics.scenario,
+        "planner": metrics.planner,
+        "seed": metrics.seed,
+        "outcome": metrics.outcome,
+        "end_step": metrics.end_step,
+        "metrics": {
+            m.name: None if math.isnan(metrics.values[m.name]) else metrics.values[m.name]
+            for m in EPISODE_METRICS
+        },
+        "pedestrians": {
+            m.name: _nan_to_none(metrics.pedestrians[m.name].tolist()) for m in PEDESTRIAN_METRICS
+        },
+    }
+
+
+class _Writer:
+    """A thin layer over :class:`mcap.writer.Writer` that registers our channels."""
+
+    def __init__(self, kind: str, info: Mapping[str, str]) -> None:
+        from mcap.writer import CompressionType, IndexType, Writer
+
+        self.buffer = io.BytesIO()
+        # No per-message index records (16 bytes a message, uncompressed): a file holds
+        # one or two chunks, which readers decompress whole anyway.
+        self._w = Writer(
+            self.buffer,
+            chunk_size=_CHUNK_BYTES,
+            compression=CompressionType.ZSTD,
+            index_types=IndexType.CHUNK | IndexType.METADATA | IndexType.ATTACHMENT,
+            enable_data_crcs=True,
+        )
+        self._w.start(profile="", library=f"srfm {_version()}")
+        self._schemas: dict[str, int] = {}
+        self._channels: dict[str, int] = {}
+        self._w.add_metadata("srfm", {"kind": kind, "schema_version": str(SCHEMA_VERSION), **info})
+
+    def channel(self, key: str) -> int:
+        if key not in self._channels:
+            spec = CHANNELS[key]
+            if spec.schema_name not in self._schemas:
+                self._schemas[spec.schema_name] = self._w.register_schema(
+                    name=spec.schema_name, encoding="jsonschema", data=spec.schema
+                )
+            self._channels[key] = self._w.register_channel(
+                topic=spec.topic,
+                message_encoding="json",
+                schema_id=self._schemas[spec.schema_name],
+            )
+        return self._channels[key]
+
+    def add(self, key: str, t_ns: int, data: bytes) -> None:
+        self._w.add_message(
+            channel_id=self.channel(key), log_time=t_ns, publish_time=t_ns, data=data
+        )
+
+    def end_chunk(self) -> None:
+        """Start a new chunk: the trajectory blocks compress better on their own."""
+        self._w.flush()  # type: ignore[no-untyped-call]
+
+    def finish(self) -> bytes:
+        self._w.finish()  # type: ignore[no-untyped-call]
+        return self.buffer.getvalue()
+
+
+# Per-sample robot messages from templates (json.dumps costs more than the simulation
+# step); %r of a finite float is Python's shortest round-trip repr, as in json.dumps.
+_ROBOT_STATE: Final = (
+    f'{{"schema_version":{SCHEMA_VERSION},"step":%d,"x":%r,"y":%r,"theta":%r,"vx":%r,'
+    '"vy":%r,"active":%s}'
+)
+_ROBOT_COMMAND: Final = (
+    f'{{"schema_version":{SCHEMA_VERSION},"step":%d,"kinematics":"%s","command":[%r,%r]}}'
+)
+_BOOL: Final = {True: "true", False: "false"}
+
+
+def _identity(record: EpisodeRecord, planner: str | None) -> dict[str, str]:
+    return {
+        "scenario": record.scenario,
+        "seed": str(record.seed),
+        "planner": planner or "",
+        "srfm_version": _version(),
+    }
+
+
+def _pedestrian_arrays(record: EpisodeRecord, twin: str, profile: Profile) -> dict[str, Any]:
+    arrays = {
+        "pos": encode_array(getattr(record, f"{twin}_pos")),
+        "goal": encode_array(getattr(record, f"{twin}_goal")),
+    }
+    if profile == "full":
+        arrays["vel"] = encode_array(getattr(record, f"{twin}_vel"))
+    return {
+        "schema_version": SCHEMA_VERSION,
+        "group": twin,
+        "samples": int(record.time_s.shape[0]),
+        "arrays": arrays,
+    }
+
+
+def _standard_times(record: EpisodeRecord) -> FloatArray:
+    """The sample times :func:`srfm.episode.run_episode` uses: ``arange(T + 1) * dt``."""
+    return np.arange(record.horizon_steps + 1, dtype=np.float64) * record.dt_s
+
+
+def _pedestrian_states(record: EpisodeRecord, twin: str) -> Iterator[bytes]:
+    pos = getattr(record, f"{twin}_pos")
+    vel = getattr(record, f"{twin}_vel")
+    goal = getattr(record, f"{twin}_goal")
+    cols = [a[:, :, c].tolist() for a in (pos, vel, goal) for c in (0, 1)]
+    for k in range(pos.shape[0]):
+        x, y, vx, vy, gx, gy = (c[k] for c in cols)
+        yield _json(
+            {
+                "schema_version": SCHEMA_VERSION,
+                "twin": twin,
+                "step": k,
+                "x": x,
+                "y": y,
+                "vx": vx,
+                "vy": vy,
+                "goal_x": gx,
+                "goal_y": gy,
+            }
+        )
+
+
+def write_episode_mcap(
+    path: str | Path,
+    record: EpisodeRecord,
+    *,
+    scenario: Scenario,
+    metrics: EpisodeMetrics | None = None,
+    profile: Profile = "full",
+    scene_stride: int | None = None,
+    counterfactual_file: str | None = None,
+    benchmark: Mapping[str, Any] | None = None,
+    fsync: bool = True,
+) -> int:
+    """Write one twin episode to an MCAP file, atomically.
+
+    Args:
+        path: the ``.mcap`` file to write (folders are created).
+        record: the finished episode.
+        scenario: the scenario it ran (for the world, obstacles and agent limits).
+        metrics: its metrics (stored as the online numbers; also names the planner).
+        profile: ``"full"`` or ``"compact"`` (see the module docstring).
+        scene_stride: draw the Foxglove scene every this many samples (default 1 for
+            ``full``, 3 for ``compact``).
+        counterfactual_file: leave the counterfactual crowd out of this file and name
+            the shared file that holds it, relative to ``path``'s folder.
+        benchmark: the benchmark request (scenarios, planners, seeds, reference) that
+            fixes the order of the tables ``srfm score`` rebuilds.
+        fsync: flush the file to disk before renaming it into place.
+
+    Returns:
+        The size of the file (bytes).
+    """
+    if profile not in PROFILES:
+        raise LogError(f"unknown MCAP profile {profile!r}; choose from {list(PROFILES)}")
+    stride = _SCENE_STRIDE[profile] if scene_stride is None else scene_stride
+    if stride < 1:
+        raise LogError(f"scene stride must be at least 1, got {stride}")
+    if not (np.isfinite(record.robot_pose).all() and np.isfinite(record.robot_vel).all()):
+        raise LogError(f"{path}: the robot's pose or velocity is not finite; cannot log it")
+    planner = metrics.planner if metrics is not None else record.planner
+    n_samples = int(record.time_s.shape[0])
+    t_ns = times_ns(n_samples, record.dt_s)
+    times = record.time_s.tolist()
+    info = {
+        "schema_version": SCHEMA_VERSION,
+        "kind": "episode",
+        "profile": profile,
+        "srfm_version": _version(),
+        **_scenario_info(scenario, record),
+        "planner": planner,
+        "outcome": record.outcome,
+        "end_step": record.end_step,
+        "counterfactual": {
+            "file": counterfactual_file,
+            "sha256": counterfactual_digest(record.counterfactual_pos, record.counterfactual_goal),
+        },
+        "benchmark": dict(benchmark) if benchmark is not None else None,
+    }
+    if not np.array_equal(record.time_s, _standard_times(record)):
+        info["time_s"] = times  # only when arange(T + 1) * dt would not reproduce them
+    w = _Writer("episode", _identity(record, planner))
+    w.add("episode", 0, _json(info))
+    w_bounds = scenario.world
+    scenes = scene_messages(
+        record,
+        t_ns,
+        bounds=(w_bounds.x_min, w_bounds.x_max, w_bounds.y_min, w_bounds.y_max),
+        obstacles=scenario.obstacles,
+        stride=stride,
+    )
+    scene_at: dict[int, list[bytes]] = {}
+    for k, data in scenes:
+        scene_at.setdefault(k, []).append(data)
+    events_at: dict[int, list[Event]] = {}
+    for e in record.events:
+        events_at.setdefault(e.step, []).append(e)
+    peds: list[Iterator[bytes]] = []
+    if profile == "full":
+        peds = [_pedestrian_states(record, twin) for twin in ("factual", "counterfactual")]
+    pose = record.robot_pose.tolist()
+    rvel = record.robot_vel.tolist()
+    cmd = record.robot_cmd.tolist()
+    active = record.robot_active.tolist()
+    kin = record.robot_kinematics
+    for k in range(n_samples):
+        t = t_ns[k]
+        for key, it in zip(("factual", "counterfactual"), peds, strict=False):
+            w.add(key, t, next(it))
+        x, y, th = pose[k]
+        vx, vy = rvel[k]
+        w.add("robot_state", t, (_ROBOT_STATE % (k, x, y, th, vx, vy, _BOOL[active[k]])).encode())
+        if k < n_samples - 1 and active[k] and not math.isnan(cmd[k][0]):
+            w.add("robot_command", t, (_ROBOT_COMMAND % (k, kin, cmd[k][0], cmd[k][1])).encode())
+        for e in events_at.get(k, ()):
+            w.add(
+                "events",
+                t,
+                _json(
+                    {
+                        "schema_version": SCHEMA_VERSION,
+                        "step": e.step,
+                        "time_s": e.time_s,
+                        "kind": e.kind,
+                        "agent": e.agent,
+                        "twin": e.twin,
+                    }
+                ),
+            )
+        for data in scene_at.get(k, ()):
+            w.add("scene", t, data)
+    end = t_ns[-1]
+    if metrics is not None:
+        w.add("metrics", end, _json(metrics_doc(metrics)))
+    w.end_chunk()
+    w.add("trajectories", end, _json(_pedestrian_arrays(record, "factual", profile)))
+    if counterfactual_file is None:
+        w.add("trajectories", end, _json(_pedestrian_arrays(record, "counterfactual", profile)))
+    data = w.finish()
+    atomic_write_bytes(path, data, fsync=fsync)
+    return len(data)
+
+
+def write_counterfactual_mcap(
+    path: str | Path,
+    record: EpisodeRecord,
+    *,
+    scenario: Scenario,
+    profile: Profile = "compact",
+    fsync: bool = True,
+) -> int:
+    """Write the counterfactual crowd of an episode (shared by every planner) atomically.
+
+    Returns:
+        The size of the file (bytes).
+    """
+    info = {
+        "schema_version": SCHEMA_VERSION,
+        "kind": "counterfactual",
+        "profile": profile,
+        "srfm_version": _version(),
+        **_scenario_info(scenario, record),
+        "planner": None,
+        "outcome": None,
+        "end_step": None,
+        "counterfactual": {
+            "file": None,
+            "sha256": counterfactual_digest(record.counterfactual_pos, record.counterfactual_goal),
+        },
+        "benchmark": None,
+    }
+    w = _Writer("counterfactual", _identity(record, None))
+    w.add("episode", 0, _json(info))
+    end = round(record.horizon_steps * record.dt_s * 1e9)
+    w.add("trajectories", end, _json(_pedestrian_arrays(record, "counterfactual", profile)))
+    data = w.finish()
+    atomic_write_bytes(path, data, fsync=fsync)
+    return len(data)
+
+
+# --- reading ---------------------------------------------------------------------------
+
+
+@attrs.frozen(kw_only=True, eq=False)
+class LogFile:
+    """The srfm content of one MCAP file, decoded and checked for shape.
+
+    Attributes:
+        path: the file.
+        info: the ``/srfm/episode`` message.
+        groups: the ``/srfm/trajectories`` arrays by group and name.
+        events: the ``/srfm/events`` messages, in file order.
+        robot_states: the ``/srfm/robot/state`` messages, in file order.
+        robot_commands: the ``/srfm/robot/command`` messages, in file order.
+        metrics: the ``/srfm/metrics`` message, or None.
+    """
+
+    path: Path
+    info: Mapping[str, Any]
+    groups: Mapping[str, Mapping[str, NDArray[Any]]]
+    events: tuple[Mapping[str, Any], ...]
+    robot_states: tuple[Mapping[str, Any], ...]
+    robot_commands: tuple[Mapping[str, Any], ...]
+    metrics: Mapping[str, Any] | None
+
+    @property
+    def kind(self) -> str:
+        """``"episode"`` or ``"counterfactual"``."""
+        return str(self.info["kind"])
+
+
+_READ_TOPICS: Final = {
+    CHANNELS[k].topic: k
+    for k in ("episode", "trajectories", "events", "metrics", "robot_state", "robot_command")
+}
+
+
+def _mcap_errors() -> tuple[type[BaseException], ...]:
+    import zstandard
+    from mcap.exceptions import McapError
+
+    return (
+        McapError,
+        struct.error,
+        zstandard.ZstdError,
+        EOFError,
+        ValueError,
+        KeyError,
+        IndexError,
+        TypeError,
+        RuntimeError,
+        UnicodeDecodeError,
+    )
+
+
+def _messages(path: Path, data: bytes) -> list[tuple[str, str, bytes]]:
+    """(channel key, schema name, payload) of our topics; the whole file is checked:
+    magic, every record, chunk CRCs and the data section CRC."""
+    from mcap.reader import NonSeekingReader
+
+    reader = NonSeekingReader(io.BytesIO(data), validate_crcs=True)
+    out = []
+    try:
+        for schema, channel, message in reader.iter_messages(log_time_order=False):
+            key = _READ_TOPICS.get(channel.topic)
+            if key is None:
+                continue
+            out.append((key, schema.name if schema is not None else "", message.data))
+    except SrfmError:
+        raise
+    except _mcap_errors() as exc:
+        detail = str(exc) or type(exc).__name__
+        raise LogError(
+            f"{path}: not a readable MCAP file (truncated or corrupt: {detail})"
+        ) from None
+    return out
+
+
+def _decode(path: Path, key: str, schema: str, payload: bytes) -> dict[str, Any]:
+    expected = CHANNELS[key].schema_name
+    if schema != expected:
+        prefix = expected.rsplit(".v", 1)[0]
+        if schema.startswith(prefix + ".v"):
+            raise LogError(
+                f"{path}: {CHANNELS[key].topic} uses schema {schema}, this srfm reads "
+                f"{expected}; use a matching srfm version"
+            )
+        raise LogError(f"{path}: {CHANNELS[key].topic} has schema {schema!r}, not srfm's")
+    try:
+        doc = json.loads(payload)
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise LogError(f"{path}: a {CHANNELS[key].topic} message is not JSON: {exc}") from None
+    if not isinstance(doc, dict) or doc.get("schema_version") != SCHEMA_VERSION:
+        raise LogError(f"{path}: a {CHANNELS[key].topic} message has no schema_version 1")
+    return doc
+
+
+def read_log(path: str | Path) -> LogFile:
+    """Read and check the srfm channels of one MCAP file.
+
+    Raises:
+        LogError: naming the file, when it cannot be read, is truncated or corrupt, is
+            not an srfm log, or holds malformed arrays.
+    """
+    path = Path(path)
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise LogError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    if not data.startswith(b"\x89MCAP0\r\n"):
+        raise LogError(f"{path}: not an MCAP file (no MCAP magic bytes)")
+    info: dict[str, Any] | None = None
+    groups: dict[str, dict[str, NDArray[Any]]] = {}
+    lists: dict[str, list[dict[str, Any]]] = {
+        "events": [],
+        "robot_state": [],
+        "robot_command": [],
+    }
+    metrics: dict[str, Any] | None = None
+    for key, schema, payload in _messages(path, data):
+        doc = _decode(path, key, schema, payload)
+        if key == "episode":
+            if info is not None:
+                raise LogError(f"{path}: more than one /srfm/episode message")
+            info = doc
+        elif key == "trajectories":
+            group = str(doc.get("group"))
+            arrays = doc.get("arrays")
+            if not isinstance(arrays, dict) or group in groups:
+                raise LogError(f"{path}: malformed or repeated trajectory group {group!r}")
+            groups[group] = {
+                name: decode_array(block, f"{path}: {group}.{name}")
+                for name, block in arrays.items()
+            }
+        elif key in lists:
+            lists[key].append(doc)
+        else:
+            metrics = doc
+    if info is None:
+        raise LogError(
+            f"{path}: not an srfm run log (no /srfm/episode channel); "
+            "srfm score reads files written by srfm simulate/benchmark --out"
+        )
+    if info.get("kind") not in ("episode", "counterfactual"):
+        raise LogError(f"{path}: unknown log kind {info.get('kind')!r}")
+    return LogFile(
+        path=path,
+        info=info,
+        groups=groups,
+        events=tuple(lists["events"]),
+        robot_states=tuple(lists["robot_state"]),
+        robot_commands=tuple(lists["robot_command"]),
+        metrics=metrics,
+    )
+
+
+@attrs.frozen(kw_only=True, eq=False)
+class LoggedEpisode:
+    """An episode rebuilt from its MCAP log.
+
+    Attributes:
+        path: the episode's file.
+        record: the rebuilt record (velocities exact only when ``exact_velocities``;
+            otherwise finite differences of the exact positions, 0 at sample 0).
+        info: the ``/srfm/episode`` message.
+        online_metrics: the metrics stored when the episode ran, or None.
+        exact_velocities: whether the pedestrian velocities were logged.
+        counterfactual_path: the shared counterfactual file used, if any.
+    """
+
+    path: Path
+    record: EpisodeRecord
+    info: Mapping[str, Any]
+    online_metrics: EpisodeMetrics | None
+    exact_velocities: bool
+    counterfactual_path: Path | None
+
+
+def _get(path: Path, doc: Mapping[str, Any], key: str, kind: type | tuple[type, ...]) -> Any:
+    value = doc.get(key)
+    if not isinstance(value, kind) or (isinstance(value, bool) and kind is not bool):
+        raise LogError(f"{path}: /srfm/episode field {key!r} is missing or malformed")
+    return value
+
+
+def _array(
+    path: Path, group: Mapping[str, NDArray[Any]], name: str, shape: tuple[int, ...], what: str
+) -> NDArray[Any]:
+    if name not in group:
+        raise LogError(f"{path}: no {what}.{name} array")
+    a = group[name]
+    if a.shape != shape:
+        raise LogError(f"{path}: {what}.{name} has shape {a.shape}, expected {shape}")
+    return a
+
+
+def _derived_velocity(pos: FloatArray, dt: float) -> FloatArray:
+    vel = np.zeros_like(pos)
+    vel[1:] = np.diff(pos, axis=0) / dt
+    return vel
+
+
+def _times(path: Path, info: Mapping[str, Any], samples: int, dt: float) -> FloatArray:
+    if "time_s" not in info:
+        return np.arange(samples, dtype=np.float64) * dt
+    try:
+        times = np.array(info["time_s"], dtype=np.float64)
+    except (TypeError, ValueError):
+        times = np.zeros(0)
+    if times.shape != (samples,):
+        raise LogError(f"{path}: /srfm/episode time_s is malformed")
+    return times
+
+
+def _robot(
+    path: Path, log: LogFile, samples: int
+) -> tuple[FloatArray, FloatArray, NDArray[np.bool_], FloatArray]:
+    """Robot pose, velocity, activity and commands from the per-sample messages."""
+    pose = np.full((samples, 3), np.nan)
+    vel = np.full((samples, 2), np.nan)
+    active = np.zeros(samples, dtype=np.bool_)
+    cmd = np.full((samples - 1, 2), np.nan)
+    seen = np.zeros(samples, dtype=np.bool_)
+    try:
+        for m in log.robot_states:
+            k = int(m["step"])
+            if not 0 <= k < samples or seen[k]:
+                raise ValueError(f"step {k}")
+            seen[k] = True
+            pose[k] = (float(m["x"]), float(m["y"]), float(m["theta"]))
+            vel[k] = (float(m["vx"]), float(m["vy"]))
+            active[k] = m["active"] is True
+        for m in log.robot_commands:
+            k = int(m["step"])
+            command = [float(v) for v in m["command"]]
+            if not 0 <= k < samples - 1 or len(command) != 2:
+                raise ValueError(f"command at step {k}")
+            cmd[k] = command
+    except (KeyError, TypeError, ValueError) as exc:
+        raise LogError(f"{path}: malformed robot state or command message ({exc})") from None
+    if not seen.all():
+        missing = np.flatnonzero(~seen)
+        raise LogError(
+            f"{path}: robot states of {missing.size} samples are missing (first: {int(missing[0])})"
+        )
+    return pose, vel, active, cmd
+
+
+def _events(path: Path, docs: tuple[Mapping[str, Any], ...]) -> tuple[Event, ...]:
+    out = []
+    for d in docs:
+        kind = d.get("kind")
+        if kind not in EVENT_KINDS:
+            raise LogError(f"{path}: unknown event kind {kind!r}")
+        try:
+            out.append(
+                Event(
+                    step=int(d["step"]),
+                    time_s=float(d["time_s"]),
+                    kind=kind,
+                    agent=int(d["agent"]),
+                    twin=str(d["twin"]),
+                )
+            )
+        except (KeyError, TypeError, ValueError):
+            raise LogError(f"{path}: malformed event {dict(d)!r}") from None
+    return tuple(out)
+
+
+def _metrics(path: Path, doc: Mapping[str, Any] | None) -> EpisodeMetrics | None:
+    if doc is None:
+        return None
+
+    def num(x: Any) -> float:
+        return math.nan if x is None else float(x)
+
+    try:
+        return EpisodeMetrics(
+            scenario=str(doc["scenario"]),
+            planner=str(doc["planner"]),
+            seed=int(doc["seed"]),
+            outcome=str(doc["outcome"]),
+            end_step=int(doc["end_step"]),
+            values={m.name: num(doc["metrics"][m.name]) for m in EPISODE_METRICS},
+            pedestrians={
+                m.name: np.array([num(v) for v in doc["pedestrians"][m.name]], dtype=np.float64)
+                for m in PEDESTRIAN_METRICS
+            },
+        )
+    except (KeyError, TypeError, ValueError):
+        raise LogError(f"{path}: malformed /srfm/metrics message") from None
+
+
+def load_episode(
+    path: str | Path, *, counterfactuals: dict[Path, LogFile] | None = None
+) -> LoggedEpisode:
+    """Rebuild an episode (record and online metrics) from its MCAP log alone.
+
+    Args:
+        path: an episode ``.mcap`` written by :func:`write_episode_mcap`.
+        counterfactuals: a cache of shared counterfactual files already read, by
+            resolved path (filled as files are read).
+
+    Raises:
+        LogError: the file (or the counterfactual file it names) is unreadable, foreign,
+            inconsistent, or does not match its fingerprint.
+    """
+    return episode_from_log(read_log(path), counterfactuals=counterfactuals)
+
+
+def episode_from_log(
+    log: LogFile, *, counterfactuals: dict[Path, LogFile] | None = None
+) -> LoggedEpisode:
+    """:func:`load_episode` on a file already read with :func:`read_log`."""
+    p = log.path
+    info = log.info
+    if log.kind != "episode":
+        raise LogError(f"{p}: a shared counterfactual file, not an episode")
+    scenario = _get(p, info, "scenario", str)
+    seed = _get(p, info, "seed", int)
+    dt = float(_get(p, info, "dt_s", (int, float)))
+    horizon = _get(p, info, "horizon_steps", int)
+    n = _get(p, info, "n_pedestrians", int)
+    outcome = _get(p, info, "outcome", str)
+    end_step = _get(p, info, "end_step", int)
+    if outcome not in ROBOT_OUTCOMES:
+        raise LogError(f"{p}: unknown robot outcome {outcome!r}")
+    try:
+        params = SRFMParams(**_get(p, info, "params", dict))
+        radius = np.array(info["pedestrians"]["radius_m"], dtype=np.float64)
+        robot = info["robot"]
+        robot_goal = np.array(robot["goal"], dtype=np.float64)
+        robot_radius = float(robot["radius_m"])
+        kinematics = str(robot["kinematics"])
+        cf_ref = info["counterfactual"]
+        cf_file, cf_digest = cf_ref["file"], str(cf_ref["sha256"])
+    except (KeyError, TypeError, ValueError, SrfmError) as exc:
+        raise LogError(f"{p}: malformed /srfm/episode message ({exc})") from None
+    samples = horizon + 1
+    ped_shape = (samples, n, 2)
+    if "factual" not in log.groups:
+        raise LogError(f"{p}: the trajectories of the factual crowd are missing")
+    f = log.groups["factual"]
+    cf_path: Path | None = None
+    if cf_file is None:
+        if "counterfactual" not in log.groups:
+            raise LogError(f"{p}: the counterfactual trajectories are missing")
+        c = log.groups["counterfactual"]
+    else:
+        cf_path = (p.parent / str(cf_file)).resolve()
+        cache = counterfactuals if counterfactuals is not None else {}
+        if cf_path not in cache:
+            if not cf_path.exists():
+                raise LogError(f"{p}: its counterfactual file {cf_path} is missing")
+            cache[cf_path] = read_log(cf_path)
+        cf_log = cache[cf_path]
+        ci = cf_log.info
+        if cf_log.kind != "counterfactual" or "counterfactual" not in cf_log.groups:
+            raise LogError(f"{cf_path}: not a shared counterfactual file (named by {p})")
+        for key in ("scenario", "seed", "dt_s", "horizon_steps", "n_pedestrians", "params"):
+            if ci.get(key) != info.get(key):
+                raise LogError(
+                    f"{cf_path}: {key} {ci.get(key)!r} does not match {p} ({info.get(key)!r})"
+                )
+        c = cf_log.groups["counterfactual"]
+    f_pos = _array(p, f, "pos", ped_shape, "factual")
+    c_pos = _array(p, c, "pos", ped_shape, "counterfactual")
+    f_goal = _array(p, f, "goal", ped_shape, "factual")
+    c_goal = _array(p, c, "goal", ped_shape, "counterfactual")
+    if counterfactual_digest(c_pos, c_goal) != cf_digest:
+        where = cf_path if cf_path is not None else p
+        raise LogError(f"{where}: the counterfactual crowd does not match the fingerprint in {p}")
+    exact = "vel" in f and "vel" in c
+    f_vel = _array(p, f, "vel", ped_shape, "factual") if exact else _derived_velocity(f_pos, dt)
+    c_vel = (
+        _array(p, c, "vel", ped_shape, "counterfactual") if exact else _derived_velocity(c_pos, dt)
+    )
+    pose, rvel, active, cmd = _robot(p, log, samples)
+    if radius.shape != (n,) or robot_goal.shape != (2,):
+        raise LogError(f"{p}: pedestrian radii or robot goal have the wrong shape")
+    if not 0 <= end_step <= horizon:
+        raise LogError(f"{p}: end_step {end_step} outside 0..{horizon}")
+    record = EpisodeRecord(
+        scenario=scenario,
+        seed=seed,
+        planner=_get(p, info, "planner", str),
+        params=params,
+        dt_s=dt,
+        horizon_steps=horizon,
+        time_s=_times(p, info, samples, dt),
+        ped_radius=radius,
+        factual_pos=f_pos,
+        factual_vel=f_vel,
+        counterfactual_pos=c_pos,
+        counterfactual_vel=c_vel,
+        factual_goal=f_goal,
+        counterfactual_goal=c_goal,
+        robot_pose=pose,
+        robot_vel=rvel,
+        robot_cmd=cmd,
+        robot_active=active,
+        robot_goal=robot_goal,
+        robot_radius=robot_radius,
+        robot_kinematics=kinematics,
+        outcome=outcome,
+        end_step=end_step,
+        events=_events(p, log.events),
+    )
+    return LoggedEpisode(
+        path=p,
+        record=record,
+        info=info,
+        online_metrics=_metrics(p, log.metrics),
+        exact_velocities=exact,
+        counterfactual_path=cf_path,
+    )

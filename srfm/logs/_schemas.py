@@ -1,0 +1,419 @@
+"""Versioned JSON schemas of the MCAP channels (encoding ``jsonschema``, messages ``json``).
+
+Every srfm message carries ``"schema_version"``; a schema's name ends in ``.v<version>``
+so that a reader can tell an old file from a new one before decoding a message. The
+Foxglove scene schema is our own description of the subset of ``foxglove.SceneUpdate``
+that srfm writes (Foxglove recognises the schema by its name); it is inlined without
+``$ref`` because not every JSON-schema consumer resolves references.
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any, Final
+
+from srfm.logs._codec import BOOL_ENCODING, F64_ENCODING
+
+__all__ = [
+    "CHANNELS",
+    "SCHEMA_VERSION",
+    "ChannelSpec",
+    "schema_bytes",
+]
+
+SCHEMA_VERSION: Final = 1
+_DRAFT: Final = "https://json-schema.org/draft/2020-12/schema"
+
+
+def _num(description: str) -> dict[str, Any]:
+    return {"type": "number", "description": description}
+
+
+def _int(description: str, minimum: int | None = 0) -> dict[str, Any]:
+    out: dict[str, Any] = {"type": "integer", "description": description}
+    if minimum is not None:
+        out["minimum"] = minimum
+    return out
+
+
+def _nums(description: str) -> dict[str, Any]:
+    return {"type": "array", "items": {"type": "number"}, "description": description}
+
+
+def _nullable_nums(description: str) -> dict[str, Any]:
+    return {
+        "type": "array",
+        "items": {"type": ["number", "null"]},
+        "description": description,
+    }
+
+
+def _obj(
+    properties: dict[str, Any], required: list[str] | None = None, **extra: Any
+) -> dict[str, Any]:
+    out: dict[str, Any] = {"type": "object", "properties": properties}
+    out["required"] = list(properties) if required is None else required
+    out.update(extra)
+    return out
+
+
+def _srfm_schema(name: str, description: str, properties: dict[str, Any], **kw: Any) -> bytes:
+    title = f"srfm.logs.{name}.v{SCHEMA_VERSION}"
+    doc = {
+        "$schema": _DRAFT,
+        "$id": title,
+        "title": title,
+        "description": description,
+        **_obj({"schema_version": {"const": SCHEMA_VERSION}, **properties}, **kw),
+    }
+    return json.dumps(doc, separators=(",", ":"), ensure_ascii=False).encode("utf-8")
+
+
+_ARRAY_BLOCK: Final = _obj(
+    {
+        "dtype": {"enum": ["float64", "bool"]},
+        "shape": {
+            "type": "array",
+            "items": {"type": "integer", "minimum": 0},
+            "description": "array shape, time first",
+        },
+        "encoding": {
+            "enum": [F64_ENCODING, BOOL_ENCODING],
+            "description": f"{F64_ENCODING}: linear prediction along time, differences of "
+            "the IEEE-754 bit patterns, byte planes, base64 (docs/logging.md, 'Array "
+            f"blocks'); {BOOL_ENCODING}: one byte per boolean, C order",
+        },
+        "data": {"type": "string", "contentEncoding": "base64"},
+    },
+    description="An exact array (see docs/logging.md, 'Array blocks').",
+)
+
+EPISODE: Final = _srfm_schema(
+    "Episode",
+    "Who, what and how of one logged twin episode (published once, at time 0).",
+    {
+        "kind": {
+            "enum": ["episode", "counterfactual"],
+            "description": "episode: a whole twin episode; counterfactual: the "
+            "counterfactual crowd of a (scenario, seed), shared by every planner of a "
+            "benchmark",
+        },
+        "profile": {"enum": ["full", "compact"]},
+        "srfm_version": {"type": "string"},
+        "scenario": {"type": "string"},
+        "scenario_description": {"type": "string"},
+        "seed": _int("episode seed"),
+        "planner": {"type": ["string", "null"], "description": "null in counterfactual files"},
+        "dt_s": _num("step (s)"),
+        "horizon_steps": _int("T: both twins have T + 1 samples"),
+        "n_pedestrians": _int("N"),
+        "params": {"type": "object", "description": "SRFM parameters of the factual crowd"},
+        "world": _obj({k: _num(f"{k} (m)") for k in ("x_min", "x_max", "y_min", "y_max")}),
+        "obstacles": _obj(
+            {
+                "segments": {"type": "array", "description": "walls (x1, y1, x2, y2) in m"},
+                "circles": {"type": "array", "description": "pillars (cx, cy, radius) in m"},
+            }
+        ),
+        "pedestrians": _obj(
+            {
+                "radius_m": _nums("(N,) radii"),
+                "desired_speed_mps": _nums("(N,) desired speeds v0"),
+                "max_speed_mps": _nums("(N,) speed caps"),
+                "goal_radius_m": _num("arrival radius"),
+            }
+        ),
+        "robot": _obj(
+            {
+                "kinematics": {"enum": ["unicycle", "holonomic"]},
+                "radius_m": _num("robot radius"),
+                "goal": _nums("(2,) robot goal (m)"),
+            },
+            additionalProperties=True,
+        ),
+        "outcome": {"type": ["string", "null"]},
+        "end_step": {"type": ["integer", "null"]},
+        "counterfactual": _obj(
+            {
+                "file": {
+                    "type": ["string", "null"],
+                    "description": "null: in this file; else the counterfactual file, "
+                    "relative to this file's folder",
+                },
+                "sha256": {
+                    "type": "string",
+                    "description": "SHA-256 of the counterfactual arrays (positions, "
+                    "goals), checked by srfm score",
+                },
+            }
+        ),
+        "benchmark": {
+            "type": ["object", "null"],
+            "description": "the benchmark request this episode belongs to (table order)",
+        },
+    },
+)
+
+PEDESTRIAN_STATES: Final = _srfm_schema(
+    "PedestrianStates",
+    "Every pedestrian of one twin at one sample (exact float64 values).",
+    {
+        "twin": {"enum": ["factual", "counterfactual"]},
+        "step": _int("sample index k (state after k steps, at the message's log time)"),
+        "x": _nums("(N,) x (m)"),
+        "y": _nums("(N,) y (m)"),
+        "vx": _nums("(N,) x velocity (m/s)"),
+        "vy": _nums("(N,) y velocity (m/s)"),
+        "goal_x": _nums("(N,) current goal x (m)"),
+        "goal_y": _nums("(N,) current goal y (m)"),
+    },
+)
+
+ROBOT_STATE: Final = _srfm_schema(
+    "RobotState",
+    "The robot at one sample (exact float64 values).",
+    {
+        "step": _int("sample index (its time is the message's log time)"),
+        "x": _num("x (m)"),
+        "y": _num("y (m)"),
+        "theta": _num("heading (rad)"),
+        "vx": _num("world-frame velocity applied in the step that ended here (m/s)"),
+        "vy": _num("(m/s)"),
+        "active": {"type": "boolean", "description": "the robot's episode is running"},
+    },
+)
+
+ROBOT_COMMAND: Final = _srfm_schema(
+    "RobotCommand",
+    "The command the planner returned at one step (published while the robot is active).",
+    {
+        "step": _int("step index k: the command moves the robot from sample k to k + 1"),
+        "kinematics": {"enum": ["unicycle", "holonomic"]},
+        "command": _nums("(v m/s, omega rad/s) for unicycle, (vx, vy) m/s for holonomic"),
+    },
+)
+
+EVENT: Final = _srfm_schema(
+    "Event",
+    "Something that happened at the end of a step.",
+    {
+        "step": _int("sample at which it was detected"),
+        "time_s": _num("time of that sample (s)"),
+        "kind": {
+            "enum": [
+                "robot_goal_reached",
+                "robot_collision",
+                "robot_out_of_bounds",
+                "robot_timeout",
+                "ped_arrival",
+            ]
+        },
+        "agent": _int("pedestrian index, or -1", minimum=-1),
+        "twin": {"enum": ["factual", "counterfactual", ""]},
+    },
+)
+
+TRAJECTORIES: Final = _srfm_schema(
+    "Trajectories",
+    "Exact arrays of every sample of one group (published once, at the end): what "
+    "srfm score reads.",
+    {
+        "group": {"enum": ["factual", "counterfactual", "robot"]},
+        "samples": _int("T + 1"),
+        "arrays": {
+            "type": "object",
+            "description": "pedestrians: pos, goal (T + 1, N, 2) and, in full logs, vel; "
+            "robot: pose (T + 1, 3), vel (T + 1, 2), cmd (T, 2), active (T + 1,)",
+            "additionalProperties": _ARRAY_BLOCK,
+        },
+    },
+)
+
+METRICS: Final = _srfm_schema(
+    "EpisodeMetrics",
+    "The episode's metrics as computed online (NaN written as null).",
+    {
+        "scenario": {"type": "string"},
+        "planner": {"type": "string"},
+        "seed": _int("seed"),
+        "outcome": {"type": "string"},
+        "end_step": _int("end step"),
+        "metrics": {
+            "type": "object",
+            "additionalProperties": {"type": ["number", "null"]},
+            "description": "every EPISODE_METRICS entry (docs/metrics.md)",
+        },
+        "pedestrians": {
+            "type": "object",
+            "additionalProperties": _nullable_nums("(N,) one value per pedestrian"),
+            "description": "every PEDESTRIAN_METRICS entry",
+        },
+    },
+)
+
+
+# --- Foxglove -------------------------------------------------------------------------
+
+
+def _xyz(description: str) -> dict[str, Any]:
+    return _obj({k: _num(k) for k in "xyz"}, description=description)
+
+
+def _quat() -> dict[str, Any]:
+    return _obj({k: _num(k) for k in "xyzw"}, description="orientation quaternion")
+
+
+def _pose(description: str) -> dict[str, Any]:
+    return _obj({"position": _xyz("position (m)"), "orientation": _quat()}, description=description)
+
+
+def _color() -> dict[str, Any]:
+    return _obj({k: _num(f"{k} in [0, 1]") for k in "rgba"}, description="RGBA colour")
+
+
+def _time(description: str, signed: bool = False) -> dict[str, Any]:
+    sec: dict[str, Any] = {"type": "integer"}
+    if not signed:
+        sec["minimum"] = 0
+    return _obj(
+        {"sec": sec, "nsec": {"type": "integer", "minimum": 0, "maximum": 999_999_999}},
+        description=description,
+    )
+
+
+def _list(item: dict[str, Any], description: str) -> dict[str, Any]:
+    return {"type": "array", "items": item, "description": description}
+
+
+def _strip_descriptions(doc: Any) -> Any:
+    """The schema without descriptions (the file repeats its schemas uncompressed)."""
+    if isinstance(doc, dict):
+        return {k: _strip_descriptions(v) for k, v in doc.items() if k != "description"}
+    if isinstance(doc, list):
+        return [_strip_descriptions(v) for v in doc]
+    return doc
+
+
+def _foxglove_scene_schema() -> bytes:
+    arrow = _obj(
+        {
+            "pose": _pose("tail position; identity points along +x"),
+            "shaft_length": _num("m"),
+            "shaft_diameter": _num("m"),
+            "head_length": _num("m"),
+            "head_diameter": _num("m"),
+            "color": _color(),
+        }
+    )
+    cube = _obj({"pose": _pose("centre"), "size": _xyz("size (m)"), "color": _color()})
+    sphere = _obj({"pose": _pose("centre"), "size": _xyz("diameters (m)"), "color": _color()})
+    cylinder = _obj(
+        {
+            "pose": _pose("centre"),
+            "size": _xyz("bounding box (m)"),
+            "bottom_scale": _num("bottom diameter ratio"),
+            "top_scale": _num("top diameter ratio"),
+            "color": _color(),
+        }
+    )
+    line = _obj(
+        {
+            "type": {"enum": [0, 1, 2], "description": "0 strip, 1 loop, 2 list"},
+            "pose": _pose("origin of the points"),
+            "thickness": _num("m, or pixels when scale_invariant"),
+            "scale_invariant": {"type": "boolean"},
+            "points": _list(_xyz("point"), "points"),
+            "color": _color(),
+            "colors": _list(_color(), "per-point colours (may be empty)"),
+            "indices": _list({"type": "integer", "minimum": 0}, "indices (may be empty)"),
+        }
+    )
+    text = _obj(
+        {
+            "pose": _pose("position"),
+            "billboard": {"type": "boolean"},
+            "font_size": _num("font size"),
+            "scale_invariant": {"type": "boolean"},
+            "color": _color(),
+            "text": {"type": "string"},
+        }
+    )
+    empty = {"type": "array", "description": "unused by srfm, always empty"}
+    entity = _obj(
+        {
+            "timestamp": _time("timestamp of the entity"),
+            "frame_id": {"type": "string"},
+            "id": {"type": "string"},
+            "lifetime": _time("0: until replaced", signed=True),
+            "frame_locked": {"type": "boolean"},
+            "metadata": _list(
+                _obj({"key": {"type": "string"}, "value": {"type": "string"}}), "key/values"
+            ),
+            "arrows": _list(arrow, "arrows"),
+            "cubes": _list(cube, "cubes"),
+            "spheres": _list(sphere, "spheres"),
+            "cylinders": _list(cylinder, "cylinders"),
+            "lines": _list(line, "lines"),
+            "triangles": empty,
+            "texts": _list(text, "texts"),
+            "models": empty,
+        }
+    )
+    deletion = _obj(
+        {
+            "timestamp": _time("only older entities are deleted"),
+            "type": {"enum": [0, 1], "description": "0 matching id, 1 all"},
+            "id": {"type": "string"},
+        }
+    )
+    body = _strip_descriptions(
+        _obj(
+            {
+                "deletions": _list(deletion, "entities to delete"),
+                "entities": _list(entity, "entities to add or replace"),
+            }
+        )
+    )
+    doc = {
+        "$schema": _DRAFT,
+        "title": "foxglove.SceneUpdate",
+        "description": "An update to the entities displayed in a 3D scene (the subset of "
+        "Foxglove's SceneUpdate that srfm writes; field meanings: Foxglove's schema "
+        "documentation).",
+        **body,
+    }
+    return json.dumps(doc, separators=(",", ":")).encode("utf-8")
+
+
+class ChannelSpec:
+    """One MCAP channel: topic, schema name and schema text."""
+
+    __slots__ = ("schema", "schema_name", "topic")
+
+    def __init__(self, topic: str, schema_name: str, schema: bytes) -> None:
+        self.topic = topic
+        self.schema_name = schema_name
+        self.schema = schema
+
+
+def _spec(topic: str, schema: bytes) -> ChannelSpec:
+    return ChannelSpec(topic, json.loads(schema)["title"], schema)
+
+
+CHANNELS: Final[dict[str, ChannelSpec]] = {
+    "episode": _spec("/srfm/episode", EPISODE),
+    "factual": _spec("/srfm/pedestrians/factual", PEDESTRIAN_STATES),
+    "counterfactual": _spec("/srfm/pedestrians/counterfactual", PEDESTRIAN_STATES),
+    "robot_state": _spec("/srfm/robot/state", ROBOT_STATE),
+    "robot_command": _spec("/srfm/robot/command", ROBOT_COMMAND),
+    "events": _spec("/srfm/events", EVENT),
+    "trajectories": _spec("/srfm/trajectories", TRAJECTORIES),
+    "metrics": _spec("/srfm/metrics", METRICS),
+    "scene": _spec("/foxglove/scene", _foxglove_scene_schema()),
+}
+"""Every channel srfm writes, by key; docs/logging.md lists them."""
+
+
+def schema_bytes(key: str) -> bytes:
+    """The JSON schema text of channel ``key`` (for tests and docs)."""
+    return CHANNELS[key].schema

@@ -87,22 +87,11 @@ def check_optional_positive(inst: Any, attribute: attrs.Attribute[Any], value: A
         positive(value, _field(inst, attribute), PlannerError)
 
 
-def world_edges(world: WorldBounds) -> FloatArray:
-    """(4, 4) segments along the edges of the world rectangle."""
-    x0, x1, y0, y1 = world.x_min, world.x_max, world.y_min, world.y_max
-    return np.array([[x0, y0, x1, y0], [x1, y0, x1, y1], [x1, y1, x0, y1], [x0, y1, x0, y0]])
-
-
-def static_geometry(
-    obstacles: Obstacles, world: WorldBounds | None, avoid_world_edges: bool
-) -> tuple[FloatArray, FloatArray]:
-    """Writable, C-contiguous (segments (M, 4), circles (K, 3)) for the kernels: the
-    scenario's walls (plus the world's edges when ``avoid_world_edges``) and pillars."""
-    segments = np.array(obstacles.segments, dtype=np.float64)
-    if avoid_world_edges and world is not None:
-        segments = np.concatenate([segments, world_edges(world)])
-    circles = np.array(obstacles.circles, dtype=np.float64)
-    return np.ascontiguousarray(segments), np.ascontiguousarray(circles)
+def static_geometry(obstacles: Obstacles) -> tuple[FloatArray, FloatArray]:
+    """Writable, C-contiguous copies (segments (M, 4), circles (K, 3)) for the kernels."""
+    segments = np.ascontiguousarray(obstacles.segments, dtype=np.float64).copy()
+    circles = np.ascontiguousarray(obstacles.circles, dtype=np.float64).copy()
+    return segments, circles
 
 
 class KernelPlanner:
@@ -142,7 +131,7 @@ class KernelPlanner:
     ) -> None:
         self._robot = robot
         self._unicycle = robot.kinematics == "unicycle"
-        self._segments, self._circles = static_geometry(obstacles, world, self._avoid_edges)
+        self._segments, self._circles = static_geometry(obstacles)
         self._near = np.zeros(self._segments.shape[0])
         params = np.zeros(self._n_params)
         params[_kernels.P_RADIUS] = robot.radius_m
@@ -153,6 +142,12 @@ class KernelPlanner:
         params[_kernels.P_MARGIN] = self._margin
         params[_kernels.P_DT] = dt_s
         params[_kernels.P_GOAL_RADIUS] = robot.goal_radius_m
+        if self._avoid_edges and world is not None:
+            params[_kernels.P_EDGES] = 1.0
+            params[_kernels.P_XMIN] = world.x_min
+            params[_kernels.P_XMAX] = world.x_max
+            params[_kernels.P_YMIN] = world.y_min
+            params[_kernels.P_YMAX] = world.y_max
         self._fill_params(params, robot, dt_s)
         if np.any(np.isnan(params)):
             raise PlannerError(f"{self.name}: NaN in the planner parameters {params!r}")

@@ -9,8 +9,11 @@ command as two floats.
 Shapes and frames (world frame, SI units):
 
 - ``ped_pos``, ``ped_vel`` (k, 2) and ``ped_radius`` (k,): the observed pedestrians;
-- ``segments`` (M, 4) = (x1, y1, x2, y2): walls, including the world's edges when the
-  planner keeps away from them; ``circles`` (K, 3) = (cx, cy, radius): pillars;
+- ``segments`` (M, 4) = (x1, y1, x2, y2): walls; ``circles`` (K, 3) = (cx, cy,
+  radius): pillars. The world's edges, which the planners keep away from like walls
+  by default, are the rectangle in ``params`` (``P_EDGES``, ``P_XMIN`` ...): the
+  robot is always inside it, so the distance to the edges is a minimum of four
+  differences;
 - ``params``: the planner's float64 parameter vector. Its first ``N_COMMON`` entries
   are shared by every planner (``P_*`` below), the rest are the planner's own
   (``DWA_*``, ``VO_*``, ``ORCA_*``, ``SF_*``); the planner classes build it at reset.
@@ -41,45 +44,48 @@ P_UNICYCLE = 4  # 1.0 for a unicycle robot, 0.0 for a holonomic one
 P_MARGIN = 5  # safety margin added to every clearance (m)
 P_DT = 6  # simulation step (s)
 P_GOAL_RADIUS = 7  # the goal counts as reached within this distance (m)
-N_COMMON = 8
+P_EDGES = 8  # 1.0: keep away from the world's edges like from walls
+P_XMIN = 9  # world rectangle (m)
+P_XMAX = 10
+P_YMIN = 11
+P_YMAX = 12
+N_COMMON = 13
 
 # Dynamic Window Approach.
-DWA_VMIN = 8  # lowest linear speed sampled (m/s)
-DWA_ACCEL = 9  # linear acceleration limit (m/s²)
-DWA_WACCEL = 10  # angular acceleration limit (rad/s²)
-DWA_STEPS = 11  # rollout steps (integer-valued)
-DWA_SIM_STEP = 12  # rollout step (s)
-DWA_NV = 13  # samples of v (unicycle) or per axis of (vx, vy) (holonomic)
-DWA_NW = 14  # samples of ω (unicycle)
-DWA_HEADING_W = 15  # α
-DWA_CLEAR_W = 16  # β
-DWA_VEL_W = 17  # γ
-DWA_CLEAR_CAP = 18  # clearance at which the clearance term saturates (m)
-DWA_PREDICT = 19  # 1.0: pedestrians move at constant velocity in the rollouts
-DWA_WINDOW_T = 20  # the window holds the velocities reachable within this time (s)
-N_DWA = 21
+DWA_VMIN = N_COMMON + 0  # lowest linear speed sampled (m/s)
+DWA_ACCEL = N_COMMON + 1  # linear acceleration limit (m/s²)
+DWA_WACCEL = N_COMMON + 2  # angular acceleration limit (rad/s²)
+DWA_STEPS = N_COMMON + 3  # rollout steps (integer-valued)
+DWA_SIM_STEP = N_COMMON + 4  # rollout step (s)
+DWA_NV = N_COMMON + 5  # samples of v (unicycle) or per axis of (vx, vy) (holonomic)
+DWA_NW = N_COMMON + 6  # samples of ω (unicycle)
+DWA_HEADING_W = N_COMMON + 7  # α
+DWA_CLEAR_W = N_COMMON + 8  # β
+DWA_VEL_W = N_COMMON + 9  # γ
+DWA_CLEAR_CAP = N_COMMON + 10  # clearance at which the clearance term saturates (m)
+DWA_PREDICT = N_COMMON + 11  # 1.0: pedestrians move at constant velocity in the rollouts
+DWA_WINDOW_T = N_COMMON + 12  # the window holds the velocities reachable within this time (s)
+N_DWA = N_COMMON + 13
 
 # Velocity Obstacles.
-VO_HORIZON = 8  # time horizon (s), inf for untruncated cones
-VO_NSPEEDS = 9  # speed rings of the candidate set
-VO_NHEADINGS = 10  # directions per ring
-N_VO = 11
+VO_HORIZON = N_COMMON + 0  # time horizon (s), inf for untruncated cones
+N_VO = N_COMMON + 1
 
 # ORCA.
-ORCA_TAU = 8  # time horizon for pedestrians (s)
-ORCA_TAU_OBS = 9  # time horizon for walls and pillars (s)
-ORCA_RESP = 10  # the robot's share of each avoidance, in (0, 1]
-N_ORCA = 11
+ORCA_TAU = N_COMMON + 0  # time horizon for pedestrians (s)
+ORCA_TAU_OBS = N_COMMON + 1  # time horizon for walls, pillars and edges (s)
+ORCA_RESP = N_COMMON + 2  # the robot's share of each avoidance, in (0, 1]
+N_ORCA = N_COMMON + 3
 
 # Social-force robot.
-SF_VDES = 8  # desired speed (m/s)
-SF_TAU = 9  # relaxation time τ (s)
-SF_A = 10  # pedestrian repulsion strength A (m/s²)
-SF_B = 11  # pedestrian repulsion range B (m)
-SF_LAMBDA = 12  # anisotropy λ
-SF_A_OBS = 13  # wall and pillar strength (m/s²)
-SF_B_OBS = 14  # wall and pillar range (m)
-N_SF = 15
+SF_VDES = N_COMMON + 0  # desired speed (m/s)
+SF_TAU = N_COMMON + 1  # relaxation time τ (s)
+SF_A = N_COMMON + 2  # pedestrian repulsion strength A (m/s²)
+SF_B = N_COMMON + 3  # pedestrian repulsion range B (m)
+SF_LAMBDA = N_COMMON + 4  # anisotropy λ
+SF_A_OBS = N_COMMON + 5  # wall and pillar strength (m/s²)
+SF_B_OBS = N_COMMON + 6  # wall and pillar range (m)
+N_SF = N_COMMON + 7
 
 EXP_ARG_MAX = 60.0
 
@@ -105,6 +111,35 @@ def _closest_on_segment(
     if len2 > EPS:
         t = min(1.0, max(0.0, ((x - x1) * sx + (y - y1) * sy) / len2))
     return x1 + t * sx, y1 + t * sy
+
+
+@njit(cache=True, inline="always")
+def _edge_gap(x: float, y: float, params: np.ndarray) -> float:
+    """Distance (m) from (x, y), inside the world, to its nearest edge; inf when the
+    planner ignores the edges."""
+    if params[P_EDGES] == 0.0:
+        return INF
+    gap: float = min(x - params[P_XMIN], params[P_XMAX] - x, y - params[P_YMIN], params[P_YMAX] - y)
+    return gap
+
+
+@njit(cache=True)
+def time_to_edges(
+    x: float, y: float, ux: float, uy: float, r: float, x0: float, x1: float, y0: float, y1: float
+) -> float:
+    """First time t >= 0 at which a disc of radius ``r`` at (x, y) + u t, inside the
+    rectangle [x0, x1] × [y0, y1], touches one of its edges (0 when already within
+    ``r`` of an edge and moving toward it, inf when never)."""
+    best = INF
+    if ux < 0.0:
+        best = min(best, max(x - x0 - r, 0.0) / -ux)
+    elif ux > 0.0:
+        best = min(best, max(x1 - x - r, 0.0) / ux)
+    if uy < 0.0:
+        best = min(best, max(y - y0 - r, 0.0) / -uy)
+    elif uy > 0.0:
+        best = min(best, max(y1 - y - r, 0.0) / uy)
+    return best
 
 
 @njit(cache=True)
@@ -215,54 +250,17 @@ def mark_near_segments(
         cx, cy = _closest_on_segment(
             x, y, segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]
         )
-        d = math.sqrt((x - cx) ** 2 + (y - cy) ** 2)
+        d = math.sqrt((x - cx) * (x - cx) + (y - cy) * (y - cy))
         near[k] = 1.0 if d < reach else 0.0
         if d < reach:
             count += 1
     return count
 
 
-@njit(cache=True, inline="always")
-def _clearance(
-    px: float,
-    py: float,
-    t: float,
-    ped_pos: np.ndarray,
-    ped_vel: np.ndarray,
-    ped_radius: np.ndarray,
-    segments: np.ndarray,
-    near: np.ndarray,
-    circles: np.ndarray,
-    radius: float,
-) -> float:
-    """Smallest gap (m) between a robot disc of ``radius`` at (px, py) and the
-    pedestrians at time t (positions + velocity · t), the near walls and the pillars."""
-    best = INF
-    for j in range(ped_pos.shape[0]):
-        dx = px - (ped_pos[j, 0] + ped_vel[j, 0] * t)
-        dy = py - (ped_pos[j, 1] + ped_vel[j, 1] * t)
-        c = math.sqrt(dx * dx + dy * dy) - radius - ped_radius[j]
-        if c < best:
-            best = c
-    for k in range(segments.shape[0]):
-        if near[k] == 0.0:
-            continue
-        cx, cy = _closest_on_segment(
-            px, py, segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]
-        )
-        c = math.sqrt((px - cx) ** 2 + (py - cy) ** 2) - radius
-        if c < best:
-            best = c
-    for k in range(circles.shape[0]):
-        dx = px - circles[k, 0]
-        dy = py - circles[k, 1]
-        c = math.sqrt(dx * dx + dy * dy) - radius - circles[k, 2]
-        if c < best:
-            best = c
-    return best
-
-
 # --------------------------------------------------------------------------- DWA
+#
+# Hot loops index the arrays directly: a call that passes arrays costs reference
+# counting, which would dominate a rollout step.
 
 
 @njit(cache=True, inline="always")
@@ -330,19 +328,19 @@ def dwa_heading(
     wc: float,
     gx: float,
     gy: float,
-    params: np.ndarray,
+    accel: float,
+    waccel: float,
+    t_w: float,
 ) -> float:
     """Fox et al.'s heading term: 1 − |θ_goal| / π, θ_goal the angle of the goal
     relative to the robot's heading at its predicted pose.
 
     As in the paper, the pose is predicted by moving toward the candidate (vc, ωc) at
-    the acceleration limits for the window time (one step in the paper), then braking
-    to rest at the same limits. Turn angles and distances of both phases are exact;
-    each phase moves along its mid-phase heading.
+    the acceleration limits ``accel`` (m/s²) and ``waccel`` (rad/s²) for the window
+    time ``t_w`` (one step in the paper), then braking to rest at the same limits.
+    Turn angles and distances of both phases are exact; each phase moves along its
+    mid-phase heading.
     """
-    accel = params[DWA_ACCEL]
-    waccel = params[DWA_WACCEL]
-    t_w = params[DWA_WINDOW_T]
     d1 = _ramp_integral(v, vc, accel, t_w)
     a1 = _ramp_integral(w, wc, waccel, t_w)
     v1 = _approach(v, vc, accel * t_w)
@@ -371,76 +369,6 @@ def _dwa_score(heading: float, min_clear: float, speed: float, params: np.ndarra
 
 
 @njit(cache=True)
-def dwa_rollout_unicycle(
-    x: float,
-    y: float,
-    theta: float,
-    v: float,
-    w: float,
-    vc: float,
-    wc: float,
-    gx: float,
-    gy: float,
-    ped_pos: np.ndarray,
-    ped_vel: np.ndarray,
-    ped_radius: np.ndarray,
-    segments: np.ndarray,
-    near: np.ndarray,
-    circles: np.ndarray,
-    params: np.ndarray,
-) -> tuple[float, float, bool]:
-    """Roll out candidate (vc, ωc) from (x, y, θ) moving at (v, ω).
-
-    The velocity approaches (vc, ωc) at the acceleration limits, then holds it; the
-    pose follows the midpoint rule in steps of ``DWA_SIM_STEP`` for ``DWA_STEPS``
-    steps, or until the goal radius is reached.
-
-    Returns:
-        (smallest gap along the rollout (m), time of the first contact (s; inf when
-        none), whether the rollout reached the goal).
-    """
-    n_steps = int(params[DWA_STEPS])
-    h = params[DWA_SIM_STEP]
-    dv = params[DWA_ACCEL] * h
-    dw = params[DWA_WACCEL] * h
-    radius = params[P_RADIUS] + params[P_MARGIN]
-    predict = params[DWA_PREDICT]
-    goal_r2 = params[P_GOAL_RADIUS] ** 2
-    hx = math.cos(theta)
-    hy = math.sin(theta)
-    vr = v
-    wr = w - 2.0 * dw - 1.0  # anything different from the first ω, to set c and s
-    c = 1.0
-    s = 0.0
-    px = x
-    py = y
-    min_clear = INF
-    for k in range(1, n_steps + 1):
-        vr = _approach(vr, vc, dv)
-        w_new = _approach(w if k == 1 else wr, wc, dw)
-        if w_new != wr:  # rotation of half a step, recomputed only while ω changes
-            wr = w_new
-            c = math.cos(0.5 * wr * h)
-            s = math.sin(0.5 * wr * h)
-        mx = hx * c - hy * s  # mid-step heading
-        my = hy * c + hx * s
-        px += vr * mx * h
-        py += vr * my * h
-        hx = mx * c - my * s
-        hy = my * c + mx * s
-        gap = _clearance(
-            px, py, k * h * predict, ped_pos, ped_vel, ped_radius, segments, near, circles, radius
-        )
-        if gap < min_clear:
-            min_clear = gap
-        if gap < 0.0:
-            return min_clear, k * h, False
-        if (px - gx) ** 2 + (py - gy) ** 2 < goal_r2:
-            return min_clear, INF, True
-    return min_clear, INF, False
-
-
-@njit(cache=True)
 def dwa_unicycle(
     x: float,
     y: float,
@@ -456,30 +384,52 @@ def dwa_unicycle(
     circles: np.ndarray,
     params: np.ndarray,
     near: np.ndarray,
+    table: np.ndarray,
 ) -> tuple[float, float]:
     """DWA for a unicycle: the best (v, ω) of the dynamic window.
 
-    Each of the ``DWA_NV`` × ``DWA_NW`` samples of the window is rolled out
-    (:func:`dwa_rollout_unicycle`) against the pedestrians (moved at constant velocity
-    when ``DWA_PREDICT`` is set), walls and pillars, all inflated by the safety margin;
-    with nothing within reach the rollouts are skipped (every clearance is then
-    infinite). Rollouts that touch anything are inadmissible; the admissible one with
-    the highest G = α heading (:func:`dwa_heading`) + β clearance + γ velocity wins.
-    When none is admissible the one whose first contact comes latest (then: larger
-    clearance) wins.
+    Each of the ``DWA_NV`` × ``DWA_NW`` samples (vc, ωc) of the window is rolled out
+    for ``DWA_STEPS`` steps of ``DWA_SIM_STEP`` seconds (midpoint rule, as the robot
+    moves): the velocity approaches (vc, ωc) at the acceleration limits, then holds it.
+    Each rollout position is checked against the pedestrians (moved at constant
+    velocity when ``DWA_PREDICT`` is set), the near walls, the pillars and the world's
+    edges, all inflated by the safety margin; a rollout stops at the first contact or
+    inside the goal radius. With nothing within reach the rollouts are skipped (every
+    gap is then infinite). Rollouts with a contact are inadmissible; the admissible one
+    with the highest G = α heading (:func:`dwa_heading`) + β clearance + γ velocity
+    wins. When none is admissible the one whose first contact comes latest (then:
+    larger clearance) wins.
+
+    ``table`` (>= DWA_NV · DWA_NW, 5) receives one row per sample: vc, ωc, smallest
+    gap (m), time of the first contact (s, inf for none), G (−inf when inadmissible).
     """
     v_lo, v_hi, w_lo, w_hi = dynamic_window(v, w, params)
     nv = int(params[DWA_NV])
     nw = int(params[DWA_NW])
-    reach = (
-        params[P_RADIUS]
-        + params[P_MARGIN]
-        + params[P_VMAX] * params[DWA_STEPS] * params[DWA_SIM_STEP]
-        + params[DWA_CLEAR_CAP]
-    )
+    n_steps = int(params[DWA_STEPS])
+    h = params[DWA_SIM_STEP]
+    accel = params[DWA_ACCEL]
+    waccel = params[DWA_WACCEL]
+    t_w = params[DWA_WINDOW_T]
+    dv = accel * h
+    dw = waccel * h
+    radius = params[P_RADIUS] + params[P_MARGIN]
+    predict = params[DWA_PREDICT]
+    goal_r2 = params[P_GOAL_RADIUS] * params[P_GOAL_RADIUS]
+    x0 = params[P_XMIN]
+    x1 = params[P_XMAX]
+    y0 = params[P_YMIN]
+    y1 = params[P_YMAX]
+    reach = radius + params[P_VMAX] * n_steps * h + params[DWA_CLEAR_CAP]
     n_near = mark_near_segments(segments, x, y, reach, near)
-    check = n_near > 0 or ped_pos.shape[0] > 0 or circles.shape[0] > 0
-    goal_r2 = params[P_GOAL_RADIUS] ** 2
+    edges = _edge_gap(x, y, params) < reach
+    n_peds = ped_pos.shape[0]
+    n_seg = segments.shape[0]
+    n_circ = circles.shape[0]
+    check = edges or n_near > 0 or n_peds > 0 or n_circ > 0
+    at_goal_now = (x - gx) * (x - gx) + (y - gy) * (y - gy) < goal_r2
+    hx0 = math.cos(theta)
+    hy0 = math.sin(theta)
     best = -INF
     best_v = v_lo
     best_w = 0.5 * (w_lo + w_hi)
@@ -487,23 +437,73 @@ def dwa_unicycle(
     fb_clear = -INF
     fb_v = best_v
     fb_w = best_w
+    row = 0
     for i in range(nv):
         vc = _sample(v_lo, v_hi, i, nv)
         for j in range(nw):
             wc = _sample(w_lo, w_hi, j, nw)
             min_clear = INF
             t_hit = INF
-            at_goal = False
+            at_goal = at_goal_now
             if check:
-                min_clear, t_hit, at_goal = dwa_rollout_unicycle(
-                    x, y, theta, v, w, vc, wc, gx, gy,
-                    ped_pos, ped_vel, ped_radius, segments, near, circles, params,
-                )  # fmt: skip
+                hx = hx0
+                hy = hy0
+                px = x
+                py = y
+                vr = v
+                wr = w - 2.0 * dw - 1.0  # differs from every ω reached: sets c and s
+                c = 1.0
+                s = 0.0
+                for k in range(1, n_steps + 1):
+                    vr = _approach(vr, vc, dv)
+                    w_new = _approach(w if k == 1 else wr, wc, dw)
+                    if w_new != wr:  # half-step rotation, recomputed while ω changes
+                        wr = w_new
+                        c = math.cos(0.5 * wr * h)
+                        s = math.sin(0.5 * wr * h)
+                    mx = hx * c - hy * s  # mid-step heading
+                    my = hy * c + hx * s
+                    px += vr * mx * h
+                    py += vr * my * h
+                    hx = mx * c - my * s
+                    hy = my * c + mx * s
+                    # Smallest gap to everything at time k h.
+                    t = k * h * predict
+                    gap = INF
+                    if edges:
+                        gap = min(px - x0, x1 - px, py - y0, y1 - py) - radius
+                    for q in range(n_peds):
+                        ex = px - (ped_pos[q, 0] + ped_vel[q, 0] * t)
+                        ey = py - (ped_pos[q, 1] + ped_vel[q, 1] * t)
+                        g = math.sqrt(ex * ex + ey * ey) - radius - ped_radius[q]
+                        gap = min(gap, g)
+                    for q in range(n_seg):
+                        if near[q] != 0.0:
+                            cx, cy = _closest_on_segment(
+                                px, py, segments[q, 0], segments[q, 1], segments[q, 2],
+                                segments[q, 3],
+                            )  # fmt: skip
+                            ex = px - cx
+                            ey = py - cy
+                            gap = min(gap, math.sqrt(ex * ex + ey * ey) - radius)
+                    for q in range(n_circ):
+                        ex = px - circles[q, 0]
+                        ey = py - circles[q, 1]
+                        g = math.sqrt(ex * ex + ey * ey) - radius - circles[q, 2]
+                        gap = min(gap, g)
+                    min_clear = min(min_clear, gap)
+                    if gap < 0.0:
+                        t_hit = k * h
+                        break
+                    if (px - gx) * (px - gx) + (py - gy) * (py - gy) < goal_r2:
+                        at_goal = True
+                        break
+            score = -INF
             if t_hit == INF:
-                if at_goal or (x - gx) ** 2 + (y - gy) ** 2 < goal_r2:
+                if at_goal:
                     heading = 1.0
                 else:
-                    heading = dwa_heading(x, y, theta, v, w, vc, wc, gx, gy, params)
+                    heading = dwa_heading(x, y, theta, v, w, vc, wc, gx, gy, accel, waccel, t_w)
                 score = _dwa_score(heading, min_clear, vc, params)
                 if score > best:
                     best = score
@@ -514,71 +514,21 @@ def dwa_unicycle(
                 fb_clear = min_clear
                 fb_v = vc
                 fb_w = wc
+            table[row, 0] = vc
+            table[row, 1] = wc
+            table[row, 2] = min_clear
+            table[row, 3] = t_hit
+            table[row, 4] = score
+            row += 1
     if best > -INF:
         return best_v, best_w
     return fb_v, fb_w
 
 
 @njit(cache=True)
-def dwa_rollout_holonomic(
-    x: float,
-    y: float,
-    vx: float,
-    vy: float,
-    cx: float,
-    cy: float,
-    gx: float,
-    gy: float,
-    ped_pos: np.ndarray,
-    ped_vel: np.ndarray,
-    ped_radius: np.ndarray,
-    segments: np.ndarray,
-    near: np.ndarray,
-    circles: np.ndarray,
-    params: np.ndarray,
-) -> tuple[float, float, bool]:
-    """As :func:`dwa_rollout_unicycle` for a holonomic robot moving at (vx, vy) and
-    candidate (cx, cy): the velocity vector approaches it at the acceleration limit."""
-    n_steps = int(params[DWA_STEPS])
-    h = params[DWA_SIM_STEP]
-    dvh = params[DWA_ACCEL] * h
-    radius = params[P_RADIUS] + params[P_MARGIN]
-    predict = params[DWA_PREDICT]
-    goal_r2 = params[P_GOAL_RADIUS] ** 2
-    px = x
-    py = y
-    rx = vx
-    ry = vy
-    min_clear = INF
-    for k in range(1, n_steps + 1):
-        ex = cx - rx
-        ey = cy - ry
-        e = math.sqrt(ex * ex + ey * ey)
-        if e > dvh:
-            rx += ex * dvh / e
-            ry += ey * dvh / e
-        else:
-            rx = cx
-            ry = cy
-        px += rx * h
-        py += ry * h
-        gap = _clearance(
-            px, py, k * h * predict, ped_pos, ped_vel, ped_radius, segments, near, circles, radius
-        )
-        if gap < min_clear:
-            min_clear = gap
-        if gap < 0.0:
-            return min_clear, k * h, False
-        if (px - gx) ** 2 + (py - gy) ** 2 < goal_r2:
-            return min_clear, INF, True
-    return min_clear, INF, False
-
-
-@njit(cache=True)
 def dwa_holonomic(
     x: float,
     y: float,
-    theta: float,
     vx: float,
     vy: float,
     gx: float,
@@ -590,31 +540,42 @@ def dwa_holonomic(
     circles: np.ndarray,
     params: np.ndarray,
     near: np.ndarray,
+    table: np.ndarray,
 ) -> tuple[float, float]:
     """DWA for a holonomic robot: the best (vx, vy) of the dynamic window.
 
     The window is the disc of velocities within the window time of acceleration of
-    (vx, vy) (the points of a ``DWA_NV`` × ``DWA_NV`` grid inside it), capped at
-    v_max; rollouts as :func:`dwa_rollout_holonomic`. The heading term compares the
-    direction of the candidate velocity with the direction to the goal from the
-    position predicted after the window time at the candidate and braking; it is 0.5
-    for the zero velocity (no direction). Scoring and the fallback as in
-    :func:`dwa_unicycle`.
+    (vx, vy) (the points of a ``DWA_NV`` × ``DWA_NV`` grid inside it), capped at v_max.
+    Each rollout approaches the candidate at the acceleration limit, then holds it;
+    checks as in :func:`dwa_unicycle`. The heading term compares the direction of the
+    candidate velocity with the direction to the goal from the position predicted
+    after the window time at the candidate and braking; it is 0.5 for the zero
+    velocity (no direction). Scoring, fallback and ``table`` (rows vx, vy, gap,
+    contact time, G) as in :func:`dwa_unicycle`.
     """
     n = int(params[DWA_NV])
+    n_steps = int(params[DWA_STEPS])
+    h = params[DWA_SIM_STEP]
     accel = params[DWA_ACCEL]
     t_w = params[DWA_WINDOW_T]
     dv = accel * t_w
+    dvh = accel * h
     vmax = params[P_VMAX]
-    reach = (
-        params[P_RADIUS]
-        + params[P_MARGIN]
-        + vmax * params[DWA_STEPS] * params[DWA_SIM_STEP]
-        + params[DWA_CLEAR_CAP]
-    )
+    radius = params[P_RADIUS] + params[P_MARGIN]
+    predict = params[DWA_PREDICT]
+    goal_r2 = params[P_GOAL_RADIUS] * params[P_GOAL_RADIUS]
+    x0 = params[P_XMIN]
+    x1 = params[P_XMAX]
+    y0 = params[P_YMIN]
+    y1 = params[P_YMAX]
+    reach = radius + vmax * n_steps * h + params[DWA_CLEAR_CAP]
     n_near = mark_near_segments(segments, x, y, reach, near)
-    check = n_near > 0 or ped_pos.shape[0] > 0 or circles.shape[0] > 0
-    goal_r2 = params[P_GOAL_RADIUS] ** 2
+    edges = _edge_gap(x, y, params) < reach
+    n_peds = ped_pos.shape[0]
+    n_seg = segments.shape[0]
+    n_circ = circles.shape[0]
+    check = edges or n_near > 0 or n_peds > 0 or n_circ > 0
+    at_goal_now = (x - gx) * (x - gx) + (y - gy) * (y - gy) < goal_r2
     best = -INF
     best_x = vx
     best_y = vy
@@ -622,48 +583,98 @@ def dwa_holonomic(
     fb_clear = -INF
     fb_x = vx
     fb_y = vy
+    row = 0
     for i in range(n):
         ox = _sample(-dv, dv, i, n) if n > 1 else 0.0
         for j in range(n):
             oy = _sample(-dv, dv, j, n) if n > 1 else 0.0
             if ox * ox + oy * oy > dv * dv * (1.0 + 1e-9):
                 continue
-            cx = vx + ox
-            cy = vy + oy
-            speed = math.sqrt(cx * cx + cy * cy)
+            cvx = vx + ox
+            cvy = vy + oy
+            speed = math.sqrt(cvx * cvx + cvy * cvy)
             if speed > vmax:
-                cx *= vmax / speed
-                cy *= vmax / speed
+                cvx *= vmax / speed
+                cvy *= vmax / speed
                 speed = vmax
             min_clear = INF
             t_hit = INF
-            at_goal = False
+            at_goal = at_goal_now
             if check:
-                min_clear, t_hit, at_goal = dwa_rollout_holonomic(
-                    x, y, vx, vy, cx, cy, gx, gy,
-                    ped_pos, ped_vel, ped_radius, segments, near, circles, params,
-                )  # fmt: skip
+                px = x
+                py = y
+                rx = vx
+                ry = vy
+                for k in range(1, n_steps + 1):
+                    ex = cvx - rx
+                    ey = cvy - ry
+                    e = math.sqrt(ex * ex + ey * ey)
+                    if e > dvh:
+                        rx += ex * dvh / e
+                        ry += ey * dvh / e
+                    else:
+                        rx = cvx
+                        ry = cvy
+                    px += rx * h
+                    py += ry * h
+                    t = k * h * predict
+                    gap = INF
+                    if edges:
+                        gap = min(px - x0, x1 - px, py - y0, y1 - py) - radius
+                    for q in range(n_peds):
+                        ex = px - (ped_pos[q, 0] + ped_vel[q, 0] * t)
+                        ey = py - (ped_pos[q, 1] + ped_vel[q, 1] * t)
+                        g = math.sqrt(ex * ex + ey * ey) - radius - ped_radius[q]
+                        gap = min(gap, g)
+                    for q in range(n_seg):
+                        if near[q] != 0.0:
+                            cx, cy = _closest_on_segment(
+                                px, py, segments[q, 0], segments[q, 1], segments[q, 2],
+                                segments[q, 3],
+                            )  # fmt: skip
+                            ex = px - cx
+                            ey = py - cy
+                            gap = min(gap, math.sqrt(ex * ex + ey * ey) - radius)
+                    for q in range(n_circ):
+                        ex = px - circles[q, 0]
+                        ey = py - circles[q, 1]
+                        g = math.sqrt(ex * ex + ey * ey) - radius - circles[q, 2]
+                        gap = min(gap, g)
+                    min_clear = min(min_clear, gap)
+                    if gap < 0.0:
+                        t_hit = k * h
+                        break
+                    if (px - gx) * (px - gx) + (py - gy) * (py - gy) < goal_r2:
+                        at_goal = True
+                        break
+            score = -INF
             if t_hit == INF:
-                if at_goal or (x - gx) ** 2 + (y - gy) ** 2 < goal_r2:
+                if at_goal:
                     heading = 1.0
                 elif speed < 1e-9:
                     heading = 0.5  # at rest a holonomic robot faces no direction
                 else:
                     lead = t_w + 0.5 * speed / accel
-                    qx = x + cx * lead
-                    qy = y + cy * lead
-                    err = _wrap(math.atan2(gy - qy, gx - qx) - math.atan2(cy, cx))
+                    qx = x + cvx * lead
+                    qy = y + cvy * lead
+                    err = _wrap(math.atan2(gy - qy, gx - qx) - math.atan2(cvy, cvx))
                     heading = 1.0 - abs(err) / math.pi
                 score = _dwa_score(heading, min_clear, speed, params)
                 if score > best:
                     best = score
-                    best_x = cx
-                    best_y = cy
+                    best_x = cvx
+                    best_y = cvy
             elif t_hit > fb_t or (t_hit == fb_t and min_clear > fb_clear):
                 fb_t = t_hit
                 fb_clear = min_clear
-                fb_x = cx
-                fb_y = cy
+                fb_x = cvx
+                fb_y = cvy
+            table[row, 0] = cvx
+            table[row, 1] = cvy
+            table[row, 2] = min_clear
+            table[row, 3] = t_hit
+            table[row, 4] = score
+            row += 1
     if best > -INF:
         return best_x, best_y
     return fb_x, fb_y
@@ -686,78 +697,6 @@ def _preferred_velocity(
 
 
 @njit(cache=True)
-def vo_min_ttc(
-    x: float,
-    y: float,
-    ux: float,
-    uy: float,
-    ped_pos: np.ndarray,
-    ped_vel: np.ndarray,
-    ped_radius: np.ndarray,
-    segments: np.ndarray,
-    near: np.ndarray,
-    circles: np.ndarray,
-    radius: float,
-    stop_at: float,
-) -> float:
-    """Smallest time to collision of a robot disc of ``radius`` at (x, y) moving at
-    (ux, uy) with any pedestrian (constant velocity), near wall or pillar; returns as
-    soon as one is <= ``stop_at``."""
-    best = INF
-    for j in range(ped_pos.shape[0]):
-        t = time_to_collision(
-            ped_pos[j, 0] - x,
-            ped_pos[j, 1] - y,
-            ux - ped_vel[j, 0],
-            uy - ped_vel[j, 1],
-            radius + ped_radius[j],
-        )
-        if t < best:
-            best = t
-            if best <= stop_at:
-                return best
-    for k in range(circles.shape[0]):
-        t = time_to_collision(circles[k, 0] - x, circles[k, 1] - y, ux, uy, radius + circles[k, 2])
-        if t < best:
-            best = t
-            if best <= stop_at:
-                return best
-    for k in range(segments.shape[0]):
-        if near[k] == 0.0:
-            continue
-        t = time_to_segment(
-            x, y, ux, uy, segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3], radius
-        )
-        if t < best:
-            best = t
-            if best <= stop_at:
-                return best
-    return best
-
-
-@njit(cache=True, inline="always")
-def _vo_candidate(
-    c: int,
-    n_speeds: int,
-    n_headings: int,
-    vmax: float,
-    goal_angle: float,
-    prefx: float,
-    prefy: float,
-) -> tuple[float, float]:
-    """Candidate c: 0 the preferred velocity, then rings of speeds v_max i / n_speeds ×
-    n_headings directions starting at the goal direction, last the zero velocity."""
-    if c == 0:
-        return prefx, prefy
-    k = c - 1
-    if k >= n_speeds * n_headings:
-        return 0.0, 0.0
-    speed = vmax * (k // n_headings + 1) / n_speeds
-    angle = goal_angle + 2.0 * math.pi * (k % n_headings) / n_headings
-    return speed * math.cos(angle), speed * math.sin(angle)
-
-
-@njit(cache=True)
 def vo_velocity(
     x: float,
     y: float,
@@ -769,56 +708,83 @@ def vo_velocity(
     segments: np.ndarray,
     circles: np.ndarray,
     params: np.ndarray,
+    candidates: np.ndarray,
     near: np.ndarray,
 ) -> tuple[float, float]:
     """Velocity Obstacles: the admissible candidate velocity closest to the preferred one.
 
+    ``candidates`` (n, 2) are velocities in the goal frame (x toward the goal), sorted
+    by their distance to the preferred velocity (v_max, 0); the first is that velocity.
     A candidate u is admissible when it lies in no velocity obstacle: its time to
-    collision with every pedestrian (at constant velocity), pillar and near wall, all
-    inflated by the robot radius and the margin, exceeds the time horizon. Candidates
-    are the preferred velocity (v_max toward the goal), rings of speeds and directions,
-    and zero. When none is admissible, the candidate with the latest collision (then:
-    the closest to the preferred velocity) is taken.
+    collision with every pedestrian (at constant velocity), pillar, near wall and world
+    edge, all inflated by the robot radius and the margin, exceeds the time horizon.
+    The first admissible candidate is taken; when there is none, the one with the
+    latest collision (then: the earliest in the order).
     """
     vmax = params[P_VMAX]
     horizon = params[VO_HORIZON]
     radius = params[P_RADIUS] + params[P_MARGIN]
-    n_speeds = int(params[VO_NSPEEDS])
-    n_headings = int(params[VO_NHEADINGS])
-    prefx, prefy = _preferred_velocity(x, y, gx, gy, vmax)
-    goal_angle = math.atan2(gy - y, gx - x)
+    dx = gx - x
+    dy = gy - y
+    dist = math.sqrt(dx * dx + dy * dy)
+    if dist < EPS:
+        return 0.0, 0.0
+    cg = dx / dist
+    sg = dy / dist
     reach = radius + vmax * horizon if horizon < INF else INF
     mark_near_segments(segments, x, y, reach, near)
-    total = n_speeds * n_headings + 2
-    best_cost = INF
+    edges = params[P_EDGES] != 0.0
+    x0 = params[P_XMIN]
+    x1 = params[P_XMAX]
+    y0 = params[P_YMIN]
+    y1 = params[P_YMAX]
+    n_peds = ped_pos.shape[0]
+    n_seg = segments.shape[0]
+    n_circ = circles.shape[0]
+    best_t = -1.0
     best_x = 0.0
     best_y = 0.0
-    for c in range(total):
-        ux, uy = _vo_candidate(c, n_speeds, n_headings, vmax, goal_angle, prefx, prefy)
-        cost = (ux - prefx) ** 2 + (uy - prefy) ** 2
-        if cost >= best_cost:
-            continue
-        t = vo_min_ttc(
-            x, y, ux, uy, ped_pos, ped_vel, ped_radius, segments, near, circles, radius, horizon
-        )
-        if t > horizon or t == INF:  # no contact within the horizon (or ever)
-            best_cost = cost
-            best_x = ux
-            best_y = uy
-    if best_cost < INF:
-        return best_x, best_y
-    best_t = -1.0
-    for c in range(total):
-        ux, uy = _vo_candidate(c, n_speeds, n_headings, vmax, goal_angle, prefx, prefy)
-        cost = (ux - prefx) ** 2 + (uy - prefy) ** 2
-        t = vo_min_ttc(
-            x, y, ux, uy, ped_pos, ped_vel, ped_radius, segments, near, circles, radius, -1.0
-        )
-        if t > best_t or (t == best_t and cost < best_cost):
-            best_t = t
-            best_cost = cost
-            best_x = ux
-            best_y = uy
+    # Pass 0 stops at the first admissible candidate; pass 1 (when there is none)
+    # finds the latest collision over all candidates.
+    for phase in range(2):
+        stop_at = horizon if phase == 0 else -1.0
+        for c in range(candidates.shape[0]):
+            ux = candidates[c, 0] * cg - candidates[c, 1] * sg
+            uy = candidates[c, 0] * sg + candidates[c, 1] * cg
+            t_min = INF
+            if edges:
+                t_min = time_to_edges(x, y, ux, uy, radius, x0, x1, y0, y1)
+            for q in range(n_peds):
+                if t_min <= stop_at and t_min < INF:  # already inadmissible
+                    break
+                t = time_to_collision(
+                    ped_pos[q, 0] - x, ped_pos[q, 1] - y,
+                    ux - ped_vel[q, 0], uy - ped_vel[q, 1], radius + ped_radius[q],
+                )  # fmt: skip
+                t_min = min(t_min, t)
+            for q in range(n_circ):
+                if t_min <= stop_at and t_min < INF:  # already inadmissible
+                    break
+                t = time_to_collision(
+                    circles[q, 0] - x, circles[q, 1] - y, ux, uy, radius + circles[q, 2]
+                )
+                t_min = min(t_min, t)
+            for q in range(n_seg):
+                if t_min <= stop_at and t_min < INF:  # already inadmissible
+                    break
+                if near[q] != 0.0:
+                    t = time_to_segment(
+                        x, y, ux, uy, segments[q, 0], segments[q, 1], segments[q, 2],
+                        segments[q, 3], radius,
+                    )  # fmt: skip
+                    t_min = min(t_min, t)
+            if phase == 0:
+                if t_min > horizon or t_min == INF:  # no contact within the horizon
+                    return ux, uy
+            elif t_min > best_t:
+                best_t = t_min
+                best_x = ux
+                best_y = uy
     return best_x, best_y
 
 
@@ -1074,12 +1040,12 @@ def orca_velocity(
 ) -> tuple[float, float]:
     """ORCA: the velocity closest to the preferred one within every ORCA half-plane.
 
-    Hard half-planes first, one per wall or pillar whose surface is within
+    Hard half-planes first, one per wall, pillar or world edge whose surface is within
     ``v_max · τ_obs`` of the robot: n · v >= −(d − r − margin) / τ_obs, with d the
     distance to the closest point and n the unit vector from it to the robot (the
     robot keeps out of reach of the obstacle for τ_obs). Then one soft half-plane per
     pedestrian (:func:`orca_halfplane`). ``lines`` and ``proj`` are scratch with at
-    least (pedestrians + walls + pillars) rows.
+    least (pedestrians + walls + pillars + 4) rows.
     """
     vmax = params[P_VMAX]
     radius = params[P_RADIUS]
@@ -1112,6 +1078,29 @@ def orca_velocity(
         lines[n, 2] = nx
         lines[n, 3] = ny
         n += 1
+    if params[P_EDGES] != 0.0:
+        for k in range(4):
+            if k == 0:
+                gap = x - params[P_XMIN]
+                nx, ny = 1.0, 0.0
+            elif k == 1:
+                gap = params[P_XMAX] - x
+                nx, ny = -1.0, 0.0
+            elif k == 2:
+                gap = y - params[P_YMIN]
+                nx, ny = 0.0, 1.0
+            else:
+                gap = params[P_YMAX] - y
+                nx, ny = 0.0, -1.0
+            gap -= radius + margin
+            if gap >= vmax * tau_obs:
+                continue
+            s = -gap / tau_obs
+            lines[n, 0] = nx * s
+            lines[n, 1] = ny * s
+            lines[n, 2] = nx
+            lines[n, 3] = ny
+            n += 1
     n_hard = n
     for j in range(ped_pos.shape[0]):
         a, b, c, d = orca_halfplane(
@@ -1163,8 +1152,9 @@ def social_force_velocity(
 
     F = (v_des − v)/τ + Σ_j A exp((r + r_j − d_j)/B) ψ(φ_j; λ) n_j
         + Σ_o A_o exp((r − d_o)/B_o) n_o,
-    v_des = (g − x) capped at the desired speed, n the unit vector from the pedestrian
-    (closest obstacle point) to the robot, ψ = λ + (1 − λ)(1 + cos φ)/2 with φ the
+    v_des = (g − x) capped at the desired speed, o over the walls, pillars and (when
+    ``P_EDGES``) the world's edges, n the unit vector from the pedestrian (closest
+    obstacle point) to the robot, ψ = λ + (1 − λ)(1 + cos φ)/2 with φ the
     angle between the robot's heading θ and the direction to the pedestrian. Returns
     v + F dt capped at v_max.
     """
@@ -1217,6 +1207,23 @@ def social_force_velocity(
         mag = a_o * math.exp(min((radius + extra - d) / b_o, EXP_ARG_MAX))
         fx += mag * ex / d
         fy += mag * ey / d
+    if params[P_EDGES] != 0.0:
+        for k in range(4):
+            if k == 0:
+                gap = x - params[P_XMIN]
+                nx, ny = 1.0, 0.0
+            elif k == 1:
+                gap = params[P_XMAX] - x
+                nx, ny = -1.0, 0.0
+            elif k == 2:
+                gap = y - params[P_YMIN]
+                nx, ny = 0.0, 1.0
+            else:
+                gap = params[P_YMAX] - y
+                nx, ny = 0.0, -1.0
+            mag = a_o * math.exp(min((radius - gap) / b_o, EXP_ARG_MAX))
+            fx += mag * nx
+            fy += mag * ny
     dt = params[P_DT]
     ux = vx + fx * dt
     uy = vy + fy * dt
@@ -1246,11 +1253,12 @@ def vo_command(
     segments: np.ndarray,
     circles: np.ndarray,
     params: np.ndarray,
+    candidates: np.ndarray,
     near: np.ndarray,
 ) -> tuple[float, float]:
     """:func:`vo_velocity` as a command (:func:`velocity_to_command`)."""
     ux, uy = vo_velocity(
-        x, y, gx, gy, ped_pos, ped_vel, ped_radius, segments, circles, params, near
+        x, y, gx, gy, ped_pos, ped_vel, ped_radius, segments, circles, params, candidates, near
     )
     return velocity_to_command(ux, uy, theta, params)
 

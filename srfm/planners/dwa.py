@@ -116,6 +116,13 @@ class DWAPlanner(KernelPlanner):
 
     Args:
         config: parameters; the defaults of :class:`DWAConfig` when omitted.
+
+    Attributes:
+        table: (samples, 5) what the last :meth:`act` computed, one row per sample of
+            the window: the sample (v, ω) or (vx, vy), the smallest gap along its
+            rollout (m), the time of its first contact (s, inf for none) and G (−inf
+            when inadmissible). A holonomic window uses the first rows only (the
+            grid points inside its disc). For inspection; the planner never reads it.
     """
 
     name = "dwa"
@@ -143,13 +150,15 @@ class DWAPlanner(KernelPlanner):
             params[_kernels.DWA_NW] = c.omega_samples
         else:
             params[_kernels.DWA_NV] = c.holonomic_samples
-            params[_kernels.DWA_NW] = 1
+            params[_kernels.DWA_NW] = c.holonomic_samples  # the grid is n × n
         params[_kernels.DWA_HEADING_W] = c.heading_weight
         params[_kernels.DWA_CLEAR_W] = c.clearance_weight
         params[_kernels.DWA_VEL_W] = c.velocity_weight
         params[_kernels.DWA_CLEAR_CAP] = c.clearance_cap_m
         params[_kernels.DWA_PREDICT] = 1.0 if c.predict_pedestrians else 0.0
         params[_kernels.DWA_WINDOW_T] = dt_s if c.window_time_s is None else c.window_time_s
+        rows = int(params[_kernels.DWA_NV] * params[_kernels.DWA_NW])
+        self.table = np.full((rows, 5), np.nan)
 
     def window(self, v: float, omega: float) -> tuple[float, float, float, float]:
         """The dynamic window (v_lo, v_hi, ω_lo, ω_hi) at (v, ω) for the current robot."""
@@ -163,12 +172,12 @@ class DWAPlanner(KernelPlanner):
             c0, c1 = _kernels.dwa_unicycle(
                 r.x, r.y, r.theta, r.v, r.omega, g[0], g[1],
                 observation.ped_pos, observation.ped_vel, observation.ped_radius,
-                self._segments, self._circles, self._params, self._near,
+                self._segments, self._circles, self._params, self._near, self.table,
             )  # fmt: skip
         else:
             c0, c1 = _kernels.dwa_holonomic(
-                r.x, r.y, r.theta, r.vx, r.vy, g[0], g[1],
+                r.x, r.y, r.vx, r.vy, g[0], g[1],
                 observation.ped_pos, observation.ped_vel, observation.ped_radius,
-                self._segments, self._circles, self._params, self._near,
+                self._segments, self._circles, self._params, self._near, self.table,
             )  # fmt: skip
         return np.array((c0, c1))

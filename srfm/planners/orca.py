@@ -137,7 +137,7 @@ class ORCAPlanner(KernelPlanner):
         """(v, ω) for a unicycle, (vx, vy) for a holonomic robot."""
         r = observation.robot
         g = observation.robot_goal
-        rows = observation.ped_pos.shape[0] + self._segments.shape[0] + self._circles.shape[0]
+        rows = observation.ped_pos.shape[0] + self._segments.shape[0] + self._circles.shape[0] + 4
         if rows > self._lines.shape[0]:
             self._lines = np.zeros((2 * rows, 4))
             self._proj = np.zeros((2 * rows, 4))

@@ -42,7 +42,12 @@ from srfm.planners._common import (
 )
 from srfm.robot import RobotConfig
 
-__all__ = ["VOConfig", "VelocityObstaclePlanner", "in_velocity_obstacle"]
+__all__ = [
+    "VOConfig",
+    "VelocityObstaclePlanner",
+    "candidate_velocities",
+    "in_velocity_obstacle",
+]
 
 
 @attrs.frozen(kw_only=True)
@@ -102,6 +107,25 @@ def in_velocity_obstacle(
     return t < math.inf and t <= horizon
 
 
+def candidate_velocities(max_speed_mps: float, speeds: int, headings: int) -> FloatArray:
+    """(n, 2) candidate velocities in the goal frame (x toward the goal), nearest to the
+    preferred velocity (max_speed_mps, 0) first (ties in generation order).
+
+    The preferred velocity itself, ``speeds`` rings of speeds v_max i / speeds with
+    ``headings`` directions each, starting at the goal direction, and zero. Their
+    distance to the preferred velocity does not depend on where the goal lies, so the
+    order is fixed once per episode.
+    """
+    ring = np.arange(1, speeds + 1) * max_speed_mps / speeds
+    angle = 2.0 * math.pi * np.arange(headings) / headings
+    grid = np.stack(
+        [np.outer(ring, np.cos(angle)).ravel(), np.outer(ring, np.sin(angle)).ravel()], axis=1
+    )
+    cands = np.concatenate([[[max_speed_mps, 0.0]], grid, [[0.0, 0.0]]])
+    cost = np.hypot(cands[:, 0] - max_speed_mps, cands[:, 1])
+    return np.ascontiguousarray(cands[np.argsort(cost, kind="stable")])
+
+
 class VelocityObstaclePlanner(KernelPlanner):
     """Velocity Obstacles: the admissible velocity closest to the preferred one.
 
@@ -122,8 +146,9 @@ class VelocityObstaclePlanner(KernelPlanner):
     def _fill_params(self, params: FloatArray, robot: RobotConfig, dt_s: float) -> None:
         c = self.config
         params[_kernels.VO_HORIZON] = math.inf if c.time_horizon_s is None else c.time_horizon_s
-        params[_kernels.VO_NSPEEDS] = c.speed_samples
-        params[_kernels.VO_NHEADINGS] = c.heading_samples
+        self._candidates = candidate_velocities(
+            robot.max_speed_mps, c.speed_samples, c.heading_samples
+        )
 
     def act(self, observation: Observation) -> FloatArray:
         """(v, ω) for a unicycle, (vx, vy) for a holonomic robot."""
@@ -132,6 +157,6 @@ class VelocityObstaclePlanner(KernelPlanner):
         c0, c1 = _kernels.vo_command(
             r.x, r.y, r.theta, g[0], g[1],
             observation.ped_pos, observation.ped_vel, observation.ped_radius,
-            self._segments, self._circles, self._params, self._near,
+            self._segments, self._circles, self._params, self._candidates, self._near,
         )  # fmt: skip
         return np.array((c0, c1))

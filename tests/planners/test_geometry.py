@@ -22,7 +22,7 @@ from srfm.planners import _kernels as kern
 from srfm.planners._base import Observation, PlannerContext
 from srfm.planners.orca import orca_halfplane
 from srfm.planners.velocity_obstacles import in_velocity_obstacle
-from srfm.robot import RobotConfig, RobotState
+from srfm.robot import RobotConfig, RobotState, apply_command
 from srfm.scenarios import WorldBounds
 from srfm.state import Obstacles
 
@@ -113,6 +113,12 @@ def test_time_to_collision_hand_cases() -> None:
     t = kern.time_to_segment(1.3, 0.0, 0.0, 1.0, -1.0, 2.0, 1.0, 2.0, 0.5)
     assert t == pytest.approx(2.0 - math.sqrt(0.25 - 0.09))
     assert kern.time_to_segment(0.0, 1.7, 0.0, 1.0, -1.0, 2.0, 1.0, 2.0, 0.5) == 0.0
+    # The world's edges: the box [0, 10] × [0, 5], from (2, 4) with radius 0.5.
+    assert kern.time_to_edges(2.0, 4.0, 0.0, 1.0, 0.5, 0.0, 10.0, 0.0, 5.0) == pytest.approx(0.5)
+    assert kern.time_to_edges(2.0, 4.0, -1.0, 1.0, 0.5, 0.0, 10.0, 0.0, 5.0) == pytest.approx(0.5)
+    assert kern.time_to_edges(2.0, 4.0, -3.0, 0.0, 0.5, 0.0, 10.0, 0.0, 5.0) == pytest.approx(0.5)
+    assert kern.time_to_edges(2.0, 4.0, 0.0, 0.0, 0.5, 0.0, 10.0, 0.0, 5.0) == math.inf
+    assert kern.time_to_edges(2.0, 4.7, 0.1, 0.1, 0.5, 0.0, 10.0, 0.0, 5.0) == 0.0
 
 
 def closest_approach(px: float, py: float, wx: float, wy: float, horizon: float) -> float:
@@ -315,42 +321,50 @@ def test_dwa_command_lies_in_the_window_and_is_admissible_when_possible(
     lo, hi, wlo, whi = planner.window(v, w)
     assert lo - 1e-12 <= cv <= hi + 1e-12
     assert wlo - 1e-12 <= cw <= whi + 1e-12
-    p = planner._params
-    no_walls = (np.zeros((0, 4)), np.zeros(0), np.zeros((0, 3)))
-
-    def rollout(vc: float, wc: float) -> tuple[float, float, bool]:
-        return kern.dwa_rollout_unicycle(  # type: ignore[no-any-return]
-            0.0, 0.0, 0.0, v, w, vc, wc, 10.0, 0.0,
-            obs.ped_pos, obs.ped_vel, obs.ped_radius, *no_walls, p,
-        )  # fmt: skip
-
+    table = planner.table
     c = planner.config
-    grid = [
-        (lo + (hi - lo) * i / (c.v_samples - 1), wlo + (whi - wlo) * j / (c.omega_samples - 1))
-        for i in range(c.v_samples)
-        for j in range(c.omega_samples)
-    ]
-    admissible = [rollout(vc, wc)[1] == math.inf for vc, wc in grid]
-    assert (rollout(cv, cw)[1] == math.inf) == any(admissible)
+    assert table.shape == (c.v_samples * c.omega_samples, 5)
+    np.testing.assert_allclose(table[[0, -1], 0], [lo, hi])
+    np.testing.assert_allclose(table[[0, -1], 1], [wlo, whi])
+    chosen = table[(table[:, 0] == cv) & (table[:, 1] == cw)][0]
+    admissible = table[:, 3] == math.inf
+    assert np.array_equal(admissible, table[:, 4] > -math.inf)
+    assert np.all(table[admissible, 2] >= 0.0)
+    if admissible.any():  # the best admissible sample wins
+        assert chosen[3] == math.inf
+        assert chosen[4] == table[:, 4].max()
+    else:  # the latest contact wins
+        assert chosen[3] == table[:, 3].max()
+    # The rollout really clears the pedestrian: replay the chosen sample by hand.
+    if chosen[3] == math.inf:
+        p = planner._params
+        h = p[kern.DWA_SIM_STEP]
+        state = RobotState(x=0.0, y=0.0, theta=0.0, v=v, omega=w)
+        drive = RobotConfig(max_accel_mps2=1.0, max_angular_accel_radps2=2.0 * math.pi)
+        for k in range(1, int(p[kern.DWA_STEPS]) + 1):
+            state = apply_command(state, (cv, cw), drive, h)
+            ped = np.array([px - 0.5 * k * h, py])
+            gap = math.hypot(state.x - ped[0], state.y - ped[1]) - 0.6
+            assert gap >= -1e-9  # the robot's own update is the same up to rounding
     assert kern.dwa_unicycle.py_func(
         0.0, 0.0, 0.0, v, w, 10.0, 0.0, obs.ped_pos, obs.ped_vel, obs.ped_radius,
-        np.zeros((0, 4)), np.zeros((0, 3)), p, np.zeros(0),
+        np.zeros((0, 4)), np.zeros((0, 3)), planner._params, np.zeros(0), table.copy(),
     ) == (cv, cw)  # fmt: skip
 
 
 def test_dwa_heading_term() -> None:
     planner = DWAPlanner()
     planner.reset(context(), np.random.default_rng(0))
-    p = planner._params
+    lim = (1.0, 2.0 * math.pi, 0.25)  # accelerations and window time
     # At rest, facing the goal, staying at rest: perfectly aligned.
-    assert kern.dwa_heading(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 5.0, 0.0, p) == 1.0
+    assert kern.dwa_heading(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 5.0, 0.0, *lim) == 1.0
     # Facing away from the goal: 0.
-    assert kern.dwa_heading(0.0, 0.0, math.pi, 0.0, 0.0, 0.0, 0.0, 5.0, 0.0, p) == pytest.approx(
+    assert kern.dwa_heading(0.0, 0.0, math.pi, 0.0, 0.0, 0.0, 0.0, 5.0, 0.0, *lim) == pytest.approx(
         0.0
     )
     # Goal to the left: turning left scores higher than turning right.
-    left = kern.dwa_heading(0.0, 0.0, 0.0, 0.5, 0.0, 0.5, 1.0, 0.0, 5.0, p)
-    right = kern.dwa_heading(0.0, 0.0, 0.0, 0.5, 0.0, 0.5, -1.0, 0.0, 5.0, p)
+    left = kern.dwa_heading(0.0, 0.0, 0.0, 0.5, 0.0, 0.5, 1.0, 0.0, 5.0, *lim)
+    right = kern.dwa_heading(0.0, 0.0, 0.0, 0.5, 0.0, 0.5, -1.0, 0.0, 5.0, *lim)
     assert left > right
 
 

@@ -9,6 +9,8 @@ from typing import Any
 
 import click
 
+from srfm._cli_common import user_errors
+
 __all__ = ["train"]
 
 _DEFAULTS: dict[str, Any] = {}
@@ -122,10 +124,7 @@ def train(**options: Any) -> None:
     Defaults are the paper's TD3 set-up (docs/rl.md). Policy zips are loaded with
     SB3's loader, which unpickles: use only checkpoints from a trusted source.
     """
-    # Imported here, not at module level: srfm.cli imports this module.
-    from srfm.cli import _user_errors
-
-    _user_errors(_train)(**options)
+    user_errors(_train)(**options)
 
 
 def _command_line() -> str:

@@ -179,7 +179,7 @@ def _split(values: tuple[str, ...]) -> list[str]:
     type=click.Choice(["compact", "full"]),
     default="compact",
     show_default=True,
-    help="compact: every episode's exact trajectories, the Foxglove scene at 5 Hz, the "
+    help="compact: every episode's exact trajectories, the Foxglove scene at 3 Hz, the "
     "counterfactual crowd stored once per scenario and seed; full: everything, per step.",
 )
 @click.option(

@@ -3,19 +3,20 @@
 Positions of a simulated crowd are float64 values whose low mantissa bits are rounding
 noise: as decimal text they cost about 8.7 bytes per value after zstd (measured), raw
 about 7.5. A float64 array block predicts each sample of a time series linearly from the
-two before it, stores the integer difference between the IEEE-754 bit patterns of the
+three before it, stores the integer difference between the IEEE-754 bit patterns of the
 value and of its prediction, and groups the bytes of those differences by significance
 ("byte planes"), so that the MCAP chunk compressor squeezes the near-zero high bytes to
-almost nothing: about 5.1 bytes per value, every value bit-exact. A block is a JSON
+almost nothing: about 4.8 bytes per value, every value bit-exact. A block is a JSON
 object::
 
-    {"dtype": "float64", "shape": [751, 10, 2], "encoding": "f64-pred2-planes-base64",
+    {"dtype": "float64", "shape": [751, 10, 2], "encoding": "f64-pred3-planes-base64",
      "data": "<base64>"}
 
 Encoding, for each series x_0 .. x_T along the first axis (time):
 
-- prediction p_0 = 0, p_1 = x_0, p_k = 2 x_{k-1} - x_{k-2} in float64 arithmetic; a
-  prediction that is not finite is replaced by 0;
+- prediction p_0 = 0, p_1 = x_0, p_2 = 2 x_1 - x_0 and p_k = 3 x_{k-1} - 3 x_{k-2} +
+  x_{k-3}, evaluated left to right in float64 arithmetic (exact for motion at constant
+  acceleration); a prediction that is not finite is replaced by 0;
 - d_k = bits(x_k) - bits(p_k) modulo 2^64 (bits = the IEEE-754 pattern as uint64),
   zigzag-coded z_k = (d_k << 1) ^ -(d_k >> 63) (so that small negative differences
   become small numbers too);
@@ -31,10 +32,14 @@ Decoding in NumPy (``shape[0]`` is time, ``T1 = shape[0]``)::
     d = (z >> one) ^ (np.uint64(0) - (z & one))                # uint64, wraps
     x = np.zeros(z.shape)
     for k in range(T1):
-        if k < 2:
-            p = np.zeros(len(z)) if k == 0 else x[:, 0].copy()
+        if k == 0:
+            p = np.zeros(len(z))
+        elif k == 1:
+            p = x[:, 0].copy()
+        elif k == 2:
+            p = 2 * x[:, 1] - x[:, 0]
         else:
-            p = 2 * x[:, k - 1] - x[:, k - 2]
+            p = 3 * x[:, k - 1] - 3 * x[:, k - 2] + x[:, k - 3]
         p[~np.isfinite(p)] = 0.0
         x[:, k] = (p.view("<u8") + d[:, k]).view("<f8")
     array = np.moveaxis(x.reshape(shape[1:] + [T1]), -1, 0)
@@ -60,19 +65,22 @@ from srfm.errors import LogError
 
 __all__ = ["BOOL_ENCODING", "F64_ENCODING", "decode_array", "encode_array"]
 
-F64_ENCODING: Final = "f64-pred2-planes-base64"
+F64_ENCODING: Final = "f64-pred3-planes-base64"
 BOOL_ENCODING: Final = "u8-base64"
 _ONE: Final = np.uint64(1)
 _SIGN_SHIFT: Final = np.uint64(63)
 
 
 def _prediction(x: NDArray[np.float64]) -> NDArray[np.float64]:
-    """p_0 = 0, p_1 = x_0, p_k = 2 x_{k-1} - x_{k-2} along the last axis; non-finite -> 0."""
+    """p_0 = 0, p_1 = x_0, p_2 = 2 x_1 - x_0, p_k = 3 x_{k-1} - 3 x_{k-2} + x_{k-3} along
+    the last axis; non-finite -> 0."""
     pred = np.zeros_like(x)
-    if x.shape[-1] > 1:
-        pred[..., 1] = x[..., 0]
     with np.errstate(over="ignore", invalid="ignore"):
-        pred[..., 2:] = 2.0 * x[..., 1:-1] - x[..., :-2]
+        if x.shape[-1] > 1:
+            pred[..., 1] = x[..., 0]
+        if x.shape[-1] > 2:
+            pred[..., 2] = 2.0 * x[..., 1] - x[..., 0]
+        pred[..., 3:] = 3.0 * x[..., 2:-1] - 3.0 * x[..., 1:-2] + x[..., :-3]
     pred[~np.isfinite(pred)] = 0.0
     return pred
 
@@ -89,8 +97,10 @@ def _undo_prediction(d: np.ndarray, out: np.ndarray) -> None:
                 p = 0.0
             elif k == 1:
                 p = out[s, 0]
+            elif k == 2:
+                p = 2.0 * out[s, 1] - out[s, 0]
             else:
-                p = 2.0 * out[s, k - 1] - out[s, k - 2]
+                p = 3.0 * out[s, k - 1] - 3.0 * out[s, k - 2] + out[s, k - 3]
             if not np.isfinite(p):
                 p = 0.0
             buf[0] = p

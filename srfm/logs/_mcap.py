@@ -8,7 +8,7 @@ Message times are integer nanoseconds of simulated time (sample k at
   pedestrian states, and exact velocities in the trajectory blocks: a complete
   :class:`~srfm.record.EpisodeRecord` can be rebuilt bit for bit.
 - ``compact`` (the benchmark's default): no per-sample pedestrian messages, the scene
-  every third sample, positions and goals exact but no pedestrian velocities, and the
+  every fifth sample (3 Hz), positions and goals exact but no pedestrian velocities, and the
   counterfactual crowd (identical for every planner of a scenario and seed) may live in
   a shared file that the episode names and fingerprints.
 """
@@ -54,7 +54,7 @@ __all__ = [
 
 Profile = Literal["full", "compact"]
 PROFILES: Final = ("full", "compact")
-_SCENE_STRIDE: Final = {"full": 1, "compact": 3}
+_SCENE_STRIDE: Final = {"full": 1, "compact": 5}
 _CHUNK_BYTES: Final = 4 * 1024 * 1024
 _SEPARATORS: Final = (",", ":")
 FloatArray = NDArray[np.float64]
@@ -205,6 +205,19 @@ _ROBOT_COMMAND: Final = (
 _BOOL: Final = {True: "true", False: "false"}
 
 
+def _robot_rests(record: EpisodeRecord) -> bool:
+    """The robot stands still after its episode: the end pose bit for bit, velocity +0.0
+    (no sign bit), inactive."""
+    after = slice(record.end_step + 1, None)
+    pose = record.robot_pose
+    vel = record.robot_vel[after]
+    return bool(
+        pose[after].tobytes() == np.tile(pose[record.end_step], (len(pose[after]), 1)).tobytes()
+        and vel.tobytes() == np.zeros_like(vel).tobytes()
+        and not record.robot_active[after].any()
+    )
+
+
 def _identity(record: EpisodeRecord, planner: str | None) -> dict[str, str]:
     return {
         "scenario": record.scenario,
@@ -315,6 +328,11 @@ def write_episode_mcap(
     }
     if not np.array_equal(record.time_s, _standard_times(record)):
         info["time_s"] = times  # only when arange(T + 1) * dt would not reproduce them
+    # Compact logs leave out the robot states between the end of its episode and the
+    # last sample when the robot provably stands still there (same pose, velocity +0.0,
+    # inactive): the reader restores them exactly.
+    skip_after = record.end_step if profile == "compact" and _robot_rests(record) else n_samples - 1
+    info["robot_states"] = "all" if skip_after == n_samples - 1 else "to_end"
     w = _Writer("episode", _identity(record, planner))
     w.add("episode", 0, _json(info))
     w_bounds = scenario.world
@@ -343,9 +361,11 @@ def write_episode_mcap(
         t = t_ns[k]
         for key, it in zip(("factual", "counterfactual"), peds, strict=False):
             w.add(key, t, next(it))
-        x, y, th = pose[k]
-        vx, vy = rvel[k]
-        w.add("robot_state", t, (_ROBOT_STATE % (k, x, y, th, vx, vy, _BOOL[active[k]])).encode())
+        if not skip_after < k < n_samples - 1:
+            x, y, th = pose[k]
+            vx, vy = rvel[k]
+            state = _ROBOT_STATE % (k, x, y, th, vx, vy, _BOOL[active[k]])
+            w.add("robot_state", t, state.encode())
         if k < n_samples - 1 and active[k] and not math.isnan(cmd[k][0]):
             w.add("robot_command", t, (_ROBOT_COMMAND % (k, kin, cmd[k][0], cmd[k][1])).encode())
         for e in events_at.get(k, ()):
@@ -399,6 +419,7 @@ def write_counterfactual_mcap(
         "planner": None,
         "outcome": None,
         "end_step": None,
+        "robot_states": None,
         "counterfactual": {
             "file": None,
             "sha256": counterfactual_digest(record.counterfactual_pos, record.counterfactual_goal),
@@ -654,6 +675,15 @@ def _robot(
             cmd[k] = command
     except (KeyError, TypeError, ValueError) as exc:
         raise LogError(f"{path}: malformed robot state or command message ({exc})") from None
+    rule = log.info.get("robot_states", "all")
+    end = log.info.get("end_step")
+    if rule == "to_end" and isinstance(end, int) and 0 <= end < samples and seen[end]:
+        gap = slice(end + 1, samples - 1)  # the robot stood still there (see the writer)
+        if not seen[gap].any():
+            pose[gap] = pose[end]
+            vel[gap] = 0.0
+            active[gap] = False
+            seen[gap] = True
     if not seen.all():
         missing = np.flatnonzero(~seen)
         raise LogError(

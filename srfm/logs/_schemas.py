@@ -52,20 +52,29 @@ def _obj(
     properties: dict[str, Any], required: list[str] | None = None, **extra: Any
 ) -> dict[str, Any]:
     out: dict[str, Any] = {"type": "object", "properties": properties}
-    out["required"] = list(properties) if required is None else required
+    required = list(properties) if required is None else required
+    if required:
+        out["required"] = required
     out.update(extra)
     return out
 
 
+def _strip_descriptions(doc: Any) -> Any:
+    """The schema without descriptions (the file repeats its schemas uncompressed)."""
+    if isinstance(doc, dict):
+        return {k: _strip_descriptions(v) for k, v in doc.items() if k != "description"}
+    if isinstance(doc, list):
+        return [_strip_descriptions(v) for v in doc]
+    return doc
+
+
 def _srfm_schema(name: str, description: str, properties: dict[str, Any], **kw: Any) -> bytes:
     title = f"srfm.logs.{name}.v{SCHEMA_VERSION}"
-    doc = {
-        "$schema": _DRAFT,
-        "$id": title,
-        "title": title,
-        "description": description,
-        **_obj({"schema_version": {"const": SCHEMA_VERSION}, **properties}, **kw),
-    }
+    # Field descriptions live in docs/logging.md: a file repeats its schemas uncompressed.
+    body = _strip_descriptions(
+        _obj({"schema_version": {"const": SCHEMA_VERSION}, **properties}, **kw)
+    )
+    doc = {"$schema": _DRAFT, "$id": title, "title": title, "description": description, **body}
     return json.dumps(doc, separators=(",", ":"), ensure_ascii=False).encode("utf-8")
 
 
@@ -133,6 +142,12 @@ EPISODE: Final = _srfm_schema(
         ),
         "outcome": {"type": ["string", "null"]},
         "end_step": {"type": ["integer", "null"]},
+        "robot_states": {
+            "enum": ["all", "to_end", None],
+            "description": "to_end: /srfm/robot/state skips the samples strictly between "
+            "end_step and the last one, where the robot stands still (the state at end_step, "
+            "velocity 0, inactive); null in counterfactual files",
+        },
         "counterfactual": _obj(
             {
                 "file": {
@@ -218,12 +233,11 @@ TRAJECTORIES: Final = _srfm_schema(
     "Exact arrays of every sample of one group (published once, at the end): what "
     "srfm score reads.",
     {
-        "group": {"enum": ["factual", "counterfactual", "robot"]},
+        "group": {"enum": ["factual", "counterfactual"]},
         "samples": _int("T + 1"),
         "arrays": {
             "type": "object",
-            "description": "pedestrians: pos, goal (T + 1, N, 2) and, in full logs, vel; "
-            "robot: pose (T + 1, 3), vel (T + 1, 2), cmd (T, 2), active (T + 1,)",
+            "description": "pos, goal (T + 1, N, 2) and, in full logs, vel",
             "additionalProperties": _ARRAY_BLOCK,
         },
     },
@@ -255,132 +269,81 @@ METRICS: Final = _srfm_schema(
 # --- Foxglove -------------------------------------------------------------------------
 
 
-def _xyz(description: str) -> dict[str, Any]:
-    return _obj({k: _num(k) for k in "xyz"}, description=description)
-
-
-def _quat() -> dict[str, Any]:
-    return _obj({k: _num(k) for k in "xyzw"}, description="orientation quaternion")
-
-
-def _pose(description: str) -> dict[str, Any]:
-    return _obj({"position": _xyz("position (m)"), "orientation": _quat()}, description=description)
-
-
-def _color() -> dict[str, Any]:
-    return _obj({k: _num(f"{k} in [0, 1]") for k in "rgba"}, description="RGBA colour")
-
-
-def _time(description: str, signed: bool = False) -> dict[str, Any]:
-    sec: dict[str, Any] = {"type": "integer"}
-    if not signed:
-        sec["minimum"] = 0
-    return _obj(
-        {"sec": sec, "nsec": {"type": "integer", "minimum": 0, "maximum": 999_999_999}},
-        description=description,
-    )
-
-
-def _list(item: dict[str, Any], description: str) -> dict[str, Any]:
-    return {"type": "array", "items": item, "description": description}
-
-
-def _strip_descriptions(doc: Any) -> Any:
-    """The schema without descriptions (the file repeats its schemas uncompressed)."""
-    if isinstance(doc, dict):
-        return {k: _strip_descriptions(v) for k, v in doc.items() if k != "description"}
-    if isinstance(doc, list):
-        return [_strip_descriptions(v) for v in doc]
-    return doc
+def _fox_obj(fields: dict[str, str]) -> dict[str, Any]:
+    """An object of named fields, each with just a JSON type."""
+    return {"type": "object", "properties": {k: {"type": t} for k, t in fields.items()}}
 
 
 def _foxglove_scene_schema() -> bytes:
-    arrow = _obj(
-        {
-            "pose": _pose("tail position; identity points along +x"),
-            "shaft_length": _num("m"),
-            "shaft_diameter": _num("m"),
-            "head_length": _num("m"),
-            "head_diameter": _num("m"),
-            "color": _color(),
-        }
-    )
-    cube = _obj({"pose": _pose("centre"), "size": _xyz("size (m)"), "color": _color()})
-    sphere = _obj({"pose": _pose("centre"), "size": _xyz("diameters (m)"), "color": _color()})
-    cylinder = _obj(
-        {
-            "pose": _pose("centre"),
-            "size": _xyz("bounding box (m)"),
-            "bottom_scale": _num("bottom diameter ratio"),
-            "top_scale": _num("top diameter ratio"),
-            "color": _color(),
-        }
-    )
-    line = _obj(
-        {
-            "type": {"enum": [0, 1, 2], "description": "0 strip, 1 loop, 2 list"},
-            "pose": _pose("origin of the points"),
-            "thickness": _num("m, or pixels when scale_invariant"),
-            "scale_invariant": {"type": "boolean"},
-            "points": _list(_xyz("point"), "points"),
-            "color": _color(),
-            "colors": _list(_color(), "per-point colours (may be empty)"),
-            "indices": _list({"type": "integer", "minimum": 0}, "indices (may be empty)"),
-        }
-    )
-    text = _obj(
-        {
-            "pose": _pose("position"),
-            "billboard": {"type": "boolean"},
-            "font_size": _num("font size"),
-            "scale_invariant": {"type": "boolean"},
-            "color": _color(),
-            "text": {"type": "string"},
-        }
-    )
-    empty = {"type": "array", "description": "unused by srfm, always empty"}
-    entity = _obj(
-        {
-            "timestamp": _time("timestamp of the entity"),
-            "frame_id": {"type": "string"},
-            "id": {"type": "string"},
-            "lifetime": _time("0: until replaced", signed=True),
-            "frame_locked": {"type": "boolean"},
-            "metadata": _list(
-                _obj({"key": {"type": "string"}, "value": {"type": "string"}}), "key/values"
-            ),
-            "arrows": _list(arrow, "arrows"),
-            "cubes": _list(cube, "cubes"),
-            "spheres": _list(sphere, "spheres"),
-            "cylinders": _list(cylinder, "cylinders"),
-            "lines": _list(line, "lines"),
-            "triangles": empty,
-            "texts": _list(text, "texts"),
-            "models": empty,
-        }
-    )
-    deletion = _obj(
-        {
-            "timestamp": _time("only older entities are deleted"),
-            "type": {"enum": [0, 1], "description": "0 matching id, 1 all"},
-            "id": {"type": "string"},
-        }
-    )
-    body = _strip_descriptions(
-        _obj(
+    """Foxglove recognises the scene by the schema's name; the schema describes the
+    structure srfm writes down to the primitives' fields (poses, sizes and colours are
+    Foxglove's Pose, Vector3 and Color objects). It is kept short because every file
+    repeats its schemas uncompressed."""
+    obj, num, boolean, arr = "object", "number", "boolean", "array"
+    primitives = {
+        "arrows": _fox_obj(
             {
-                "deletions": _list(deletion, "entities to delete"),
-                "entities": _list(entity, "entities to add or replace"),
+                "pose": obj,
+                "shaft_length": num,
+                "shaft_diameter": num,
+                "head_length": num,
+                "head_diameter": num,
+                "color": obj,
             }
-        )
+        ),
+        "cylinders": _fox_obj(
+            {"pose": obj, "size": obj, "bottom_scale": num, "top_scale": num, "color": obj}
+        ),
+        "lines": _fox_obj(
+            {
+                "type": "integer",
+                "pose": obj,
+                "thickness": num,
+                "scale_invariant": boolean,
+                "points": arr,
+                "color": obj,
+                "colors": arr,
+                "indices": arr,
+            }
+        ),
+        "texts": _fox_obj(
+            {
+                "pose": obj,
+                "billboard": boolean,
+                "font_size": num,
+                "scale_invariant": boolean,
+                "color": obj,
+                "text": "string",
+            }
+        ),
+    }
+    entity = _fox_obj(
+        {
+            "timestamp": obj,
+            "frame_id": "string",
+            "id": "string",
+            "lifetime": obj,
+            "frame_locked": boolean,
+            "metadata": arr,
+            "cubes": arr,
+            "spheres": arr,
+            "triangles": arr,
+            "models": arr,
+        }
     )
+    for name, item in primitives.items():
+        entity["properties"][name] = {"type": "array", "items": item}
     doc = {
         "$schema": _DRAFT,
         "title": "foxglove.SceneUpdate",
         "description": "An update to the entities displayed in a 3D scene (the subset of "
         "Foxglove's SceneUpdate that srfm writes; field meanings: Foxglove's schema "
         "documentation).",
-        **body,
+        "type": "object",
+        "properties": {
+            "deletions": {"type": "array", "items": {"type": "object"}},
+            "entities": {"type": "array", "items": entity},
+        },
     }
     return json.dumps(doc, separators=(",", ":")).encode("utf-8")
 

@@ -199,11 +199,23 @@ def test_compact_log_with_a_shared_counterfactual(tmp_path: Path, episode) -> No
         np.float64(again.values[k]).tobytes() == np.float64(v).tobytes()
         for k, v in metrics.values.items()
     )
-    _, msgs = _messages(path)
+    summary, msgs = _messages(path)
     counts = Counter(c.topic for _, c, _ in msgs)
+    schemas = {
+        c.topic: json.loads(summary.schemas[c.schema_id].data) for c in summary.channels.values()
+    }
+    for _, channel, message in msgs:
+        check_json_schema(json.loads(message.data), schemas[channel.topic], channel.topic)
+    cf_summary, cf_msgs = _messages(cf)
+    for _, channel, message in cf_msgs:
+        schema = json.loads(cf_summary.schemas[channel.schema_id].data)
+        check_json_schema(json.loads(message.data), schema, channel.topic)
     assert "/srfm/pedestrians/factual" not in counts
+    # The robot rests after reaching its goal: its states up to then and the last one.
+    assert record.outcome == "goal_reached"
+    assert counts["/srfm/robot/state"] == record.end_step + 2
     n = record.time_s.shape[0]
-    frames = len(range(0, n, 3)) + (0 if (n - 1) % 3 == 0 else 1)
+    frames = len(range(0, n, 5)) + (0 if (n - 1) % 5 == 0 else 1)
     assert counts["/foxglove/scene"] == 1 + 1 + frames  # static, goals, agent frames
 
 

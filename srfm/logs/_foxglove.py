@@ -98,7 +98,7 @@ def _discs(xy: list[list[float]], diameters: list[str], height: float, color: st
 
 
 class _ArrowTable:
-    """Arrow parameters of every sample, computed once for the whole episode.
+    """Arrow parameters of a list of frames, computed at once (row i: frame i).
 
     Directions are rounded to 5 degrees and lengths to 5 cm (the repeated text then
     compresses well); arrows shorter than 2.5 cm are left out.
@@ -178,43 +178,46 @@ def scene_messages(
     n_samples = record.time_s.shape[0]
     ped_d = [repr(round(2 * float(r), 3)) for r in record.ped_radius]
     robot_d = [repr(round(2 * record.robot_radius, 3))]
-    f_xy = np.round(record.factual_pos, 2).tolist()
-    c_xy = np.round(record.counterfactual_pos, 2).tolist()
-    pose = record.robot_pose
+    frames = sorted({*range(0, n_samples, stride), n_samples - 1})
+    idx = np.array(frames)
+    # Per-frame tables, computed for the drawn samples only (row i is frames[i]).
+    f_xy = np.round(record.factual_pos[idx], 2).tolist()
+    c_xy = np.round(record.counterfactual_pos[idx], 2).tolist()
+    pose = record.robot_pose[idx]
     r_xy = np.round(pose[:, None, :2], 2).tolist()
-    ped_arrows = _ArrowTable(
-        record.factual_pos, record.factual_vel, np.linalg.norm(record.factual_vel, axis=2)
-    )
+    vel = record.factual_vel[idx]
+    ped_arrows = _ArrowTable(record.factual_pos[idx], vel, np.linalg.norm(vel, axis=2))
     heading = np.stack([np.cos(pose[:, 2]), np.sin(pose[:, 2])], axis=1)[:, None, :]
     robot_arrows = _ArrowTable(
-        pose[:, None, :2], heading, np.full((n_samples, 1), max(0.4, 2 * record.robot_radius))
+        pose[:, None, :2], heading, np.full((len(frames), 1), max(0.4, 2 * record.robot_radius))
     )
     out: list[tuple[int, bytes]] = [(0, _static(record, bounds, obstacles).encode())]
     goal_changes = np.flatnonzero(
         np.any(record.factual_goal[1:] != record.factual_goal[:-1], (1, 2))
     )
     goal_steps = {0, *(int(k) + 1 for k in goal_changes)}
-    frames = {*range(0, n_samples, stride), n_samples - 1}
-    for k in sorted(goal_steps | frames):
+    row = {k: i for i, k in enumerate(frames)}
+    for k in sorted(goal_steps | set(frames)):
         t = times_ns[k]
         if k in goal_steps:
             out.append((k, _goals(t, record.factual_goal[k]).encode()))
-        if k not in frames:
+        i = row.get(k)
+        if i is None:
             continue
         peds = _entity(
             t,
             "pedestrians",
-            cylinders=_discs(f_xy[k], ped_d, _PED_HEIGHT, _BLUE),
-            arrows=ped_arrows.at(k, _PED_HEIGHT + 0.02, _BLUE),
+            cylinders=_discs(f_xy[i], ped_d, _PED_HEIGHT, _BLUE),
+            arrows=ped_arrows.at(i, _PED_HEIGHT + 0.02, _BLUE),
         )
         ghosts = _entity(
-            t, "counterfactual", cylinders=_discs(c_xy[k], ped_d, _PED_HEIGHT * 0.9, _GHOST)
+            t, "counterfactual", cylinders=_discs(c_xy[i], ped_d, _PED_HEIGHT * 0.9, _GHOST)
         )
         robot = _entity(
             t,
             "robot",
-            cylinders=_discs(r_xy[k], robot_d, _ROBOT_HEIGHT, _RED),
-            arrows=robot_arrows.at(k, _ROBOT_HEIGHT + 0.02, _RED),
+            cylinders=_discs(r_xy[i], robot_d, _ROBOT_HEIGHT, _RED),
+            arrows=robot_arrows.at(i, _ROBOT_HEIGHT + 0.02, _RED),
         )
         out.append((k, (_UPDATE % ",".join((peds, ghosts, robot))).encode()))
     return out

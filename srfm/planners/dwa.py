@@ -1,36 +1,51 @@
 """The Dynamic Window Approach (Fox, Burgard, Thrun 1997), planner name ``dwa``.
 
 At every step the planner searches the *dynamic window*: the velocities the robot can
-reach within one step of its acceleration limits, intersected with its speed limits,
+reach within the window time t_w at its acceleration limits, intersected with its
+speed limits,
 
-    V_r = [v − a dt, v + a dt] ∩ [v_min, v_max]  ×  [ω − α dt, ω + α dt] ∩ [−ω_max, ω_max],
+    V_r = [v − a t_w, v + a t_w] ∩ [v_min, v_max]  ×  [ω − α t_w, ω + α t_w] ∩ [−ω_max, ω_max],
 
-with a and α the robot's ``max_accel_mps2`` and ``max_angular_accel_radps2``. A grid
-of ``v_samples`` × ``omega_samples`` (v, ω) pairs is forward-simulated as arcs for
-``horizon_s`` seconds in steps of ``rollout_step_s``, against the observed pedestrians
-(moved at constant velocity when ``predict_pedestrians``), the walls, the pillars and
-the world's edges, all inflated by ``safety_margin_m``. An arc that touches anything
-within the horizon is inadmissible (Fox et al. only demand that the robot can brake
-before the contact; with people walking into the robot's path, a colliding arc is
-never safe). Among the admissible arcs the planner maximises
+with a and α the robot's ``max_accel_mps2`` and ``max_angular_accel_radps2``. Fox et
+al. take t_w = one control step (``window_time_s = None``); the default is 0.25 s, so
+that the planner also considers turns it cannot start within one 1/15 s step (with
+one step, the robot kept circling around goals it passed at 0.5–1 m in the ``circle``
+scenario, see docs/planners.md).
+
+A grid of ``v_samples`` × ``omega_samples`` (v, ω) pairs spanning the window is
+forward-simulated for ``horizon_s`` seconds in steps of ``rollout_step_s``: the
+robot's velocity approaches the sample at the acceleration limits (at once when the
+sample lies within one step) and then holds it, so each rollout is an arc after a
+short ramp. Rollouts are checked against the observed pedestrians (moved at constant
+velocity when ``predict_pedestrians``), the walls, the pillars and the world's edges,
+all inflated by ``safety_margin_m``. A rollout that touches anything within the
+horizon is inadmissible (Fox et al. only demand that the robot can brake before the
+contact; with people walking into the robot's path, a colliding arc is never safe).
+Among the admissible ones the planner maximises
 
     G(v, ω) = α · heading + β · clearance + γ · velocity,
 
-    heading   = 1 − |angle between the robot's heading at the end of the arc and the
-                direction from there to the goal| / π   (1 when the arc reaches the goal)
-    clearance = min(smallest gap along the arc, clearance_cap_m) / clearance_cap_m
+    heading   = 1 − |θ_goal| / π, θ_goal the angle of the goal seen from the robot's
+                predicted pose: as in Fox et al., moving toward the sample for the
+                window time, then braking to rest at the acceleration limits
+                (1 when the rollout reaches the goal radius)
+    clearance = min(smallest gap along the rollout, clearance_cap_m) / clearance_cap_m
     velocity  = v / v_max
 
 with α, β, γ the ``heading_weight``, ``clearance_weight`` and ``velocity_weight``.
-Each term lies in [0, 1]; Fox et al. also smooth and normalise the terms over the
-window, which is left out here. When no arc is admissible, the one whose first contact
-comes latest (then: the one with the larger clearance) is taken.
+Each term lies in [0, 1]; Fox et al. also smooth the terms over the window, which is
+left out here. When no rollout is admissible, the one whose first contact comes latest
+(then: the one with the larger clearance) is taken.
 
-A holonomic robot searches a disc of (vx, vy) within one step of acceleration of its
-velocity (``holonomic_samples`` per axis), rolls out straight lines and takes the
-direction of motion as its heading.
+A holonomic robot searches the disc of (vx, vy) within a t_w of acceleration of its
+velocity (the points of a ``holonomic_samples`` × ``holonomic_samples`` grid inside
+it), rolls out straight lines after the same ramp, and takes the direction of the
+sample velocity as its heading (heading term 0.5 for the zero velocity).
 
-The rollouts are one numba kernel (:func:`srfm.planners._kernels.dwa_unicycle`).
+Each step is one numba kernel call (:func:`srfm.planners._kernels.dwa_unicycle`,
+:func:`srfm.planners._kernels.dwa_holonomic`); with no pedestrian, obstacle or edge
+within reach of the rollouts, they are skipped and only the heading and velocity
+terms are computed.
 """
 
 from __future__ import annotations

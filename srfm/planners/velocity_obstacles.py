@@ -10,14 +10,18 @@ velocities u that bring the two discs into contact within the time horizon T:
 Membership is tested exactly through the time to collision of the relative motion
 (:func:`srfm.planners._kernels.time_to_collision`): u ∈ VO_B^T iff that time is <= T.
 With ``time_horizon_s = None`` the cones are untruncated. Pillars are obstacles with
-zero velocity; walls (and the world's edges) are capsules around their segments.
+zero velocity, walls are capsules around their segments, and the world's edges are
+walls too (unless ``avoid_world_edges`` is off).
 
-Each step the planner scores a fixed candidate set: the preferred velocity (top speed
-toward the goal), ``speed_samples`` rings of speeds v_max i / speed_samples with
+Each step the planner considers a fixed candidate set: the preferred velocity (top
+speed toward the goal), ``speed_samples`` rings of speeds v_max i / speed_samples with
 ``heading_samples`` directions each (starting at the goal direction), and zero. It
 takes the candidate outside every velocity obstacle that is closest to the preferred
 velocity; when every candidate is inside some obstacle, the one whose collision comes
-latest (then: the closest to the preferred velocity). A holonomic robot is commanded
+latest (then: the closest to the preferred velocity). The candidates are expressed in
+the goal's frame, so their order by distance to the preferred velocity is computed
+once per episode (:func:`candidate_velocities`) and the kernel stops at the first
+admissible one. A holonomic robot is commanded
 that velocity; a unicycle turns toward it with ω = clip(k_θ e, ±ω_max) and drives at
 |u| max(cos e, 0), e the heading error.
 """

@@ -189,7 +189,16 @@ def _table(head: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
 # srfm fit / srfm ade
 
 
-def _window_options(func: F) -> F:
+def _window_options(stride_s: float) -> Callable[[F], F]:
+    """The windowing options shared by ``fit`` and ``ade`` (``stride_s``: the default)."""
+
+    def decorate(func: F) -> F:
+        return _add_window_options(func, stride_s)
+
+    return decorate
+
+
+def _add_window_options(func: F, stride_s: float) -> F:
     options = [
         click.option(
             "--horizon",
@@ -203,7 +212,7 @@ def _window_options(func: F) -> F:
             "--stride",
             "stride_s",
             type=float,
-            default=0.4,
+            default=stride_s,
             show_default=True,
             help="Time between the starts of consecutive windows of a track (s).",
         ),
@@ -280,7 +289,7 @@ def _load_windows(files: Sequence[Path], **config: float) -> Any:
     show_default=True,
     help="Most model evaluations per starting point.",
 )
-@_window_options
+@_window_options(stride_s=1.2)
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @user_errors
 def fit(
@@ -385,7 +394,7 @@ def _stage_dict(s: Any) -> dict[str, Any]:
     help="SRFM parameters: a preset or a parameter file (e.g. from srfm fit). "
     "Default: agrawal2024.",
 )
-@_window_options
+@_window_options(stride_s=0.4)
 @click.option("--json", "as_json", is_flag=True, help="Print the table as JSON.")
 @user_errors
 def ade(files: Sequence[Path], params_spec: str | None, as_json: bool, **window: float) -> None:

@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import attrs
 import numpy as np
 import pytest
 
 import srfm
-from srfm.datasets import PEDESTRIAN, ROBOT, Trajectories
+from srfm.datasets import PEDESTRIAN, ROBOT, Trajectories, navwareset
 from srfm.errors import DatasetError
 from srfm.fitting import (
     WindowConfig,
@@ -175,21 +176,20 @@ def test_identifiability_noise_free(
 def test_identifiability_with_noise() -> None:
     """Tracks at 15 Hz with 2 cm Gaussian position noise, the default protocol.
 
-    Stated tolerance (docs/fitting.md): B within 15 %, λ within 0.15, A within a factor
-    1.6 and τ within 40 %; noisy initial velocities bias A up and τ down
-    (errors in variables), which the docs quantify.
+    Stated tolerance (docs/fitting.md): A and τ within 30 %, B within 10 %, λ within
+    0.15. Noisy initial velocities bias A up and τ down (errors in variables); the docs
+    tabulate the bias against the noise level.
     """
     scenes = [simulate_scene(TRUE, s, name=f"p{s}", noise_m=0.02) for s in range(20, 23)] + [
         simulate_scene(TRUE, s, name=f"r{s}", robot=True, noise_m=0.02) for s in range(30, 33)
     ]
     windows = build_windows(scenes, WindowConfig(stride_s=1.2))
     p = fit_params(windows, start=srfm.SRFMParams.preset("ferrer2013"), multi_start=False).params
+    for field in ("a_ped", "a_robot", "tau"):
+        assert _rel(getattr(p, field), getattr(TRUE, field)) < 0.3, field
     for field in ("b_ped", "b_robot"):
-        assert _rel(getattr(p, field), getattr(TRUE, field)) < 0.15, field
+        assert _rel(getattr(p, field), getattr(TRUE, field)) < 0.1, field
     assert abs(p.lambda_ped - TRUE.lambda_ped) < 0.15
-    for field in ("a_ped", "a_robot"):
-        assert 1 / 1.6 < getattr(p, field) / getattr(TRUE, field) < 1.6, field
-    assert _rel(p.tau, TRUE.tau) < 0.4
 
 
 def test_stage_without_windows_is_skipped(
@@ -265,3 +265,23 @@ def test_ade_rows(clean_scenes: tuple[list[Trajectories], list[dict[str, np.ndar
     ade, fde = window_errors(windows, sel, TRUE, "srfm")
     assert srfm_row.ade_m == pytest.approx(ade.mean())
     assert srfm_row.fde_m == pytest.approx(fde.mean())
+
+
+def test_real_navwareset_robot_stage(real_data: Path) -> None:
+    scenes = navwareset.read_navwareset(real_data / "navwareset")
+    windows = build_windows(scenes)
+    # Every NavWareSet window comes within 3 m of the robot: all are interaction windows.
+    assert windows.n_windows > 40
+    assert windows.interaction.all()
+    assert np.unique(windows.track).size == 12
+    assert set(windows.steps.tolist()) == {48}  # 4.8 s at 10 Hz
+    result = fit_params(windows, stages=["robot"], multi_start=False, max_nfev=40)
+    (stage,) = result.stages
+    assert stage.n_windows == windows.n_windows
+    # The paper's robot force over-predicts the push on these tracks; fitting reduces it.
+    assert stage.ade_m < stage.ade_start_m
+    assert result.params.a_robot < srfm.SRFMParams().a_robot
+    rows = {(r.model, r.tracks): r for r in evaluate_ade(windows, result.params)}
+    assert rows[("SFM", "non-interaction")].n_windows == 0
+    assert math.isnan(rows[("SFM", "non-interaction")].ade_m)
+    assert rows[("SRFM", "interaction")].ade_m < rows[("CV", "interaction")].ade_m

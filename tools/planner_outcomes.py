@@ -80,19 +80,23 @@ def make_planner(name: str, overrides: dict[str, dict[str, Any]]) -> Any:
     return planner
 
 
-def run_one(task: tuple[str, str, int, str | None, dict[str, dict[str, Any]]]) -> Result:
+Task = tuple[str, str, int, str | None, dict[str, dict[str, Any]], dict[str, float]]
+
+
+def run_one(task: Task) -> Result:
     """Run one episode and summarise it."""
     import attrs
     import numpy as np
 
     import srfm
 
-    scenario_name, planner_name, seed, kinematics, overrides = task
+    scenario_name, planner_name, seed, kinematics, overrides, model = task
     scenario = srfm.load_scenario(scenario_name)
     if kinematics is not None:
         scenario = attrs.evolve(scenario, robot=attrs.evolve(scenario.robot, kinematics=kinematics))
     planner = make_planner(planner_name, overrides)
-    record = srfm.run_episode(scenario, seed, planner, parallel=False)
+    params = srfm.SRFMParams().replace(**model) if model else None
+    record = srfm.run_episode(scenario, seed, planner, params, parallel=False)
     active_s = record.end_step * record.dt_s
     path = float(
         np.sum(
@@ -189,6 +193,14 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
         metavar="PLANNER.FIELD=VALUE",
         help="override a planner config field, e.g. vo.detection_range_m=1.4 (repeatable)",
     )
+    parser.add_argument(
+        "--model",
+        action="append",
+        default=[],
+        metavar="FIELD=VALUE",
+        help="override an SRFM parameter of the agrawal2024 preset, e.g. a_robot=0 "
+        "(pedestrians that ignore the robot; repeatable)",
+    )
     return parser.parse_args(argv)
 
 
@@ -200,8 +212,15 @@ def main(argv: list[str] | None = None) -> int:
     overrides = _overrides(args.set)
     for name in overrides:  # fail early on a bad override
         make_planner(name, overrides)
-    tasks = [
-        (s, p, seed, args.kinematics, overrides)
+    model = {}
+    for item in args.model:
+        key, sep, value = item.partition("=")
+        if not sep:
+            raise SystemExit(f"--model wants field=value, got {item!r}")
+        model[key] = float(value)
+    srfm.SRFMParams().replace(**model)  # fail early on a bad field or value
+    tasks: list[Task] = [
+        (s, p, seed, args.kinematics, overrides, model)
         for s in scenarios
         for p in args.planners
         for seed in range(args.first_seed, args.first_seed + args.seeds)
@@ -216,6 +235,7 @@ def main(argv: list[str] | None = None) -> int:
     print(
         f"srfm commit {_commit()}; seeds {args.first_seed}..{args.first_seed + args.seeds - 1}; "
         f"kinematics {args.kinematics or 'as in the scenario'}; overrides {args.set or 'none'}; "
+        f"SRFM parameters agrawal2024{' with ' + ', '.join(args.model) if args.model else ''}; "
         f"{len(tasks)} episodes in {wall:.1f} s with {args.jobs} worker(s)"
     )
     print_tables(results, scenarios, args.planners)

@@ -408,6 +408,11 @@ def ade(files: Sequence[Path], params_spec: str | None, as_json: bool, **window:
 
     params = load_params_option(params_spec)
     windows = _load_windows(files, **window)
+    if windows.n_windows == 0:
+        raise DatasetError(
+            "no prediction windows: every pedestrian track is shorter than the horizon "
+            f"({window['horizon_s']:g} s) plus the initial-velocity span (0.4 s)"
+        )
     rows = evaluate_ade(windows, params)
     if as_json:
         payload = {

@@ -183,6 +183,9 @@ def test_fit_then_ade_then_simulate(tmp_path: Path) -> None:
     code, text = run("fit", str(data), "-o", str(tmp_path / "x.toml"), "--horizon", "-1")
     assert code == 2
     assert "horizon_s must be > 0" in text
+    code, text = run("ade", str(data), "--horizon", "60")
+    assert code == 2
+    assert "no prediction windows" in text
 
 
 def test_convert_real_data(real_data: Path, tmp_path: Path) -> None:

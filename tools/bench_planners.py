@@ -10,14 +10,20 @@ planner with the same episode context and replays the recorded observations thro
 of that pass). The planners keep no state between steps that depends on the
 observations, so a replay does the same work as the live episode.
 
-It also reports the mean number of observed pedestrians per call and the median wall
-time of a whole episode (``srfm.run_episode(..., parallel=False)``), which includes
-the simulation of both crowds.
+The calls with at least one pedestrian in range and those with none are also replayed
+separately (each its own best pass), since the kernels skip most work when nobody is
+in range. The script also reports the mean number of observed pedestrians per call,
+the share of calls with someone in range, and the median wall time of a whole episode
+(``srfm.run_episode(..., parallel=False)``), which includes both crowds' simulation.
+
+``--detection-range`` overrides every planner's range (``none``: everyone observed, a
+heavier load than the benchmark's).
 
 Usage::
 
-    .venv/bin/python tools/bench_planners.py
+    NUMBA_NUM_THREADS=1 .venv/bin/python tools/bench_planners.py
     .venv/bin/python tools/bench_planners.py --seeds 5 --planners dwa orca
+    .venv/bin/python tools/bench_planners.py --detection-range none
 """
 
 from __future__ import annotations
@@ -73,37 +79,76 @@ def _self_cpu_ticks() -> int:
     return round((t.user + t.system) * os.sysconf("SC_CLK_TCK"))
 
 
-def bench(
-    planner_name: str, scenario: str, seeds: int, repeats: int
-) -> tuple[float, float, int, float]:
-    """(µs per act, mean observed pedestrians, calls, median episode ms)."""
-    import srfm
-    from srfm.episode import planner_rng
-    from srfm.planners import make_planner
-
-    calls: list[tuple[Any, list[Observation]]] = []
-    episode_s: list[float] = []
-    for seed in range(seeds):
-        rec = Recorder(make_planner(planner_name))
-        srfm.run_episode(scenario, seed, rec, parallel=False)
-        calls.append((rec.context, rec.observations))
-        t0 = time.perf_counter()
-        srfm.run_episode(scenario, seed, planner_name, parallel=False)
-        episode_s.append(time.perf_counter() - t0)
-    n_calls = sum(len(obs) for _, obs in calls)
-    peds = sum(int(o.ped_ids.shape[0]) for _, obs in calls for o in obs)
-    planners = [make_planner(planner_name) for _ in calls]
-    for p, (context, _) in zip(planners, calls, strict=True):
-        p.reset(context, planner_rng(context.seed))
+def _replay(planners: list[Any], calls: list[list[Observation]], repeats: int) -> tuple[float, int]:
+    """Best of ``repeats`` timed passes over ``calls``: (µs per act, number of acts)."""
+    n_calls = sum(len(obs) for obs in calls)
+    if n_calls == 0:
+        return float("nan"), 0
     best = float("inf")
     for _ in range(repeats):
         t0 = time.perf_counter()
-        for p, (_, obs) in zip(planners, calls, strict=True):
+        for p, obs in zip(planners, calls, strict=True):
             act = p.act
             for o in obs:
                 act(o)
         best = min(best, time.perf_counter() - t0)
-    return best / n_calls * 1e6, peds / n_calls, n_calls, statistics.median(episode_s) * 1e3
+    return best / n_calls * 1e6, n_calls
+
+
+def _planner(name: str, detection: str | None) -> Any:
+    from srfm.planners import make_planner
+
+    planner = make_planner(name)
+    if detection is not None:
+        planner.detection_range_m = None if detection == "none" else float(detection)
+    return planner
+
+
+def bench(
+    planner_name: str, scenario: str, seeds: int, repeats: int, detection: str | None
+) -> dict[str, float]:
+    """µs per act (all calls, calls with and without observed pedestrians), mean
+    observed pedestrians, calls, median episode ms."""
+    import srfm
+    from srfm.episode import planner_rng
+
+    calls: list[tuple[Any, list[Observation]]] = []
+    episode_s: list[float] = []
+    for seed in range(seeds):
+        rec = Recorder(_planner(planner_name, detection))
+        srfm.run_episode(scenario, seed, rec, parallel=False)
+        calls.append((rec.context, rec.observations))
+        t0 = time.perf_counter()
+        srfm.run_episode(scenario, seed, _planner(planner_name, detection), parallel=False)
+        episode_s.append(time.perf_counter() - t0)
+    peds = sum(int(o.ped_ids.shape[0]) for _, obs in calls for o in obs)
+    planners = [_planner(planner_name, detection) for _ in calls]
+    for p, (context, _) in zip(planners, calls, strict=True):
+        p.reset(context, planner_rng(context.seed))
+    every = [obs for _, obs in calls]
+    seen = [[o for o in obs if o.ped_ids.shape[0] > 0] for obs in every]
+    empty = [[o for o in obs if o.ped_ids.shape[0] == 0] for obs in every]
+    us_all, n_all = _replay(planners, every, repeats)
+    us_seen, n_seen = _replay(planners, seen, repeats)
+    us_empty, n_empty = _replay(planners, empty, repeats)
+    return {
+        "us": us_all,
+        "calls": n_all,
+        "us_seen": us_seen,
+        "calls_seen": n_seen,
+        "us_empty": us_empty,
+        "calls_empty": n_empty,
+        "peds": peds / n_all,
+        "episode_ms": statistics.median(episode_s) * 1e3,
+    }
+
+
+def _pooled(per: dict[str, dict[str, float]], key: str, calls: str) -> str:
+    """Mean µs per act over the scenarios, weighted by their numbers of calls."""
+    pairs = [(r[key], r[calls]) for r in per.values() if r[calls] > 0]
+    if not pairs:
+        return "–"
+    return f"{sum(us * n for us, n in pairs) / sum(n for _, n in pairs):.1f}"
 
 
 def _commit() -> str:
@@ -133,6 +178,11 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument(
         "--scenarios", nargs="+", metavar="NAME", help="default: the evaluation set"
     )
+    parser.add_argument(
+        "--detection-range",
+        metavar="M|none",
+        help="override every planner's detection range (m); none: observe everyone",
+    )
     return parser.parse_args(argv)
 
 
@@ -151,9 +201,11 @@ def main(argv: list[str] | None = None) -> int:
     busy0, total0 = _cpu_busy_other()
     self0 = _self_cpu_ticks()
     load0 = os.getloadavg()[0]
-    rows: dict[str, dict[str, tuple[float, float, int, float]]] = {}
+    rows: dict[str, dict[str, dict[str, float]]] = {}
     for name in args.planners:
-        rows[name] = {s: bench(name, s, args.seeds, args.repeats) for s in scenarios}
+        rows[name] = {
+            s: bench(name, s, args.seeds, args.repeats, args.detection_range) for s in scenarios
+        }
     busy1, total1 = _cpu_busy_other()
     self1 = _self_cpu_ticks()
     other = max(0, (busy1 - busy0) - (self1 - self0)) / max(1, total1 - total0)
@@ -162,22 +214,30 @@ def main(argv: list[str] | None = None) -> int:
         f"numba {numba.__version__} ({numba.config.NUMBA_NUM_THREADS} threads); "
         f"{os.cpu_count()} CPUs; load average {load0:.2f} at the start; other processes "
         f"used {100 * other:.1f} % of the machine's CPU time during the run; seeds "
-        f"0..{args.seeds - 1}, best of {args.repeats} replays; warm-up {warm:.1f} s"
+        f"0..{args.seeds - 1}, best of {args.repeats} replays; warm-up {warm:.1f} s; detection "
+        f"range {args.detection_range or 'as configured'}"
     )
     print("\nµs per act (mean over the recorded calls of the best replay):\n")
-    print("| planner | " + " | ".join(scenarios) + " | all |")
-    print("|---|" + "---:|" * (len(scenarios) + 1))
+    print("| planner | " + " | ".join(scenarios) + " | all | with people in range | without |")
+    print("|---|" + "---:|" * (len(scenarios) + 3))
     for name, per in rows.items():
-        total_us = sum(us * n for us, _, n, _ in per.values())
-        total_n = sum(n for _, _, n, _ in per.values())
-        cells = " | ".join(f"{per[s][0]:.1f}" for s in scenarios)
-        print(f"| {name} | {cells} | {total_us / total_n:.1f} |")
-    print("\nMean observed pedestrians per call / calls per episode / median episode (ms):\n")
+        cells = " | ".join(f"{per[s]['us']:.1f}" for s in scenarios)
+        print(
+            f"| {name} | {cells} | {_pooled(per, 'us', 'calls')}"
+            f" | {_pooled(per, 'us_seen', 'calls_seen')}"
+            f" | {_pooled(per, 'us_empty', 'calls_empty')} |"
+        )
+    print(
+        "\nMean observed pedestrians per call / share of calls with someone in range / "
+        "calls per episode / median episode (ms):\n"
+    )
     print("| planner | " + " | ".join(scenarios) + " |")
     print("|---|" + "---|" * len(scenarios))
     for name, per in rows.items():
         cells = " | ".join(
-            f"{per[s][1]:.2f} / {per[s][2] / args.seeds:.0f} / {per[s][3]:.1f}" for s in scenarios
+            f"{per[s]['peds']:.2f} / {100 * per[s]['calls_seen'] / per[s]['calls']:.0f} % / "
+            f"{per[s]['calls'] / args.seeds:.0f} / {per[s]['episode_ms']:.1f}"
+            for s in scenarios
         )
         print(f"| {name} | {cells} |")
     return 0

@@ -335,3 +335,54 @@ def test_missing_and_mismatched_counterfactual_files(tmp_path: Path, episode) ->
         load_episode(path)
     with pytest.raises(LogError, match="a shared counterfactual file, not an episode"):
         load_episode(tmp_path / "cf.mcap")
+
+
+def test_rerun_mcap_check_accepts_every_kind_of_file(tmp_path: Path, episode) -> None:  # type: ignore[no-untyped-def]
+    """An independent reader: rerun's MCAP checker (structure, timelines, chunk order)."""
+    import subprocess
+    import sys
+
+    scenario, record, metrics = episode("concert", 4, "straight")
+    files = {
+        "full": tmp_path / "full.mcap",
+        "compact": tmp_path / "compact.mcap",
+        "counterfactual": tmp_path / "cf.mcap",
+    }
+    write_episode_mcap(files["full"], record, scenario=scenario, metrics=metrics)
+    write_episode_mcap(
+        files["compact"],
+        record,
+        scenario=scenario,
+        metrics=metrics,
+        profile="compact",
+        counterfactual_file="cf.mcap",
+    )
+    write_counterfactual_mcap(files["counterfactual"], record, scenario=scenario)
+    for kind, path in files.items():
+        done = subprocess.run(
+            [sys.executable, "-m", "rerun", "mcap", "check", str(path)],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+        assert done.returncode == 0, (kind, done.stdout, done.stderr)
+        rows = [line.split() for line in done.stdout.splitlines() if "/srfm/" in line]
+        assert rows, (kind, done.stdout)
+        assert all(row[0] == "ok" for row in rows), (kind, done.stdout)
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "rerun",
+            "mcap",
+            "convert",
+            str(files["full"]),
+            "-o",
+            str(tmp_path / "converted.rrd"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "converted.rrd").stat().st_size > 0

@@ -19,10 +19,14 @@ from srfm.state import Obstacles
 __all__ = [
     "DEFAULT_DT_S",
     "KernelPlanner",
+    "check_bool",
     "check_detection_range",
+    "check_finite",
     "check_non_negative",
+    "check_optional_positive",
     "check_positive",
     "check_positive_int",
+    "check_unit_interval",
     "check_unit_open",
     "static_geometry",
 ]

@@ -11,6 +11,7 @@ from srfm.benchmark._runner import (
     load_results,
     run_benchmark,
     write_reports,
+    write_tables,
 )
 
 __all__ = [
@@ -25,4 +26,5 @@ __all__ = [
     "read_episode",
     "run_benchmark",
     "write_reports",
+    "write_tables",
 ]

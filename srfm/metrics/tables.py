@@ -202,6 +202,7 @@ def _cell_text(cell: Cell, *, latex: bool) -> str:
     body = f"{_number(s.mean)} ± {_number(s.std)}"
     if cell.best:
         body = f"**{body}**"
+    marks = marks.replace("*", "\\*")  # a literal asterisk, not emphasis
     return f"{marks}{body}" if marks else body
 
 
@@ -213,7 +214,7 @@ def _legend(table: BenchmarkTable) -> str:
     text = "Mean ± sample std over seeds; bold: best mean of the column within the scenario."
     if table.reference is not None:
         text += (
-            f" Significance against {table.reference} (p < {ALPHA}): {WELCH_MARK} Welch's "
+            f" Significance against {table.reference} (p < {ALPHA}): \\{WELCH_MARK} Welch's "
             f"t-test, {PAIRED_MARK} paired t-test over the shared seeds; on "
             f"{table.reference}'s own row, significant against every other planner."
         )

@@ -103,7 +103,7 @@ def test_table_best_and_marks(results: list[EpisodeMetrics]) -> None:
     assert not ours["frechet_m"].welch  # not significant against "close"
     assert ours["time_to_goal_s"].summary.n == 19  # NaN at seed 0 left out
     md = to_markdown(table)
-    assert "| s1 | other | *†" in md
+    assert "| s1 | other | \\*†" in md
     assert "**" in md
     assert "Welch" in md
     assert "paired" in md

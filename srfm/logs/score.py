@@ -315,7 +315,7 @@ def write_score_reports(out: str | Path, result: ScoreResult) -> list[str]:
         LogError: ``out`` is a benchmark results folder (its own reports are never
             overwritten) or the logs give no table (see ``result.notes``).
     """
-    from srfm.benchmark._runner import write_tables
+    from srfm.benchmark import write_tables
 
     out = Path(out)
     check_report_folder(out)

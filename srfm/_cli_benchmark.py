@@ -239,9 +239,18 @@ def benchmark(
         def advance(n: int) -> None:
             bar.update(n)
 
-        summary = run_benchmark(
-            request, out, jobs=jobs, on_progress=advance, figures=not no_figures, writer=writer
-        )
+        try:
+            summary = run_benchmark(
+                request, out, jobs=jobs, on_progress=advance, figures=not no_figures, writer=writer
+            )
+        except KeyboardInterrupt:
+            done = len(list((out / "episodes").rglob("seed-*.json")))
+            click.echo(
+                f"\ninterrupted: {done} finished episodes are kept in {out}; run the same "
+                "command again to resume",
+                err=True,
+            )
+            sys.exit(130)
     click.echo(
         f"simulated {summary.simulated} of {summary.episodes} episodes in "
         f"{summary.wall_time_s:.1f} s ({summary.episodes - summary.simulated} were already done)",

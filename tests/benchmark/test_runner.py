@@ -161,13 +161,16 @@ def test_interrupted_run_resumes_to_the_same_tables(short_scenario: Path, tmp_pa
         "2",
         "--no-figures",
     ]
-    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     episodes = out / "episodes" / "short" / "straight"
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and len(list(episodes.glob("seed-*.json"))) < 10:
         time.sleep(0.05)
     proc.send_signal(signal.SIGINT)
-    proc.wait(timeout=60)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130
+    assert "run the same command again to resume" in err
+    assert "Traceback" not in err
     done = len(list(episodes.glob("seed-*.json")))
     assert 10 <= done < 200, "the run was not interrupted part way"
     for path in episodes.glob("seed-*.json"):

@@ -163,7 +163,7 @@ def test_interrupted_run_resumes_to_the_same_tables(short_scenario: Path, tmp_pa
     ]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     episodes = out / "episodes" / "short" / "straight"
-    deadline = time.monotonic() + 120
+    deadline = time.monotonic() + 300
     while time.monotonic() < deadline and len(list(episodes.glob("seed-*.json"))) < 10:
         time.sleep(0.05)
     proc.send_signal(signal.SIGINT)

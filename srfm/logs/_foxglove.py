@@ -65,6 +65,27 @@ _ENTITY: Final = (
 )
 _UPDATE: Final = '{"deletions":[],"entities":[%s]}'
 
+
+def _entity_template(name: str, *, arrows: bool, cylinders: bool) -> str:
+    """An entity with (sec, nsec) and the chosen primitive lists left to fill."""
+    out = _ENTITY.replace('"id":"%s"', f'"id":"{name}"')
+    out = out.replace('"lines":[%s]', '"lines":[]').replace('"texts":[%s]', '"texts":[]')
+    if not arrows:
+        out = out.replace('"arrows":[%s]', '"arrows":[]')
+    if not cylinders:
+        out = out.replace('"cylinders":[%s]', '"cylinders":[]')
+    return out
+
+
+# One frame of the agents: pedestrians (arrows, discs), their twins (discs), the robot.
+_FRAME: Final = _UPDATE % ",".join(
+    (
+        _entity_template("pedestrians", arrows=True, cylinders=True),
+        _entity_template("counterfactual", arrows=False, cylinders=True),
+        _entity_template("robot", arrows=True, cylinders=True),
+    )
+)
+
 _YAW_STEP: Final = math.radians(5.0)
 _LENGTH_STEP: Final = 0.05
 _PED_HEIGHT: Final = 0.4
@@ -91,10 +112,34 @@ def _entity(
     )
 
 
-def _discs(xy: list[list[float]], diameters: list[str], height: float, color: str) -> list[str]:
-    z = repr(height / 2)
-    h = repr(height)
-    return [_CYL % (x, y, z, d, d, h, color) for (x, y), d in zip(xy, diameters, strict=True)]
+def _disc_template(diameter: str, height: float, color: str) -> str:
+    """A cylinder standing on the ground with only its centre (x, y) left to fill."""
+    filled = _CYL % (0.0, 0.0, repr(height / 2), diameter, diameter, repr(height), color)
+    return filled.replace('"x":0.00,"y":0.00', '"x":%.2f,"y":%.2f', 1)
+
+
+def _arrow_template(z: float, color: str) -> str:
+    """An arrow at height ``z`` with (x, y, qz, qw, shaft length) left to fill."""
+    return _ARROW.replace("%s", repr(round(z, 3)), 1).replace("%s", color, 1)
+
+
+class _Frames:
+    """The agents of the drawn frames, formatted one frame at a time with a single
+    ``%`` each for the discs (the template of a whole frame is built once)."""
+
+    def __init__(
+        self,
+        pos: FloatArray,
+        diameters: list[str],
+        height: float,
+        color: str,
+    ) -> None:
+        n = pos.shape[1]
+        self.template = ",".join(_disc_template(d, height, color) for d in diameters[:n])
+        self.rows = [tuple(r) for r in pos.reshape(pos.shape[0], 2 * n).tolist()]
+
+    def at(self, i: int) -> str:
+        return self.template % self.rows[i]
 
 
 class _ArrowTable:
@@ -104,22 +149,27 @@ class _ArrowTable:
     compresses well); arrows shorter than 2.5 cm are left out.
     """
 
-    def __init__(self, pos: FloatArray, direction: FloatArray, length: FloatArray) -> None:
+    def __init__(
+        self, pos: FloatArray, direction: FloatArray, length: FloatArray, z: float, color: str
+    ) -> None:
         yaw = np.round(np.arctan2(direction[..., 1], direction[..., 0]) / _YAW_STEP) * _YAW_STEP
-        self.xy = np.round(pos, 2).tolist()
-        self.qz = np.sin(yaw / 2).tolist()
-        self.qw = np.cos(yaw / 2).tolist()
-        self.length = (np.round(length / _LENGTH_STEP) * _LENGTH_STEP).tolist()
+        rounded = np.round(length / _LENGTH_STEP) * _LENGTH_STEP
+        table = np.stack(
+            [pos[..., 0], pos[..., 1], np.sin(yaw / 2), np.cos(yaw / 2), rounded], axis=-1
+        )
+        n = pos.shape[1]
+        self.one = _arrow_template(z, color)
+        self.template = ",".join([self.one] * n)
+        self.rows = table.reshape(table.shape[0], 5 * n).tolist()
+        self.drawn = (rounded >= 0.025).tolist()
 
-    def at(self, k: int, z: float, color: str) -> list[str]:
-        zs = repr(z)
-        return [
-            _ARROW % (x, y, zs, a, b, n, color)
-            for (x, y), a, b, n in zip(
-                self.xy[k], self.qz[k], self.qw[k], self.length[k], strict=True
-            )
-            if n >= 0.025
-        ]
+    def at(self, i: int) -> str:
+        drawn = self.drawn[i]
+        row = self.rows[i]
+        if all(drawn):
+            return self.template % tuple(row)
+        one = self.one
+        return ",".join(one % tuple(row[5 * j : 5 * j + 5]) for j, d in enumerate(drawn) if d)
 
 
 def _static(
@@ -181,15 +231,20 @@ def scene_messages(
     frames = sorted({*range(0, n_samples, stride), n_samples - 1})
     idx = np.array(frames)
     # Per-frame tables, computed for the drawn samples only (row i is frames[i]).
-    f_xy = np.round(record.factual_pos[idx], 2).tolist()
-    c_xy = np.round(record.counterfactual_pos[idx], 2).tolist()
+    f_pos = record.factual_pos[idx]
+    peds = _Frames(f_pos, ped_d, _PED_HEIGHT, _BLUE)
+    ghosts = _Frames(record.counterfactual_pos[idx], ped_d, _PED_HEIGHT * 0.9, _GHOST)
     pose = record.robot_pose[idx]
-    r_xy = np.round(pose[:, None, :2], 2).tolist()
+    robot = _Frames(pose[:, None, :2], robot_d, _ROBOT_HEIGHT, _RED)
     vel = record.factual_vel[idx]
-    ped_arrows = _ArrowTable(record.factual_pos[idx], vel, np.linalg.norm(vel, axis=2))
+    ped_arrows = _ArrowTable(f_pos, vel, np.linalg.norm(vel, axis=2), _PED_HEIGHT + 0.02, _BLUE)
     heading = np.stack([np.cos(pose[:, 2]), np.sin(pose[:, 2])], axis=1)[:, None, :]
     robot_arrows = _ArrowTable(
-        pose[:, None, :2], heading, np.full((len(frames), 1), max(0.4, 2 * record.robot_radius))
+        pose[:, None, :2],
+        heading,
+        np.full((len(frames), 1), max(0.4, 2 * record.robot_radius)),
+        _ROBOT_HEIGHT + 0.02,
+        _RED,
     )
     out: list[tuple[int, bytes]] = [(0, _static(record, bounds, obstacles).encode())]
     goal_changes = np.flatnonzero(
@@ -204,20 +259,19 @@ def scene_messages(
         i = row.get(k)
         if i is None:
             continue
-        peds = _entity(
-            t,
-            "pedestrians",
-            cylinders=_discs(f_xy[i], ped_d, _PED_HEIGHT, _BLUE),
-            arrows=ped_arrows.at(i, _PED_HEIGHT + 0.02, _BLUE),
+        sec, nsec = divmod(t, 1_000_000_000)
+        update = _FRAME % (
+            sec,
+            nsec,
+            ped_arrows.at(i),
+            peds.at(i),
+            sec,
+            nsec,
+            ghosts.at(i),
+            sec,
+            nsec,
+            robot_arrows.at(i),
+            robot.at(i),
         )
-        ghosts = _entity(
-            t, "counterfactual", cylinders=_discs(c_xy[i], ped_d, _PED_HEIGHT * 0.9, _GHOST)
-        )
-        robot = _entity(
-            t,
-            "robot",
-            cylinders=_discs(r_xy[i], robot_d, _ROBOT_HEIGHT, _RED),
-            arrows=robot_arrows.at(i, _ROBOT_HEIGHT + 0.02, _RED),
-        )
-        out.append((k, (_UPDATE % ",".join((peds, ghosts, robot))).encode()))
+        out.append((k, update.encode()))
     return out

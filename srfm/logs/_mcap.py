@@ -4,17 +4,23 @@ Message times are integer nanoseconds of simulated time (sample k at
 ``round(k * dt * 1e9)``). What each channel holds: :mod:`srfm.logs._schemas` and
 ``docs/logging.md``. Two profiles:
 
-- ``full``: every channel, the Foxglove scene at every sample, exact per-sample
-  pedestrian states, and exact velocities in the trajectory blocks: a complete
-  :class:`~srfm.record.EpisodeRecord` can be rebuilt bit for bit.
+- ``full``: every channel, the Foxglove scene and the robot messages at every sample,
+  exact per-sample pedestrian states, and exact velocities in the trajectory blocks: a
+  complete :class:`~srfm.record.EpisodeRecord` can be rebuilt bit for bit.
 - ``compact`` (the benchmark's default): no per-sample pedestrian messages, the scene
-  every fifth sample (3 Hz), positions and goals exact but no pedestrian velocities, and the
+  and the robot state and command messages every fifteenth sample (1 Hz, for looking
+  and plotting), positions and goals exact but no pedestrian velocities, and the
   counterfactual crowd (identical for every planner of a scenario and seed) may live in
   a shared file that the episode names and fingerprints.
+
+In both profiles the exact robot of every sample (pose, velocity, activity, command) is
+an array block of ``/srfm/trajectories`` (group ``robot``); that is what the reader
+uses. Files are written by :class:`~srfm.logs._mcap_writer.McapBuilder`.
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import io
 import json
@@ -33,6 +39,7 @@ from srfm._io import atomic_write_bytes
 from srfm.errors import LogError, SrfmError
 from srfm.logs._codec import decode_array, encode_array
 from srfm.logs._foxglove import scene_messages
+from srfm.logs._mcap_writer import McapBuilder
 from srfm.logs._schemas import CHANNELS, SCHEMA_VERSION
 from srfm.metrics import EPISODE_METRICS, PEDESTRIAN_METRICS, EpisodeMetrics
 from srfm.models.params import SRFMParams
@@ -54,12 +61,13 @@ __all__ = [
 
 Profile = Literal["full", "compact"]
 PROFILES: Final = ("full", "compact")
-_SCENE_STRIDE: Final = {"full": 1, "compact": 5}
+_SCENE_STRIDE: Final = {"full": 1, "compact": 15}
 _CHUNK_BYTES: Final = 4 * 1024 * 1024
 _SEPARATORS: Final = (",", ":")
 FloatArray = NDArray[np.float64]
 
 
+@functools.cache
 def _version() -> str:
     try:
         return metadata.version("srfm")
@@ -145,52 +153,39 @@ def metrics_doc(metrics: EpisodeMetrics) -> dict[str, Any]:
 
 
 class _Writer:
-    """A thin layer over :class:`mcap.writer.Writer` that registers our channels."""
+    """Registers our channels on a :class:`McapBuilder` as they are first used."""
 
     def __init__(self, kind: str, info: Mapping[str, str]) -> None:
-        from mcap.writer import CompressionType, IndexType, Writer
-
-        self.buffer = io.BytesIO()
-        # No per-message index records (16 bytes a message, uncompressed): a file holds
-        # one or two chunks, which readers decompress whole anyway.
-        self._w = Writer(
-            self.buffer,
-            chunk_size=_CHUNK_BYTES,
-            compression=CompressionType.ZSTD,
-            index_types=IndexType.CHUNK | IndexType.METADATA | IndexType.ATTACHMENT,
-            enable_data_crcs=True,
-        )
-        self._w.start(profile="", library=f"srfm {_version()}")
+        self._b = McapBuilder(library=f"srfm {_version()}")
         self._schemas: dict[str, int] = {}
         self._channels: dict[str, int] = {}
-        self._w.add_metadata("srfm", {"kind": kind, "schema_version": str(SCHEMA_VERSION), **info})
+        self._b.metadata("srfm", {"kind": kind, "schema_version": str(SCHEMA_VERSION), **info})
 
     def channel(self, key: str) -> int:
         if key not in self._channels:
             spec = CHANNELS[key]
             if spec.schema_name not in self._schemas:
-                self._schemas[spec.schema_name] = self._w.register_schema(
-                    name=spec.schema_name, encoding="jsonschema", data=spec.schema
+                self._schemas[spec.schema_name] = self._b.schema(
+                    spec.schema_name, "jsonschema", spec.schema
                 )
-            self._channels[key] = self._w.register_channel(
-                topic=spec.topic,
-                message_encoding="json",
-                schema_id=self._schemas[spec.schema_name],
+            self._channels[key] = self._b.channel(
+                spec.topic, "json", self._schemas[spec.schema_name]
             )
         return self._channels[key]
 
     def add(self, key: str, t_ns: int, data: bytes) -> None:
-        self._w.add_message(
-            channel_id=self.channel(key), log_time=t_ns, publish_time=t_ns, data=data
-        )
+        self._b.add(self.channel(key), t_ns, data)
+
+    def add_many(self, key: str, times: list[int], data: list[bytes]) -> None:
+        if data:
+            self._b.add_many(self.channel(key), times, data)
 
     def end_chunk(self) -> None:
         """Start a new chunk: the trajectory blocks compress better on their own."""
-        self._w.flush()  # type: ignore[no-untyped-call]
+        self._b.end_chunk()
 
     def finish(self) -> bytes:
-        self._w.finish()  # type: ignore[no-untyped-call]
-        return self.buffer.getvalue()
+        return self._b.finish()
 
 
 # Per-sample robot messages from templates (json.dumps costs more than the simulation
@@ -205,19 +200,6 @@ _ROBOT_COMMAND: Final = (
 _BOOL: Final = {True: "true", False: "false"}
 
 
-def _robot_rests(record: EpisodeRecord) -> bool:
-    """The robot stands still after its episode: the end pose bit for bit, velocity +0.0
-    (no sign bit), inactive."""
-    after = slice(record.end_step + 1, None)
-    pose = record.robot_pose
-    vel = record.robot_vel[after]
-    return bool(
-        pose[after].tobytes() == np.tile(pose[record.end_step], (len(pose[after]), 1)).tobytes()
-        and vel.tobytes() == np.zeros_like(vel).tobytes()
-        and not record.robot_active[after].any()
-    )
-
-
 def _identity(record: EpisodeRecord, planner: str | None) -> dict[str, str]:
     return {
         "scenario": record.scenario,
@@ -227,19 +209,42 @@ def _identity(record: EpisodeRecord, planner: str | None) -> dict[str, str]:
     }
 
 
-def _pedestrian_arrays(record: EpisodeRecord, twin: str, profile: Profile) -> dict[str, Any]:
+def _trajectories(group: str, samples: int, arrays: Mapping[str, Mapping[str, Any]]) -> bytes:
+    """The ``/srfm/trajectories`` message of one group, formatted directly: the base64
+    text of the blocks needs no JSON escaping, and scanning it for escapes cost more
+    than the rest of the message."""
+    blocks = ",".join(
+        f'"{name}":{{"dtype":"{block["dtype"]}",'
+        f'"shape":[{",".join(str(int(n)) for n in block["shape"])}],'
+        f'"encoding":"{block["encoding"]}","data":"{block["data"]}"}}'
+        for name, block in arrays.items()
+    )
+    head = f'{{"schema_version":{SCHEMA_VERSION},"group":"{group}","samples":{int(samples)},'
+    return (head + '"arrays":{' + blocks + "}}").encode("ascii")
+
+
+def _robot_arrays(record: EpisodeRecord) -> bytes:
+    """The robot's exact pose, velocity, activity and commands: what the reader uses."""
+    return _trajectories(
+        "robot",
+        record.time_s.shape[0],
+        {
+            "pose": encode_array(record.robot_pose),
+            "vel": encode_array(record.robot_vel),
+            "active": encode_array(record.robot_active),
+            "cmd": encode_array(record.robot_cmd),
+        },
+    )
+
+
+def _pedestrian_arrays(record: EpisodeRecord, twin: str, profile: Profile) -> bytes:
     arrays = {
         "pos": encode_array(getattr(record, f"{twin}_pos")),
         "goal": encode_array(getattr(record, f"{twin}_goal")),
     }
     if profile == "full":
         arrays["vel"] = encode_array(getattr(record, f"{twin}_vel"))
-    return {
-        "schema_version": SCHEMA_VERSION,
-        "group": twin,
-        "samples": int(record.time_s.shape[0]),
-        "arrays": arrays,
-    }
+    return _trajectories(twin, record.time_s.shape[0], arrays)
 
 
 def _standard_times(record: EpisodeRecord) -> FloatArray:
@@ -289,8 +294,9 @@ def write_episode_mcap(
         scenario: the scenario it ran (for the world, obstacles and agent limits).
         metrics: its metrics (stored as the online numbers; also names the planner).
         profile: ``"full"`` or ``"compact"`` (see the module docstring).
-        scene_stride: draw the Foxglove scene every this many samples (default 1 for
-            ``full``, 3 for ``compact``).
+        scene_stride: draw the Foxglove scene (and, in ``compact``, publish the robot
+            messages) every this many samples (default 1 for ``full``, 15 for
+            ``compact``).
         counterfactual_file: leave the counterfactual crowd out of this file and name
             the shared file that holds it, relative to ``path``'s folder.
         benchmark: the benchmark request (scenarios, planners, seeds, reference) that
@@ -310,7 +316,6 @@ def write_episode_mcap(
     planner = metrics.planner if metrics is not None else record.planner
     n_samples = int(record.time_s.shape[0])
     t_ns = times_ns(n_samples, record.dt_s)
-    times = record.time_s.tolist()
     info = {
         "schema_version": SCHEMA_VERSION,
         "kind": "episode",
@@ -320,6 +325,9 @@ def write_episode_mcap(
         "planner": planner,
         "outcome": record.outcome,
         "end_step": record.end_step,
+        # Full logs publish the robot at every sample, compact ones at the scene's frames
+        # (for plotting); the exact values of every sample are in the robot block.
+        "robot_states": "all" if profile == "full" else "frames",
         "counterfactual": {
             "file": counterfactual_file,
             "sha256": counterfactual_digest(record.counterfactual_pos, record.counterfactual_goal),
@@ -327,12 +335,7 @@ def write_episode_mcap(
         "benchmark": dict(benchmark) if benchmark is not None else None,
     }
     if not np.array_equal(record.time_s, _standard_times(record)):
-        info["time_s"] = times  # only when arange(T + 1) * dt would not reproduce them
-    # Compact logs leave out the robot states between the end of its episode and the
-    # last sample when the robot provably stands still there (same pose, velocity +0.0,
-    # inactive): the reader restores them exactly.
-    skip_after = record.end_step if profile == "compact" and _robot_rests(record) else n_samples - 1
-    info["robot_states"] = "all" if skip_after == n_samples - 1 else "to_end"
+        info["time_s"] = record.time_s.tolist()  # only when arange(T + 1) * dt differs
     w = _Writer("episode", _identity(record, planner))
     w.add("episode", 0, _json(info))
     w_bounds = scenario.world
@@ -349,25 +352,30 @@ def write_episode_mcap(
     events_at: dict[int, list[Event]] = {}
     for e in record.events:
         events_at.setdefault(e.step, []).append(e)
-    peds: list[Iterator[bytes]] = []
-    if profile == "full":
-        peds = [_pedestrian_states(record, twin) for twin in ("factual", "counterfactual")]
+    robot_steps = range(n_samples) if profile == "full" else range(0, n_samples, stride)
+    robot_at = {*robot_steps, n_samples - 1}
     pose = record.robot_pose.tolist()
     rvel = record.robot_vel.tolist()
     cmd = record.robot_cmd.tolist()
     active = record.robot_active.tolist()
     kin = record.robot_kinematics
-    for k in range(n_samples):
+    peds = (
+        [list(_pedestrian_states(record, twin)) for twin in ("factual", "counterfactual")]
+        if profile == "full"
+        else []
+    )
+    for k in sorted(robot_at | scene_at.keys() | events_at.keys()):
         t = t_ns[k]
-        for key, it in zip(("factual", "counterfactual"), peds, strict=False):
-            w.add(key, t, next(it))
-        if not skip_after < k < n_samples - 1:
+        for key, msgs in zip(("factual", "counterfactual"), peds, strict=False):
+            w.add(key, t, msgs[k])
+        if k in robot_at:
             x, y, th = pose[k]
             vx, vy = rvel[k]
             state = _ROBOT_STATE % (k, x, y, th, vx, vy, _BOOL[active[k]])
             w.add("robot_state", t, state.encode())
-        if k < n_samples - 1 and active[k] and not math.isnan(cmd[k][0]):
-            w.add("robot_command", t, (_ROBOT_COMMAND % (k, kin, cmd[k][0], cmd[k][1])).encode())
+            if k < n_samples - 1 and active[k] and not math.isnan(cmd[k][0]):
+                command = _ROBOT_COMMAND % (k, kin, cmd[k][0], cmd[k][1])
+                w.add("robot_command", t, command.encode())
         for e in events_at.get(k, ()):
             w.add(
                 "events",
@@ -389,9 +397,10 @@ def write_episode_mcap(
     if metrics is not None:
         w.add("metrics", end, _json(metrics_doc(metrics)))
     w.end_chunk()
-    w.add("trajectories", end, _json(_pedestrian_arrays(record, "factual", profile)))
+    w.add("trajectories", end, _robot_arrays(record))
+    w.add("trajectories", end, _pedestrian_arrays(record, "factual", profile))
     if counterfactual_file is None:
-        w.add("trajectories", end, _json(_pedestrian_arrays(record, "counterfactual", profile)))
+        w.add("trajectories", end, _pedestrian_arrays(record, "counterfactual", profile))
     data = w.finish()
     atomic_write_bytes(path, data, fsync=fsync)
     return len(data)
@@ -429,7 +438,7 @@ def write_counterfactual_mcap(
     w = _Writer("counterfactual", _identity(record, None))
     w.add("episode", 0, _json(info))
     end = round(record.horizon_steps * record.dt_s * 1e9)
-    w.add("trajectories", end, _json(_pedestrian_arrays(record, "counterfactual", profile)))
+    w.add("trajectories", end, _pedestrian_arrays(record, "counterfactual", profile))
     data = w.finish()
     atomic_write_bytes(path, data, fsync=fsync)
     return len(data)
@@ -466,6 +475,7 @@ class LogFile:
         return str(self.info["kind"])
 
 
+_GROUPS: Final = ("factual", "counterfactual", "robot")
 _READ_TOPICS: Final = {
     CHANNELS[k].topic: k
     for k in ("episode", "trajectories", "events", "metrics", "robot_state", "robot_command")
@@ -528,7 +538,9 @@ def _decode(path: Path, key: str, schema: str, payload: bytes) -> dict[str, Any]
     except (UnicodeDecodeError, ValueError) as exc:
         raise LogError(f"{path}: a {CHANNELS[key].topic} message is not JSON: {exc}") from None
     if not isinstance(doc, dict) or doc.get("schema_version") != SCHEMA_VERSION:
-        raise LogError(f"{path}: a {CHANNELS[key].topic} message has no schema_version 1")
+        raise LogError(
+            f"{path}: a {CHANNELS[key].topic} message has no schema_version {SCHEMA_VERSION}"
+        )
     return doc
 
 
@@ -563,7 +575,7 @@ def read_log(path: str | Path) -> LogFile:
         elif key == "trajectories":
             group = str(doc.get("group"))
             arrays = doc.get("arrays")
-            if not isinstance(arrays, dict) or group in groups:
+            if not isinstance(arrays, dict) or group in groups or group not in _GROUPS:
                 raise LogError(f"{path}: malformed or repeated trajectory group {group!r}")
             groups[group] = {
                 name: decode_array(block, f"{path}: {group}.{name}")
@@ -652,43 +664,17 @@ def _times(path: Path, info: Mapping[str, Any], samples: int, dt: float) -> Floa
 def _robot(
     path: Path, log: LogFile, samples: int
 ) -> tuple[FloatArray, FloatArray, NDArray[np.bool_], FloatArray]:
-    """Robot pose, velocity, activity and commands from the per-sample messages."""
-    pose = np.full((samples, 3), np.nan)
-    vel = np.full((samples, 2), np.nan)
-    active = np.zeros(samples, dtype=np.bool_)
-    cmd = np.full((samples - 1, 2), np.nan)
-    seen = np.zeros(samples, dtype=np.bool_)
-    try:
-        for m in log.robot_states:
-            k = int(m["step"])
-            if not 0 <= k < samples or seen[k]:
-                raise ValueError(f"step {k}")
-            seen[k] = True
-            pose[k] = (float(m["x"]), float(m["y"]), float(m["theta"]))
-            vel[k] = (float(m["vx"]), float(m["vy"]))
-            active[k] = m["active"] is True
-        for m in log.robot_commands:
-            k = int(m["step"])
-            command = [float(v) for v in m["command"]]
-            if not 0 <= k < samples - 1 or len(command) != 2:
-                raise ValueError(f"command at step {k}")
-            cmd[k] = command
-    except (KeyError, TypeError, ValueError) as exc:
-        raise LogError(f"{path}: malformed robot state or command message ({exc})") from None
-    rule = log.info.get("robot_states", "all")
-    end = log.info.get("end_step")
-    if rule == "to_end" and isinstance(end, int) and 0 <= end < samples and seen[end]:
-        gap = slice(end + 1, samples - 1)  # the robot stood still there (see the writer)
-        if not seen[gap].any():
-            pose[gap] = pose[end]
-            vel[gap] = 0.0
-            active[gap] = False
-            seen[gap] = True
-    if not seen.all():
-        missing = np.flatnonzero(~seen)
-        raise LogError(
-            f"{path}: robot states of {missing.size} samples are missing (first: {int(missing[0])})"
-        )
+    """Robot pose, velocity, activity and commands from the exact robot block (the
+    per-sample robot messages are for plotting)."""
+    if "robot" not in log.groups:
+        raise LogError(f"{path}: the robot's trajectory block is missing")
+    g = log.groups["robot"]
+    pose = _array(path, g, "pose", (samples, 3), "robot")
+    vel = _array(path, g, "vel", (samples, 2), "robot")
+    active = _array(path, g, "active", (samples,), "robot")
+    cmd = _array(path, g, "cmd", (samples - 1, 2), "robot")
+    if active.dtype != np.bool_ or pose.dtype != np.float64 or cmd.dtype != np.float64:
+        raise LogError(f"{path}: the robot block has arrays of the wrong type")
     return pose, vel, active, cmd
 
 
@@ -771,6 +757,8 @@ def episode_from_log(
     end_step = _get(p, info, "end_step", int)
     if outcome not in ROBOT_OUTCOMES:
         raise LogError(f"{p}: unknown robot outcome {outcome!r}")
+    if info.get("robot_states") not in ("all", "frames"):
+        raise LogError(f"{p}: /srfm/episode field 'robot_states' is missing or malformed")
     try:
         params = SRFMParams(**_get(p, info, "params", dict))
         radius = np.array(info["pedestrians"]["radius_m"], dtype=np.float64)

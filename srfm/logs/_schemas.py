@@ -21,7 +21,7 @@ __all__ = [
     "schema_bytes",
 ]
 
-SCHEMA_VERSION: Final = 1
+SCHEMA_VERSION: Final = 2
 _DRAFT: Final = "https://json-schema.org/draft/2020-12/schema"
 
 
@@ -143,10 +143,11 @@ EPISODE: Final = _srfm_schema(
         "outcome": {"type": ["string", "null"]},
         "end_step": {"type": ["integer", "null"]},
         "robot_states": {
-            "enum": ["all", "to_end", None],
-            "description": "to_end: /srfm/robot/state skips the samples strictly between "
-            "end_step and the last one, where the robot stands still (the state at end_step, "
-            "velocity 0, inactive); null in counterfactual files",
+            "enum": ["all", "frames", None],
+            "description": "when /srfm/robot/state and /srfm/robot/command are published: "
+            "all: every sample (full logs); frames: at the Foxglove scene's agent frames "
+            "only (compact logs); the exact robot of every sample is the robot group of "
+            "/srfm/trajectories; null in counterfactual files",
         },
         "counterfactual": _obj(
             {
@@ -233,11 +234,13 @@ TRAJECTORIES: Final = _srfm_schema(
     "Exact arrays of every sample of one group (published once, at the end): what "
     "srfm score reads.",
     {
-        "group": {"enum": ["factual", "counterfactual"]},
+        "group": {"enum": ["factual", "counterfactual", "robot"]},
         "samples": _int("T + 1"),
         "arrays": {
             "type": "object",
-            "description": "pos, goal (T + 1, N, 2) and, in full logs, vel",
+            "description": "factual, counterfactual: pos, goal (T + 1, N, 2) and, in full "
+            "logs, vel; robot: pose (T + 1, 3) as (x, y, theta), vel (T + 1, 2), active "
+            "(T + 1,) bool, cmd (T, 2) (NaN where the planner was not asked)",
             "additionalProperties": _ARRAY_BLOCK,
         },
     },

@@ -100,7 +100,7 @@ def test_channels_schemas_and_every_message_follow_the_schemas(full_log) -> None
         assert schema.encoding == "jsonschema"
         schemas[channel.topic] = json.loads(schema.data)
     assert schemas["/foxglove/scene"]["title"] == "foxglove.SceneUpdate"
-    assert all(s["title"].endswith(".v1") for t, s in schemas.items() if t.startswith("/srfm"))
+    assert all(s["title"].endswith(".v2") for t, s in schemas.items() if t.startswith("/srfm"))
     for _, channel, message in msgs:
         check_json_schema(json.loads(message.data), schemas[channel.topic], channel.topic)
     by = _by_topic(msgs)
@@ -211,12 +211,27 @@ def test_compact_log_with_a_shared_counterfactual(tmp_path: Path, episode) -> No
         schema = json.loads(cf_summary.schemas[channel.schema_id].data)
         check_json_schema(json.loads(message.data), schema, channel.topic)
     assert "/srfm/pedestrians/factual" not in counts
-    # The robot rests after reaching its goal: its states up to then and the last one.
+    # 1 Hz: the scene, the robot states and (while it drives) its commands at the
+    # agent frames only; the exact robot of every sample is in its block.
     assert record.outcome == "goal_reached"
-    assert counts["/srfm/robot/state"] == record.end_step + 2
     n = record.time_s.shape[0]
-    frames = len(range(0, n, 5)) + (0 if (n - 1) % 5 == 0 else 1)
-    assert counts["/foxglove/scene"] == 1 + 1 + frames  # static, goals, agent frames
+    frame_steps = sorted({*range(0, n, 15), n - 1})
+    assert counts["/foxglove/scene"] == 1 + 1 + len(frame_steps)  # static, goals, frames
+    by = _by_topic(msgs)
+    assert [m["step"] for _, m in by["/srfm/robot/state"]] == frame_steps
+    driving = [k for k in frame_steps[:-1] if record.robot_active[k]]
+    assert driving
+    assert [m["step"] for _, m in by["/srfm/robot/command"]] == driving
+    for _, m in by["/srfm/robot/state"]:
+        k = m["step"]
+        assert [m["x"], m["y"], m["theta"]] == record.robot_pose[k].tolist()
+        assert m["active"] is bool(record.robot_active[k])
+    (robot,) = [m for _, m in by["/srfm/trajectories"] if m["group"] == "robot"]
+    assert set(robot["arrays"]) == {"pose", "vel", "active", "cmd"}
+    assert by["/srfm/episode"][0][1]["robot_states"] == "frames"
+    # Message times never decrease within the chunk of the per-sample messages.
+    times = [m.log_time for _, c, m in msgs if c.topic != "/srfm/trajectories"]
+    assert times == sorted(times)
 
 
 def test_times_that_arange_cannot_reproduce_are_stored(tmp_path: Path, episode) -> None:  # type: ignore[no-untyped-def]
@@ -287,18 +302,24 @@ def test_foreign_mcap_is_a_log_error(tmp_path: Path) -> None:
         load_episode(path)
 
 
-def test_other_schema_versions_are_named(tmp_path: Path) -> None:
+@pytest.mark.parametrize("version", [1, 3])
+def test_other_schema_versions_are_named(tmp_path: Path, version: int) -> None:
+    """Version 1 files (robot only as per-sample messages) and future ones are refused."""
     buf = io.BytesIO()
     w = Writer(buf)
     w.start()
-    sid = w.register_schema(name="srfm.logs.Episode.v2", encoding="jsonschema", data=b"{}")
+    name = f"srfm.logs.Episode.v{version}"
+    sid = w.register_schema(name=name, encoding="jsonschema", data=b"{}")
     cid = w.register_channel(topic="/srfm/episode", message_encoding="json", schema_id=sid)
-    w.add_message(channel_id=cid, log_time=0, publish_time=0, data=b'{"schema_version":2}')
+    data = b'{"schema_version":%d}' % version
+    w.add_message(channel_id=cid, log_time=0, publish_time=0, data=data)
     w.finish()
-    path = tmp_path / "future.mcap"
+    path = tmp_path / "other.mcap"
     path.write_bytes(buf.getvalue())
     with pytest.raises(
-        LogError, match=r"future\.mcap: /srfm/episode uses schema srfm.logs.Episode.v2"
+        LogError,
+        match=rf"other\.mcap: /srfm/episode uses schema {name}, this srfm reads "
+        r"srfm\.logs\.Episode\.v2",
     ):
         load_episode(path)
 

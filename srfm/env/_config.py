@@ -51,8 +51,8 @@ class EnvConfig:
     Reward per step (paper Eq. 7): r = r_term − k1 · r_dist − k2 · r_div.
 
     Attributes:
-        k1: weight of r_dist, the goal distance divided by the goal distance at reset
-            (dimensionless, 1 at the start, 0 at the goal).
+        k1: weight of r_dist, the goal distance divided by the goal distance at reset,
+            capped at 1 (dimensionless, 1 at the start, 0 at the goal).
         k2: weight of r_div (1/m), the summed one-step counterfactual deviation (m) of
             the pedestrians inside the social zone. 0 gives the paper's RL_base
             reward, > 0 the SRFM-aware one.
@@ -61,7 +61,11 @@ class EnvConfig:
             closer than this to the robot centre (paper: 3 m).
         max_pedestrians: K, the number of observed pedestrian slots (paper: 10).
         success_reward: r_term when the robot reaches its goal.
-        timeout_penalty: −r_term when the horizon is reached (a truncation).
+        timeout_penalty: −r_term when the horizon is reached (a truncation). The
+            defaults (25, and 50 for a collision) exceed the largest discounted sum of
+            per-step penalties over TD3's horizon (about (k1 + k2 · 0.05 m) / (1 − γ)
+            ≈ 35), so that ending an episode by a collision or by leaving the world
+            never pays.
         velocity_scale_mps: relative pedestrian velocities in the observation are
             divided by this (m/s) and clipped to [−1, 1].
         kinematics: ``"unicycle"`` (v, ω), ``"holonomic"`` (robot-frame vx, vy), or
@@ -75,8 +79,8 @@ class EnvConfig:
     k2: float = attrs.field(default=DEFAULT_K_DIV, validator=_non_negative)
     social_zone_m: float = attrs.field(default=3.0, validator=_positive)
     max_pedestrians: int = attrs.field(default=10, validator=_max_peds)
-    success_reward: float = attrs.field(default=10.0, validator=_non_negative)
-    timeout_penalty: float = attrs.field(default=10.0, validator=_non_negative)
+    success_reward: float = attrs.field(default=25.0, validator=_non_negative)
+    timeout_penalty: float = attrs.field(default=25.0, validator=_non_negative)
     velocity_scale_mps: float = attrs.field(default=2.0, validator=_positive)
     kinematics: Kinematics | None = attrs.field(default=None, validator=_kinematics)
     counterfactual_twin: bool = attrs.field(default=True, validator=_flag)

@@ -472,8 +472,8 @@ def reward_and_observation(
 ) -> None:
     """Reward terms into ``out`` and the observation into ``obs`` after a step.
 
-    r = r_term − k1 r_dist − k2 r_div, with r_dist = goal distance / goal distance at
-    reset, r_div from :func:`one_step_deviation` at the robot's new position, and
+    r = r_term − k1 r_dist − k2 r_div, with r_dist = min(goal distance / goal distance
+    at reset, 1) (the paper's range [0, 1]), r_div from :func:`one_step_deviation` at the robot's new position, and
     r_term = +success reward at the goal, −timeout penalty on timeout, −collision
     penalty on a collision with a pedestrian or an obstacle or on leaving the world.
     """
@@ -481,7 +481,7 @@ def reward_and_observation(
     body[1] = robot[R_Y]
     gdx = cfg[C_GOAL_X] - robot[R_X]
     gdy = cfg[C_GOAL_Y] - robot[R_Y]
-    r_dist = math.sqrt(gdx * gdx + gdy * gdy) / cfg[C_GOAL_DIST0]
+    r_dist = min(1.0, math.sqrt(gdx * gdx + gdy * gdy) / cfg[C_GOAL_DIST0])
     r_div = one_step_deviation(
         crowd, agent, params, body, segments, circles, cfg[C_DT], cfg[C_ZONE]
     )

@@ -132,6 +132,7 @@ def test_bad_arguments() -> None:
 
 def test_collision_penalty_is_twice_the_timeout_penalty() -> None:
     assert EnvConfig().collision_penalty == 2.0 * EnvConfig().timeout_penalty
+    assert (EnvConfig().success_reward, EnvConfig().timeout_penalty) == (25.0, 25.0)
     assert EnvConfig(timeout_penalty=7.5).collision_penalty == 15.0
 
 
@@ -226,6 +227,7 @@ def test_leaving_the_world_is_penalised_like_a_collision(tmp_path: Path) -> None
     env.reset(seed=0)
     for _ in range(100):
         _, _, terminated, truncated, info = env.step(np.array([1.0, 0.0], np.float32))
+        assert info["r_dist"] == 1.0  # moving away from the goal: capped at 1
         if terminated or truncated:
             break
     assert terminated

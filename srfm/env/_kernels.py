@@ -473,9 +473,10 @@ def reward_and_observation(
     """Reward terms into ``out`` and the observation into ``obs`` after a step.
 
     r = r_term − k1 r_dist − k2 r_div, with r_dist = min(goal distance / goal distance
-    at reset, 1) (the paper's range [0, 1]), r_div from :func:`one_step_deviation` at the robot's new position, and
-    r_term = +success reward at the goal, −timeout penalty on timeout, −collision
-    penalty on a collision with a pedestrian or an obstacle or on leaving the world.
+    at reset, 1) (the paper's range [0, 1]), r_div from :func:`one_step_deviation` at
+    the robot's new position, and r_term = +success reward at the goal, −timeout
+    penalty on timeout, −collision penalty on a collision with a pedestrian or an
+    obstacle or on leaving the world.
     """
     body[0] = robot[R_X]
     body[1] = robot[R_Y]

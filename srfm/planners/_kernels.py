@@ -368,6 +368,51 @@ def _dwa_score(heading: float, min_clear: float, speed: float, params: np.ndarra
     return score
 
 
+@njit(cache=True, inline="always")
+def _gap(
+    px: float,
+    py: float,
+    t: float,
+    radius: float,
+    edges: bool,
+    x0: float,
+    x1: float,
+    y0: float,
+    y1: float,
+    ped_pos: np.ndarray,
+    ped_vel: np.ndarray,
+    ped_radius: np.ndarray,
+    segments: np.ndarray,
+    near: np.ndarray,
+    circles: np.ndarray,
+) -> float:
+    """Smallest gap (m) from a robot disc of ``radius`` at (px, py) to the world's edges
+    (when ``edges``), the pedestrians moved on for ``t`` seconds at constant velocity,
+    the walls flagged in ``near`` and the pillars; inf when there is nothing."""
+    gap = INF
+    if edges:
+        gap = min(px - x0, x1 - px, py - y0, y1 - py) - radius
+    for q in range(ped_pos.shape[0]):
+        ex = px - (ped_pos[q, 0] + ped_vel[q, 0] * t)
+        ey = py - (ped_pos[q, 1] + ped_vel[q, 1] * t)
+        g = math.sqrt(ex * ex + ey * ey) - radius - ped_radius[q]
+        gap = min(gap, g)
+    for q in range(segments.shape[0]):
+        if near[q] != 0.0:
+            cx, cy = _closest_on_segment(
+                px, py, segments[q, 0], segments[q, 1], segments[q, 2], segments[q, 3]
+            )
+            ex = px - cx
+            ey = py - cy
+            gap = min(gap, math.sqrt(ex * ex + ey * ey) - radius)
+    for q in range(circles.shape[0]):
+        ex = px - circles[q, 0]
+        ey = py - circles[q, 1]
+        g = math.sqrt(ex * ex + ey * ey) - radius - circles[q, 2]
+        gap = min(gap, g)
+    return gap
+
+
 @njit(cache=True)
 def dwa_unicycle(
     x: float,
@@ -424,7 +469,6 @@ def dwa_unicycle(
     n_near = mark_near_segments(segments, x, y, reach, near)
     edges = _edge_gap(x, y, params) < reach
     n_peds = ped_pos.shape[0]
-    n_seg = segments.shape[0]
     n_circ = circles.shape[0]
     check = edges or n_near > 0 or n_peds > 0 or n_circ > 0
     at_goal_now = (x - gx) * (x - gx) + (y - gy) * (y - gy) < goal_r2
@@ -469,28 +513,10 @@ def dwa_unicycle(
                     hy = my * c + mx * s
                     # Smallest gap to everything at time k h.
                     t = k * h * predict
-                    gap = INF
-                    if edges:
-                        gap = min(px - x0, x1 - px, py - y0, y1 - py) - radius
-                    for q in range(n_peds):
-                        ex = px - (ped_pos[q, 0] + ped_vel[q, 0] * t)
-                        ey = py - (ped_pos[q, 1] + ped_vel[q, 1] * t)
-                        g = math.sqrt(ex * ex + ey * ey) - radius - ped_radius[q]
-                        gap = min(gap, g)
-                    for q in range(n_seg):
-                        if near[q] != 0.0:
-                            cx, cy = _closest_on_segment(
-                                px, py, segments[q, 0], segments[q, 1], segments[q, 2],
-                                segments[q, 3],
-                            )  # fmt: skip
-                            ex = px - cx
-                            ey = py - cy
-                            gap = min(gap, math.sqrt(ex * ex + ey * ey) - radius)
-                    for q in range(n_circ):
-                        ex = px - circles[q, 0]
-                        ey = py - circles[q, 1]
-                        g = math.sqrt(ex * ex + ey * ey) - radius - circles[q, 2]
-                        gap = min(gap, g)
+                    gap = _gap(
+                        px, py, t, radius, edges, x0, x1, y0, y1,
+                        ped_pos, ped_vel, ped_radius, segments, near, circles,
+                    )  # fmt: skip
                     min_clear = min(min_clear, gap)
                     if gap < 0.0:
                         t_hit = k * h
@@ -572,7 +598,6 @@ def dwa_holonomic(
     n_near = mark_near_segments(segments, x, y, reach, near)
     edges = _edge_gap(x, y, params) < reach
     n_peds = ped_pos.shape[0]
-    n_seg = segments.shape[0]
     n_circ = circles.shape[0]
     check = edges or n_near > 0 or n_peds > 0 or n_circ > 0
     at_goal_now = (x - gx) * (x - gx) + (y - gy) * (y - gy) < goal_r2
@@ -618,28 +643,10 @@ def dwa_holonomic(
                     px += rx * h
                     py += ry * h
                     t = k * h * predict
-                    gap = INF
-                    if edges:
-                        gap = min(px - x0, x1 - px, py - y0, y1 - py) - radius
-                    for q in range(n_peds):
-                        ex = px - (ped_pos[q, 0] + ped_vel[q, 0] * t)
-                        ey = py - (ped_pos[q, 1] + ped_vel[q, 1] * t)
-                        g = math.sqrt(ex * ex + ey * ey) - radius - ped_radius[q]
-                        gap = min(gap, g)
-                    for q in range(n_seg):
-                        if near[q] != 0.0:
-                            cx, cy = _closest_on_segment(
-                                px, py, segments[q, 0], segments[q, 1], segments[q, 2],
-                                segments[q, 3],
-                            )  # fmt: skip
-                            ex = px - cx
-                            ey = py - cy
-                            gap = min(gap, math.sqrt(ex * ex + ey * ey) - radius)
-                    for q in range(n_circ):
-                        ex = px - circles[q, 0]
-                        ey = py - circles[q, 1]
-                        g = math.sqrt(ex * ex + ey * ey) - radius - circles[q, 2]
-                        gap = min(gap, g)
+                    gap = _gap(
+                        px, py, t, radius, edges, x0, x1, y0, y1,
+                        ped_pos, ped_vel, ped_radius, segments, near, circles,
+                    )  # fmt: skip
                     min_clear = min(min_clear, gap)
                     if gap < 0.0:
                         t_hit = k * h

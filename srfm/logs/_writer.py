@@ -79,7 +79,8 @@ class LogOptions:
         rrd_seeds: in a benchmark, only the first this many seeds of each scenario ×
             planner cell get a recording (None: every seed).
         forces: log the SRFM force components in the recordings.
-        scene_stride: Foxglove scene every this many samples (None: the profile's).
+        scene_stride: Foxglove scene (and, in compact logs, the robot messages) every
+            this many samples (None: the profile's, 1 for full and 15 for compact).
         share_counterfactual: in a benchmark, store each (scenario, seed)'s
             counterfactual crowd once for all planners (``_counterfactual/``) instead
             of in every episode file.

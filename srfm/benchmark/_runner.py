@@ -119,6 +119,11 @@ class BenchmarkRequest:
         if self.figure_seed is not None and self.figure_seed not in self.seeds:
             raise BenchmarkError(f"figure seed {self.figure_seed} is not among the seeds")
 
+    @property
+    def drawn_seed(self) -> int:
+        """The seed of the path figures."""
+        return self.seeds[0] if self.figure_seed is None else self.figure_seed
+
     @classmethod
     def create(
         cls,
@@ -237,6 +242,7 @@ class _Task:
     params: SRFMParams
     out: str
     writer: EpisodeWriter | None
+    figure_seed: int | None
 
 
 def _run_task(task: _Task) -> int:
@@ -252,6 +258,10 @@ def _run_task(task: _Task) -> int:
             metrics = attrs.evolve(metrics, planner=task.planner)
         if task.writer is not None:
             task.writer(out, record, metrics)
+        if seed == task.figure_seed:
+            from srfm.benchmark.figures import save_figure_episode
+
+            save_figure_episode(out, task.planner, record)
         write_episode(out, metrics)  # last: an episode counts as done once this exists
     return len(task.seeds)
 
@@ -266,8 +276,9 @@ def _init_worker() -> None:
 
 
 def _pending_tasks(
-    out: Path, request: BenchmarkRequest, writer: EpisodeWriter | None
+    out: Path, request: BenchmarkRequest, writer: EpisodeWriter | None, figures: bool
 ) -> list[_Task]:
+    figure_seed = request.drawn_seed if figures else None
     tasks = []
     for scenario in request.scenarios:
         for planner in request.planners:
@@ -285,6 +296,7 @@ def _pending_tasks(
                         request.params,
                         str(out),
                         writer,
+                        figure_seed,
                     )
                 )
     return tasks
@@ -332,7 +344,7 @@ def run_benchmark(
     out.mkdir(parents=True, exist_ok=True)
     atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
     _remove_stale_temporaries(out)
-    tasks = _pending_tasks(out, request, writer)
+    tasks = _pending_tasks(out, request, writer, figures)
     total = len(request.scenarios) * len(request.planners) * len(request.seeds)
     pending = sum(len(t.seeds) for t in tasks)
     if on_progress is not None:

@@ -7,7 +7,9 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import attrs
 import numpy as np
+from numpy.typing import NDArray
 
 from srfm._io import atomic_write_bytes
 from srfm.metrics import BenchmarkTable
@@ -19,9 +21,19 @@ if TYPE_CHECKING:
 
     from srfm.benchmark._runner import BenchmarkRequest
 
-__all__ = ["deviation_figure", "paths_figure", "write_figures"]
+__all__ = [
+    "FigureEpisode",
+    "deviation_figure",
+    "figure_episode_path",
+    "load_figure_episode",
+    "paths_figure",
+    "save_figure_episode",
+    "write_figures",
+]
 
 _DPI = 110
+
+FloatArray = NDArray[np.float64]
 
 
 def _save(fig: Figure, path: Path) -> None:
@@ -33,7 +45,84 @@ def _save(fig: Figure, path: Path) -> None:
     atomic_write_bytes(path, buf.getvalue())
 
 
-def _draw_episode(ax: Axes, record: EpisodeRecord, world: Sequence[float]) -> None:
+@attrs.frozen(kw_only=True, eq=False)
+class FigureEpisode:
+    """What a path figure needs of an episode (a record's arrays, without the rest)."""
+
+    scenario: str
+    seed: int
+    planner: str
+    outcome: str
+    end_step: int
+    factual_pos: FloatArray
+    counterfactual_pos: FloatArray
+    robot_pose: FloatArray
+    robot_goal: FloatArray
+
+    @property
+    def n_pedestrians(self) -> int:
+        """N."""
+        return int(self.factual_pos.shape[1])
+
+
+def figure_episode_path(out: Path, scenario: str, planner: str) -> Path:
+    """Where a worker leaves the trajectories of the figure seed's episode."""
+    return out / "figures" / "episodes" / scenario / f"{planner}.npz"
+
+
+def save_figure_episode(out: Path, planner: str, record: EpisodeRecord) -> None:
+    """Keep what the path figure needs of ``record`` (called in the worker that ran it,
+    so that drawing the figures does not simulate anything again)."""
+    buf = io.BytesIO()
+    np.savez(
+        buf,
+        seed=record.seed,
+        end_step=record.end_step,
+        outcome=record.outcome,
+        factual_pos=record.factual_pos,
+        counterfactual_pos=record.counterfactual_pos,
+        robot_pose=record.robot_pose,
+        robot_goal=record.robot_goal,
+    )
+    atomic_write_bytes(figure_episode_path(out, record.scenario, planner), buf.getvalue())
+
+
+def load_figure_episode(out: Path, scenario: str, planner: str, seed: int) -> FigureEpisode | None:
+    """The saved figure episode of (scenario, planner), or None if absent or of another seed."""
+    path = figure_episode_path(out, scenario, planner)
+    if not path.exists():
+        return None
+    with np.load(path) as data:
+        if int(data["seed"]) != seed:
+            return None
+        return FigureEpisode(
+            scenario=scenario,
+            seed=seed,
+            planner=planner,
+            outcome=str(data["outcome"]),
+            end_step=int(data["end_step"]),
+            factual_pos=data["factual_pos"],
+            counterfactual_pos=data["counterfactual_pos"],
+            robot_pose=data["robot_pose"],
+            robot_goal=data["robot_goal"],
+        )
+
+
+def _figure_episode(record: EpisodeRecord, planner: str) -> FigureEpisode:
+    return FigureEpisode(
+        scenario=record.scenario,
+        seed=record.seed,
+        planner=planner,
+        outcome=record.outcome,
+        end_step=record.end_step,
+        factual_pos=record.factual_pos,
+        counterfactual_pos=record.counterfactual_pos,
+        robot_pose=record.robot_pose,
+        robot_goal=record.robot_goal,
+    )
+
+
+def _draw_episode(ax: Axes, record: FigureEpisode, world: Sequence[float]) -> None:
     from matplotlib import colormaps
 
     x0, x1, y0, y1 = world
@@ -56,7 +145,7 @@ def _draw_episode(ax: Axes, record: EpisodeRecord, world: Sequence[float]) -> No
     ax.tick_params(labelsize=7)
 
 
-def paths_figure(records: Sequence[EpisodeRecord], world: Sequence[float]) -> Figure:
+def paths_figure(records: Sequence[FigureEpisode], world: Sequence[float]) -> Figure:
     """One panel per planner: factual paths (solid), counterfactual paths (dashed, same
     colour per pedestrian), the robot path (black, square start, star goal)."""
     from matplotlib.figure import Figure
@@ -104,13 +193,18 @@ def write_figures(out: Path, request: BenchmarkRequest, table: BenchmarkTable) -
     from srfm.episode import run_episode
     from srfm.planners import make_planner
 
-    seed = request.seeds[0] if request.figure_seed is None else request.figure_seed
+    seed = request.drawn_seed
     written = []
     for scenario in request.scenarios:
-        records = [
-            run_episode(scenario, seed, make_planner(p), request.params, parallel=False)
-            for p in request.planners
-        ]
+        records = []
+        for p in request.planners:
+            saved = load_figure_episode(out, scenario.name, p, seed)
+            if saved is None:  # a folder from before figures were kept: simulate again
+                record = run_episode(
+                    scenario, seed, make_planner(p), request.params, parallel=False
+                )
+                saved = _figure_episode(record, p)
+            records.append(saved)
         w = scenario.world
         fig = paths_figure(records, (w.x_min, w.x_max, w.y_min, w.y_max))
         name = f"figures/paths_{scenario.name}.png"

@@ -259,3 +259,27 @@ def test_file_instead_of_folder(tmp_path: Path, short_scenario: Path) -> None:
         run_benchmark(_request(short_scenario, range(1)), target, jobs=1)
     assert target.read_text() == "keep me"
     assert os.path.exists(target)
+
+
+def test_path_figures_come_from_the_workers_episodes(
+    reference_run: Path, short_scenario: Path, tmp_path: Path
+) -> None:
+    """Workers keep the figure seed's trajectories; drawing from them gives the same
+    picture as simulating that seed again (the fallback for folders without them)."""
+    import shutil
+
+    from srfm.benchmark import write_reports
+
+    out = tmp_path / "copy"
+    shutil.copytree(reference_run, out)
+    saved = out / "figures" / "episodes"
+    assert sorted(p.name for p in (saved / "concert").iterdir()) == [
+        "straight.npz",
+        "tests.benchmark.test_runner:Waiter.npz",
+    ]
+    shutil.rmtree(saved)
+    write_reports(out, _request(short_scenario, range(4)))
+    for name in ("paths_short.png", "paths_concert.png"):
+        assert (out / "figures" / name).read_bytes() == (
+            reference_run / "figures" / name
+        ).read_bytes()

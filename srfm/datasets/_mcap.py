@@ -140,7 +140,8 @@ def write_mcap(
         progress: called with the number of frames written after each scene.
 
     Raises:
-        DatasetError: no scenes, duplicate scene names, or bad metadata.
+        DatasetError: no scenes, a scene without samples (the layout stores a scene
+            as its frames), duplicate scene names, or bad metadata.
     """
     from mcap.writer import CompressionType, Writer
 
@@ -151,6 +152,9 @@ def write_mcap(
     if len(set(names)) != len(names):
         dup = next(n for n in names if names.count(n) > 1)
         raise DatasetError(f"{path}: duplicate scene name {dup!r}")
+    for scene in scenes:
+        if scene.agent.shape[0] == 0:
+            raise DatasetError(f"{path}: scene {scene.scene!r} has no samples; nothing to write")
     extra = dict(metadata or {})
     for key, value in extra.items():
         if not isinstance(key, str) or not isinstance(value, str):

@@ -38,6 +38,7 @@ def random_scene(rng: np.random.Generator, name: str, robot: bool) -> Trajectori
     agent, frame, times = [], [], []
     for f, t in zip(frames.tolist(), t_ns.tolist(), strict=True):
         present = rng.random(len(ids)) < 0.7
+        present[rng.integers(len(ids))] = True  # every frame has someone
         for a in np.flatnonzero(present).tolist():
             agent.append(a)
             frame.append(f)
@@ -70,6 +71,25 @@ def test_round_trip_is_exact(tmp_path: Path, seed: int) -> None:
     assert len(back.scenes) == 3
     for a, b in zip(scenes, back.scenes, strict=True):
         assert a.equals(b), a.scene
+
+
+def test_a_scene_without_samples_is_refused(tmp_path: Path) -> None:
+    rng = np.random.default_rng(3)
+    full = random_scene(rng, "full", robot=False)
+    empty = Trajectories.from_samples(
+        scene="empty",
+        agent_ids=["pedestrian:1"],
+        kinds=[PEDESTRIAN],
+        agent=np.zeros(0, dtype=np.int64),
+        frame=np.zeros(0, dtype=np.int64),
+        t_ns=np.zeros(0, dtype=np.int64),
+        xy=np.zeros((0, 2)),
+        source={},
+    )
+    path = tmp_path / "d.mcap"
+    with pytest.raises(DatasetError, match="scene 'empty' has no samples"):
+        write_mcap(path, [full, empty], dataset="test")
+    assert not path.exists()
 
 
 @pytest.fixture

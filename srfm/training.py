@@ -124,7 +124,7 @@ class TrainConfig:
     seed: int = attrs.field(default=0, validator=_count(0))
     scenario: str = "random"
     k_dist: float = attrs.field(default=0.1, validator=_nonneg)
-    k_div: float = attrs.field(default=5.0, validator=_nonneg)
+    k_div: float = attrs.field(default=2.0, validator=_nonneg)
     learning_rate: float = attrs.field(default=1e-4, validator=_pos)
     buffer_size: int = attrs.field(default=1_000_000, validator=_count(1))
     batch_size: int = attrs.field(default=256, validator=_count(1))

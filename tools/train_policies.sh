@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The recipe of the two shipped TD3 policies, srfm/policies/td3_srfm.zip (SRFM-aware,
-# k2 = 5) and srfm/policies/td3_base.zip (RL_base, k2 = 0). docs/rl.md records the
+# k2 = 2) and srfm/policies/td3_base.zip (RL_base, k2 = 0). docs/rl.md records the
 # steps, the wall time and the machine of the shipped run.
 #
 # Both runs train in parallel with the paper's TD3 set-up (the srfm train defaults),
@@ -23,7 +23,7 @@ export NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1
 mkdir -p "$RUNS"
 
 common=(--seed 0 --eval-every 25000 --eval-seeds 10 --checkpoint-every 25000 --no-progress)
-nice -n 10 "$SRFM" train --run-dir "$RUNS/td3-srfm" --k-div 5.0 --steps "$SRFM_STEPS" \
+nice -n 10 "$SRFM" train --run-dir "$RUNS/td3-srfm" --k-div 2.0 --steps "$SRFM_STEPS" \
     "${common[@]}" > "$RUNS/td3-srfm.log" 2>&1 &
 nice -n 10 "$SRFM" train --run-dir "$RUNS/td3-base" --k-div 0 --steps "$BASE_STEPS" \
     "${common[@]}" > "$RUNS/td3-base.log" 2>&1 &

@@ -14,7 +14,7 @@ from srfm.robot import KINEMATICS, Kinematics
 __all__ = ["DEFAULT_K_DIV", "EnvConfig"]
 
 # Default weight of the one-step deviation penalty (per metre of summed deviation).
-DEFAULT_K_DIV: Final = 5.0
+DEFAULT_K_DIV: Final = 2.0
 
 
 def _non_negative(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:

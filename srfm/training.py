@@ -329,6 +329,9 @@ def train(
             say(f"resumed from {resume} at step {model.num_timesteps} with its replay buffer")
         else:
             say(f"resumed from {resume} at step {model.num_timesteps} (empty replay buffer)")
+        # Fresh, deterministic random streams for the continuation (networks'
+        # sampling, exploration noise, episodes); the saved states are not restored.
+        model.set_random_seed(config.seed + int(model.num_timesteps))
         vec_env.seed(config.seed + int(model.num_timesteps))
         reset = False
     else:

@@ -387,8 +387,13 @@ def train(
     def wall() -> float:
         return previous_wall + time.perf_counter() - start
 
-    def save(steps: int) -> None:
-        model.save(run / "checkpoints" / f"step_{steps:09d}.zip")
+    def save(steps: int, final: bool = False) -> None:
+        checkpoint = run / "checkpoints" / f"step_{steps:09d}.zip"
+        # A checkpoint is taken when step N is collected, before that rollout's
+        # gradient steps; at the end of a run that already has one for N, keep it, so
+        # that step_N.zip is the same whether a run stopped at N or went on.
+        if not (final and checkpoint.exists()):
+            model.save(checkpoint)
         model.save(run / "latest.zip")
         if config.save_replay_buffer:
             model.save_replay_buffer(run / "latest_replay_buffer.pkl")
@@ -436,7 +441,7 @@ def train(
     steps = int(model.num_timesteps)
     if progress is not None:
         progress(steps)
-    save(steps)
+    save(steps, final=True)
     if config.eval_every and best[0] is None:
         evaluate(steps)
     vec_env.close()

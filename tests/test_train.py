@@ -17,7 +17,7 @@ pytest.importorskip("stable_baselines3")
 
 TINY = [
     "--learning-starts",
-    "100",
+    "50",
     "--buffer-size",
     "2000",
     "--batch-size",
@@ -88,11 +88,46 @@ def test_train_checkpoint_evaluate_and_resume(tmp_path: Path) -> None:
     assert json.loads((run / "state.json").read_text())["steps"] == 300
     assert (run / "checkpoints" / "step_000000300.zip").is_file()
 
+    # A run stopped at step 100 holds the same policy as the longer run's checkpoint.
+    short = tmp_path / "short"
+    result = runner.invoke(
+        main,
+        [
+            "train",
+            "--run-dir",
+            str(short),
+            "--steps",
+            "100",
+            "--k-div",
+            "2.5",
+            "--no-progress",
+            *TINY,
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    assert _weights(short / "checkpoints" / "step_000000100.zip") == _weights(
+        run / "checkpoints" / "step_000000100.zip"
+    )
+    assert _weights(run / "checkpoints" / "step_000000100.zip") != _weights(
+        run / "checkpoints" / "step_000000200.zip"
+    )
+
     # The checkpoint runs as a planner.
     from srfm.planners.td3 import TD3Planner
 
     record = srfm.run_episode("concert", 0, TD3Planner(run / "latest.zip", "ckpt"))
     assert record.outcome in {"goal_reached", "collision", "out_of_bounds", "timeout"}
+
+
+def _weights(path: Path) -> dict[str, bytes]:
+    import io
+    import zipfile
+
+    import torch
+
+    with zipfile.ZipFile(path) as z:
+        state = torch.load(io.BytesIO(z.read("policy.pth")), weights_only=True)
+    return {k: v.numpy().tobytes() for k, v in state.items()}
 
 
 def test_train_rejects_bad_values(tmp_path: Path) -> None:

@@ -45,3 +45,21 @@ register_planner("orca", ORCAPlanner, "ORCA (van den Berg et al. 2011): reciproc
 register_planner(
     "social-force", SocialForcePlanner, "the robot moved toward its goal by a social force model"
 )
+
+
+def _td3_srfm() -> Planner:
+    from srfm.planners.td3 import td3_srfm  # lazy: loading a policy needs torch and SB3
+
+    return td3_srfm()
+
+
+def _td3_base() -> Planner:
+    from srfm.planners.td3 import td3_base
+
+    return td3_base()
+
+
+register_planner("td3-srfm", _td3_srfm, "TD3 policy trained with the SRFM deviation penalty")
+register_planner(
+    "td3-base", _td3_base, "TD3 policy trained without the deviation penalty (RL_base)"
+)

@@ -262,7 +262,12 @@ class TD3Planner:
     def __init__(self, path: str | Path, name: str = "td3") -> None:
         self.name = name
         self.path = Path(path)
-        self.detection_range_m: float | None = None
+        # The social zone once the file is loaded (by this or an earlier instance);
+        # None (observe everyone) before: the observation is the same either way.
+        cached = _CACHE.get(str(self.path.resolve()))
+        self.detection_range_m: float | None = (
+            None if cached is None else float(cached[1].social_zone_m)
+        )
         self._inner: PolicyPlanner | None = None
 
     def _load(self) -> PolicyPlanner:

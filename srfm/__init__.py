@@ -9,6 +9,10 @@ Quick use::
 
 from srfm.episode import run_episode
 from srfm.errors import (
+    BenchmarkError,
+    DatasetError,
+    LogError,
+    MetricError,
     ParameterError,
     PlannerError,
     ScenarioError,
@@ -44,10 +48,14 @@ __all__ = [
     "BUILTIN_SCENARIOS",
     "EVALUATION_SCENARIOS",
     "PRESETS",
+    "BenchmarkError",
     "CrowdState",
+    "DatasetError",
     "EpisodeRecord",
     "Event",
     "ForceComponents",
+    "LogError",
+    "MetricError",
     "Obstacles",
     "ParameterError",
     "PlannerError",

@@ -38,30 +38,9 @@ def episode_path(out: Path, scenario: str, planner: str, seed: int) -> Path:
     return out / EPISODES_DIR / scenario / planner / f"seed-{seed:06d}.json"
 
 
-def _finite_or_none(x: float) -> float | None:
-    return None if math.isnan(x) else float(x)
-
-
-def _from_json(x: float | None) -> float:
-    return math.nan if x is None else float(x)
-
-
 def episode_json(metrics: EpisodeMetrics) -> str:
     """The JSON text of one episode's metrics (floats round-trip exactly; NaN is null)."""
-    doc = {
-        "schema": EPISODE_SCHEMA,
-        "scenario": metrics.scenario,
-        "planner": metrics.planner,
-        "seed": metrics.seed,
-        "outcome": metrics.outcome,
-        "end_step": metrics.end_step,
-        "metrics": {m.name: _finite_or_none(metrics.values[m.name]) for m in EPISODE_METRICS},
-        "pedestrians": {
-            m.name: [_finite_or_none(v) for v in metrics.pedestrians[m.name].tolist()]
-            for m in PEDESTRIAN_METRICS
-        },
-    }
-    return json.dumps(doc, indent=1) + "\n"
+    return json.dumps({"schema": EPISODE_SCHEMA, **metrics.to_document()}, indent=1) + "\n"
 
 
 def write_episode(out: Path, metrics: EpisodeMetrics) -> Path:
@@ -79,20 +58,7 @@ def read_episode(path: Path) -> EpisodeMetrics:
             raise BenchmarkError(
                 f"{path}: schema {doc.get('schema')!r}, expected {EPISODE_SCHEMA!r}"
             )
-        values = {m.name: _from_json(doc["metrics"][m.name]) for m in EPISODE_METRICS}
-        peds = {
-            m.name: np.array([_from_json(v) for v in doc["pedestrians"][m.name]])
-            for m in PEDESTRIAN_METRICS
-        }
-        return EpisodeMetrics(
-            scenario=str(doc["scenario"]),
-            planner=str(doc["planner"]),
-            seed=int(doc["seed"]),
-            outcome=str(doc["outcome"]),
-            end_step=int(doc["end_step"]),
-            values=values,
-            pedestrians=peds,
-        )
+        return EpisodeMetrics.from_document(doc)
     except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
         if isinstance(exc, BenchmarkError):
             raise

@@ -41,7 +41,7 @@ from srfm.logs._codec import decode_array, encode_array
 from srfm.logs._foxglove import scene_messages
 from srfm.logs._mcap_writer import McapBuilder
 from srfm.logs._schemas import CHANNELS, SCHEMA_VERSION
-from srfm.metrics import EPISODE_METRICS, PEDESTRIAN_METRICS, EpisodeMetrics
+from srfm.metrics import EpisodeMetrics
 from srfm.models.params import SRFMParams
 from srfm.record import EVENT_KINDS, ROBOT_OUTCOMES, EpisodeRecord, Event
 from srfm.scenarios import Scenario, episode_setup
@@ -135,21 +135,7 @@ def _scenario_info(scenario: Scenario, record: EpisodeRecord) -> dict[str, Any]:
 
 def metrics_doc(metrics: EpisodeMetrics) -> dict[str, Any]:
     """The JSON document of one episode's metrics (NaN as null)."""
-    return {
-        "schema_version": SCHEMA_VERSION,
-        "scenario": metrics.scenario,
-        "planner": metrics.planner,
-        "seed": metrics.seed,
-        "outcome": metrics.outcome,
-        "end_step": metrics.end_step,
-        "metrics": {
-            m.name: None if math.isnan(metrics.values[m.name]) else metrics.values[m.name]
-            for m in EPISODE_METRICS
-        },
-        "pedestrians": {
-            m.name: _nan_to_none(metrics.pedestrians[m.name].tolist()) for m in PEDESTRIAN_METRICS
-        },
-    }
+    return {"schema_version": SCHEMA_VERSION, **metrics.to_document()}
 
 
 class _Writer:
@@ -703,22 +689,8 @@ def _metrics(path: Path, doc: Mapping[str, Any] | None) -> EpisodeMetrics | None
     if doc is None:
         return None
 
-    def num(x: Any) -> float:
-        return math.nan if x is None else float(x)
-
     try:
-        return EpisodeMetrics(
-            scenario=str(doc["scenario"]),
-            planner=str(doc["planner"]),
-            seed=int(doc["seed"]),
-            outcome=str(doc["outcome"]),
-            end_step=int(doc["end_step"]),
-            values={m.name: num(doc["metrics"][m.name]) for m in EPISODE_METRICS},
-            pedestrians={
-                m.name: np.array([num(v) for v in doc["pedestrians"][m.name]], dtype=np.float64)
-                for m in PEDESTRIAN_METRICS
-            },
-        )
+        return EpisodeMetrics.from_document(doc)
     except (KeyError, TypeError, ValueError):
         raise LogError(f"{path}: malformed /srfm/metrics message") from None
 

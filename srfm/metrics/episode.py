@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from typing import Final, Literal
+from typing import Any, Final, Literal
 
 import attrs
 import numpy as np
@@ -218,6 +218,53 @@ class EpisodeMetrics:
 
     def __getitem__(self, name: str) -> float:
         return self.values[name]
+
+    def to_document(self) -> dict[str, Any]:
+        """Plain JSON-ready data: identity, ``metrics`` and ``pedestrians`` by name, NaN
+        as None (floats round-trip exactly through ``json``)."""
+        return {
+            "scenario": self.scenario,
+            "planner": self.planner,
+            "seed": self.seed,
+            "outcome": self.outcome,
+            "end_step": self.end_step,
+            "metrics": {m.name: _none_if_nan(self.values[m.name]) for m in EPISODE_METRICS},
+            "pedestrians": {
+                m.name: [_none_if_nan(v) for v in self.pedestrians[m.name].tolist()]
+                for m in PEDESTRIAN_METRICS
+            },
+        }
+
+    @classmethod
+    def from_document(cls, doc: Mapping[str, Any]) -> EpisodeMetrics:
+        """The inverse of :meth:`to_document` (extra keys are ignored).
+
+        Raises:
+            KeyError, TypeError, ValueError: a missing or malformed entry; callers turn
+                these into an error that names their file.
+        """
+        return cls(
+            scenario=str(doc["scenario"]),
+            planner=str(doc["planner"]),
+            seed=int(doc["seed"]),
+            outcome=str(doc["outcome"]),
+            end_step=int(doc["end_step"]),
+            values={m.name: _nan_if_none(doc["metrics"][m.name]) for m in EPISODE_METRICS},
+            pedestrians={
+                m.name: np.array(
+                    [_nan_if_none(v) for v in doc["pedestrians"][m.name]], dtype=np.float64
+                )
+                for m in PEDESTRIAN_METRICS
+            },
+        )
+
+
+def _none_if_nan(x: float) -> float | None:
+    return None if math.isnan(x) else float(x)
+
+
+def _nan_if_none(x: Any) -> float:
+    return math.nan if x is None else float(x)
 
 
 def _path_lengths(pos: FloatArray) -> FloatArray:

@@ -70,19 +70,31 @@ def figure_episode_path(out: Path, scenario: str, planner: str) -> Path:
     return out / "figures" / "episodes" / scenario / f"{planner}.npz"
 
 
+_SAVED_ARRAYS = ("factual_pos", "counterfactual_pos", "robot_pose", "robot_goal")
+
+
+def _figure_episode(record: EpisodeRecord, planner: str) -> FigureEpisode:
+    return FigureEpisode(
+        scenario=record.scenario,
+        seed=record.seed,
+        planner=planner,
+        outcome=record.outcome,
+        end_step=record.end_step,
+        **{name: getattr(record, name) for name in _SAVED_ARRAYS},
+    )
+
+
 def save_figure_episode(out: Path, planner: str, record: EpisodeRecord) -> None:
     """Keep what the path figure needs of ``record`` (called in the worker that ran it,
     so that drawing the figures does not simulate anything again)."""
+    episode = _figure_episode(record, planner)
     buf = io.BytesIO()
     np.savez(
         buf,
-        seed=record.seed,
-        end_step=record.end_step,
-        outcome=record.outcome,
-        factual_pos=record.factual_pos,
-        counterfactual_pos=record.counterfactual_pos,
-        robot_pose=record.robot_pose,
-        robot_goal=record.robot_goal,
+        seed=episode.seed,
+        end_step=episode.end_step,
+        outcome=episode.outcome,
+        **{name: getattr(episode, name) for name in _SAVED_ARRAYS},
     )
     atomic_write_bytes(figure_episode_path(out, record.scenario, planner), buf.getvalue())
 
@@ -101,25 +113,8 @@ def load_figure_episode(out: Path, scenario: str, planner: str, seed: int) -> Fi
             planner=planner,
             outcome=str(data["outcome"]),
             end_step=int(data["end_step"]),
-            factual_pos=data["factual_pos"],
-            counterfactual_pos=data["counterfactual_pos"],
-            robot_pose=data["robot_pose"],
-            robot_goal=data["robot_goal"],
+            **{name: data[name] for name in _SAVED_ARRAYS},
         )
-
-
-def _figure_episode(record: EpisodeRecord, planner: str) -> FigureEpisode:
-    return FigureEpisode(
-        scenario=record.scenario,
-        seed=record.seed,
-        planner=planner,
-        outcome=record.outcome,
-        end_step=record.end_step,
-        factual_pos=record.factual_pos,
-        counterfactual_pos=record.counterfactual_pos,
-        robot_pose=record.robot_pose,
-        robot_goal=record.robot_goal,
-    )
 
 
 def _draw_episode(ax: Axes, record: FigureEpisode, world: Sequence[float]) -> None:

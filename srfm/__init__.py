@@ -7,7 +7,6 @@ Quick use::
     print(record.outcome, record.twin_separation_m().max())
 """
 
-from srfm.episode import run_episode
 from srfm.errors import (
     BenchmarkError,
     DatasetError,
@@ -29,8 +28,8 @@ from srfm.models import (
     save_params,
     step_crowd,
 )
-from srfm.record import EpisodeRecord, Event
-from srfm.robot import RobotConfig, RobotState, apply_command
+from srfm.models.robot import RobotConfig, RobotState, apply_command
+from srfm.models.state import CrowdState, Obstacles
 from srfm.scenarios import (
     BUILTIN_SCENARIOS,
     EVALUATION_SCENARIOS,
@@ -39,8 +38,9 @@ from srfm.scenarios import (
     episode_setup,
     load_scenario,
 )
-from srfm.simulator import TwinSimulator
-from srfm.state import CrowdState, Obstacles
+from srfm.sim.episode import run_episode
+from srfm.sim.record import EpisodeRecord, Event
+from srfm.sim.simulator import TwinSimulator
 
 __version__ = "0.1.0"
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from srfm.record import EpisodeRecord
+from srfm.sim.record import EpisodeRecord
 
 REPO = Path(__file__).resolve().parents[1]
 

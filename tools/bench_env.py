@@ -58,7 +58,7 @@ def _sample_loop(env: object, n: int) -> Callable[[], None]:
 
 def _simulator_loop(scenario: str, n: int) -> Callable[[], None]:
     from srfm.scenarios import episode_setup, load_scenario
-    from srfm.simulator import TwinSimulator
+    from srfm.sim.simulator import TwinSimulator
 
     sc = load_scenario(scenario)
     rng = np.random.default_rng(0)
@@ -101,8 +101,8 @@ def main(argv: list[str] | None = None) -> int:
     import gymnasium as gym
     from bench_crowd_step import OtherLoad, load_average, machine_info
 
-    import srfm.env
-    from srfm.env import EnvConfig, SocialNavEnv
+    import srfm.rl
+    from srfm.rl import EnvConfig, SocialNavEnv
 
     other = OtherLoad()
     rows: list[tuple[str, str, float, float]] = []
@@ -126,7 +126,7 @@ def main(argv: list[str] | None = None) -> int:
                 *_time(_env_loop(env, actions), args.steps, args.repeats),
             )
         )
-        made = gym.make(srfm.env.ENV_ID, scenario=name)
+        made = gym.make(srfm.rl.ENV_ID, scenario=name)
         made.reset(seed=0)
         rows.append(
             (

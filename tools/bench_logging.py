@@ -79,9 +79,9 @@ def _measure_one(
     root: Path, scenario: Any, seed: int, planner: str, first: bool, m: dict[str, Any]
 ) -> None:
     """Simulate one episode, then time and size every kind of log of it."""
-    from srfm.episode import run_episode
     from srfm.logs import load_episode, write_counterfactual_mcap, write_episode_mcap, write_rrd
     from srfm.metrics import episode_metrics
+    from srfm.sim.episode import run_episode
 
     def simulate() -> Any:
         record = run_episode(scenario, seed, planner, parallel=False)
@@ -149,10 +149,10 @@ def _measure_one(
 
 def per_episode(scenarios: list[str], planners: list[str], seeds: list[int]) -> dict[str, Any]:
     """Time every stage and record every file size; returns the raw measurements."""
-    from srfm.episode import run_episode
     from srfm.logs import load_episode, write_episode_mcap, write_rrd
     from srfm.metrics import episode_metrics
     from srfm.scenarios import load_scenario
+    from srfm.sim.episode import run_episode
 
     m: dict[str, Any] = {k: defaultdict(list) for k in ("cpu", "wall", "size", "encoding")}
     with tempfile.TemporaryDirectory() as tmp:

@@ -110,7 +110,7 @@ def bench(
     """µs per act (all calls, calls with and without observed pedestrians), mean
     observed pedestrians, calls, median episode ms."""
     import srfm
-    from srfm.episode import planner_rng
+    from srfm.sim.episode import planner_rng
 
     calls: list[tuple[Any, list[Observation]]] = []
     episode_s: list[float] = []

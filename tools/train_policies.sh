@@ -12,7 +12,7 @@
 # Each shipped file was its run's best checkpoint by the periodic evaluation (seeds
 # 10000-10009): RL_base at 100,000 steps, SRFM-aware at 125,000 (100,000 + 25,000).
 # A run stopped at step N holds the same policy as one started with --steps N
-# (tests/test_train.py), so the shipped files are reproduced, on the same machine and
+# (tests/rl/test_train.py), so the shipped files are reproduced, on the same machine and
 # software, by:
 #
 #     tools/train_policies.sh              # trains (hours), then copies the checkpoints

@@ -2,12 +2,9 @@
 
 from __future__ import annotations
 
-import csv
 import hashlib
-import io
 import json
-import math
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -16,7 +13,7 @@ import numpy as np
 
 from srfm._io import atomic_write_text
 from srfm.errors import BenchmarkError
-from srfm.metrics import EPISODE_METRICS, PEDESTRIAN_METRICS, EpisodeMetrics
+from srfm.metrics import EpisodeMetrics
 from srfm.scenarios import Scenario
 
 __all__ = [
@@ -25,8 +22,6 @@ __all__ = [
     "fingerprint",
     "read_episode",
     "write_episode",
-    "write_episodes_csv",
-    "write_pedestrians_csv",
 ]
 
 EPISODES_DIR = "episodes"
@@ -63,44 +58,6 @@ def read_episode(path: Path) -> EpisodeMetrics:
         if isinstance(exc, BenchmarkError):
             raise
         raise BenchmarkError(f"{path}: not a readable episode metrics file: {exc}") from None
-
-
-def _csv_number(x: float) -> str:
-    return "" if math.isnan(x) else repr(float(x))
-
-
-def _write_csv(path: Path, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> None:
-    buf = io.StringIO()
-    writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(header)
-    writer.writerows(rows)
-    atomic_write_text(path, buf.getvalue())
-
-
-def write_episodes_csv(path: Path, results: Sequence[EpisodeMetrics]) -> None:
-    """One row per episode: identity, outcome and every :data:`EPISODE_METRICS` value
-    (empty cell for NaN)."""
-    header = ["scenario", "planner", "seed", "outcome", "end_step"]
-    header += [m.name for m in EPISODE_METRICS]
-    rows = (
-        [r.scenario, r.planner, r.seed, r.outcome, r.end_step]
-        + [_csv_number(r.values[m.name]) for m in EPISODE_METRICS]
-        for r in results
-    )
-    _write_csv(path, header, rows)
-
-
-def write_pedestrians_csv(path: Path, results: Sequence[EpisodeMetrics]) -> None:
-    """One row per (episode, pedestrian) with every :data:`PEDESTRIAN_METRICS` value."""
-    header = ["scenario", "planner", "seed", "pedestrian"]
-    header += [m.name for m in PEDESTRIAN_METRICS]
-    rows = (
-        [r.scenario, r.planner, r.seed, k]
-        + [_csv_number(r.pedestrians[m.name][k]) for m in PEDESTRIAN_METRICS]
-        for r in results
-        for k in range(len(r.pedestrians["frechet_m"]))
-    )
-    _write_csv(path, header, rows)
 
 
 def _plain(value: Any) -> Any:

@@ -30,25 +30,17 @@ from srfm.benchmark._results import (
     fingerprint,
     read_episode,
     write_episode,
-    write_episodes_csv,
-    write_pedestrians_csv,
 )
 from srfm.errors import BenchmarkError
 from srfm.metrics import (
-    OUTCOME_COLUMNS,
-    TABLE_COLUMNS,
-    BenchmarkTable,
     EpisodeMetrics,
-    benchmark_table,
     episode_metrics,
-    summary_dict,
-    to_latex,
-    to_markdown,
 )
+from srfm.metrics.report import MANIFEST, write_tables
 from srfm.models.params import SRFMParams
 from srfm.planners import available_planners, make_planner
-from srfm.record import EpisodeRecord
 from srfm.scenarios import EVALUATION_SCENARIOS, Scenario, load_scenario
+from srfm.sim.record import EpisodeRecord
 
 __all__ = [
     "MANIFEST",
@@ -63,7 +55,6 @@ __all__ = [
     "write_tables",
 ]
 
-MANIFEST: Final = "manifest.json"
 QUICK_SEEDS: Final = (0, 1, 2)
 """Seeds of ``--quick``: enough for a mean, a standard deviation and the tests."""
 _CHUNK: Final = 5  # seeds per worker task: small enough for a smooth progress bar
@@ -247,7 +238,7 @@ class _Task:
 
 def _run_task(task: _Task) -> int:
     """Worker: simulate and score the task's episodes, one atomic file each."""
-    from srfm.episode import run_episode
+    from srfm.sim.episode import run_episode
 
     out = Path(task.out)
     for seed in task.seeds:
@@ -398,58 +389,3 @@ def write_reports(out: Path, request: BenchmarkRequest, *, figures: bool = True)
 
         files += write_figures(out, request, table)
     return tuple(files)
-
-
-def write_tables(
-    out: Path,
-    results: Sequence[EpisodeMetrics],
-    *,
-    scenarios: Sequence[str],
-    planners: Sequence[str],
-    seeds: Sequence[int],
-    params: SRFMParams,
-    reference: str | None,
-) -> tuple[list[str], BenchmarkTable]:
-    """Write the tables, CSV files and JSON summary of ``results`` (every scenario ×
-    planner × seed) into ``out``; also used by ``srfm score`` on re-scored logs.
-
-    Returns:
-        The files written (relative to ``out``) and the Table 3 layout table.
-    """
-    names = list(scenarios)
-    table, outcomes = (
-        benchmark_table(
-            results,
-            scenarios=names,
-            planners=planners,
-            seeds=seeds,
-            reference=reference,
-            columns=columns,
-        )
-        for columns in (TABLE_COLUMNS, OUTCOME_COLUMNS)
-    )
-    write_episodes_csv(out / "episodes.csv", results)
-    write_pedestrians_csv(out / "pedestrians.csv", results)
-    atomic_write_text(out / "table.md", to_markdown(table))
-    atomic_write_text(out / "table.tex", to_latex(table))
-    atomic_write_text(out / "outcomes.md", to_markdown(outcomes))
-    summary = {
-        "request": {
-            "scenarios": names,
-            "planners": list(planners),
-            "seeds": list(seeds),
-            "params": params.as_dict(),
-        },
-        "table": summary_dict(table),
-        "outcomes": summary_dict(outcomes),
-    }
-    atomic_write_text(out / "summary.json", json.dumps(summary, indent=1) + "\n")
-    files = [
-        "episodes.csv",
-        "pedestrians.csv",
-        "table.md",
-        "table.tex",
-        "outcomes.md",
-        "summary.json",
-    ]
-    return files, table

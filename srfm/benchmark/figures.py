@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 
 from srfm._io import atomic_write_bytes
 from srfm.metrics import BenchmarkTable
-from srfm.record import EpisodeRecord
+from srfm.sim.record import EpisodeRecord
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -185,8 +185,8 @@ def deviation_figure(table: BenchmarkTable) -> Figure:
 def write_figures(out: Path, request: BenchmarkRequest, table: BenchmarkTable) -> list[str]:
     """Draw ``figures/paths_<scenario>.png`` (one seed, every planner) and
     ``figures/deviation.png``; return their paths relative to ``out``."""
-    from srfm.episode import run_episode
     from srfm.planners import make_planner
+    from srfm.sim.episode import run_episode
 
     seed = request.drawn_seed
     written = []

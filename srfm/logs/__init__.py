@@ -1,6 +1,6 @@
 """Run logs: Rerun recordings (.rrd), MCAP files, and re-scoring from MCAP alone.
 
-The sinks work on a finished :class:`~srfm.record.EpisodeRecord`, so the simulator
+The sinks work on a finished :class:`~srfm.sim.record.EpisodeRecord`, so the simulator
 knows nothing of them and pays nothing when logging is off:
 
 - :func:`write_rrd`: a Rerun recording with its own ``RecordingStream`` (never the

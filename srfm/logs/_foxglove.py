@@ -24,8 +24,8 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm.record import EpisodeRecord
-from srfm.state import Obstacles
+from srfm.models.state import Obstacles
+from srfm.sim.record import EpisodeRecord
 
 __all__ = ["scene_messages"]
 

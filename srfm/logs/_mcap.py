@@ -6,7 +6,7 @@ Message times are integer nanoseconds of simulated time (sample k at
 
 - ``full``: every channel, the Foxglove scene and the robot messages at every sample,
   exact per-sample pedestrian states, and exact velocities in the trajectory blocks: a
-  complete :class:`~srfm.record.EpisodeRecord` can be rebuilt bit for bit.
+  complete :class:`~srfm.sim.record.EpisodeRecord` can be rebuilt bit for bit.
 - ``compact`` (the benchmark's default): no per-sample pedestrian messages, the scene
   and the robot state and command messages every fifteenth sample (1 Hz, for looking
   and plotting), positions and goals exact but no pedestrian velocities, and the
@@ -43,8 +43,8 @@ from srfm.logs._mcap_writer import McapBuilder
 from srfm.logs._schemas import CHANNELS, SCHEMA_VERSION
 from srfm.metrics import EpisodeMetrics
 from srfm.models.params import SRFMParams
-from srfm.record import EVENT_KINDS, ROBOT_OUTCOMES, EpisodeRecord, Event
 from srfm.scenarios import Scenario, episode_setup
+from srfm.sim.record import EVENT_KINDS, ROBOT_OUTCOMES, EpisodeRecord, Event
 
 __all__ = [
     "PROFILES",
@@ -234,7 +234,7 @@ def _pedestrian_arrays(record: EpisodeRecord, twin: str, profile: Profile) -> by
 
 
 def _standard_times(record: EpisodeRecord) -> FloatArray:
-    """The sample times :func:`srfm.episode.run_episode` uses: ``arange(T + 1) * dt``."""
+    """The sample times :func:`srfm.sim.episode.run_episode` uses: ``arange(T + 1) * dt``."""
     return np.arange(record.horizon_steps + 1, dtype=np.float64) * record.dt_s
 
 

@@ -45,8 +45,8 @@ from numpy.typing import NDArray
 
 from srfm.errors import LogError
 from srfm.metrics import EpisodeMetrics
-from srfm.record import EpisodeRecord
 from srfm.scenarios import Scenario, episode_setup
+from srfm.sim.record import EpisodeRecord
 
 if TYPE_CHECKING:
     import rerun as rr
@@ -212,7 +212,7 @@ def _log_static(
 def _forces(record: EpisodeRecord, scenario: Scenario) -> dict[str, FloatArray]:
     """(T + 1, N, 2) SRFM force components on the factual crowd at every sample."""
     from srfm.models import RobotBody, force_components
-    from srfm.state import CrowdState
+    from srfm.models.state import CrowdState
 
     crowd0 = episode_setup(scenario, record.seed).crowd
     out = {k: np.empty_like(record.factual_pos) for k in _FORCE_COLORS}

@@ -28,8 +28,8 @@ from srfm.logs._mcap import (
     write_episode_mcap,
 )
 from srfm.metrics import EpisodeMetrics
-from srfm.record import EpisodeRecord
 from srfm.scenarios import Scenario, load_scenario
+from srfm.sim.record import EpisodeRecord
 
 __all__ = [
     "COUNTERFACTUAL_DIR",

@@ -27,6 +27,7 @@ import numpy as np
 from srfm.errors import LogError
 from srfm.logs._mcap import LogFile, episode_from_log, read_log
 from srfm.metrics import EpisodeMetrics, episode_metrics
+from srfm.metrics.report import MANIFEST, write_tables
 from srfm.models.params import SRFMParams
 from srfm.scenarios import EVALUATION_SCENARIOS
 
@@ -294,8 +295,6 @@ def score_logs(paths: Sequence[str | Path]) -> ScoreResult:
 def check_report_folder(out: Path) -> None:
     """Raise :class:`LogError` if re-scored reports may not be written into ``out``: it
     is a file, or a benchmark results folder (whose own reports are never overwritten)."""
-    from srfm.benchmark import MANIFEST
-
     if out.exists() and not out.is_dir():
         raise LogError(f"--out {out} exists and is not a folder")
     if (out / MANIFEST).exists():
@@ -315,8 +314,6 @@ def write_score_reports(out: str | Path, result: ScoreResult) -> list[str]:
         LogError: ``out`` is a benchmark results folder (its own reports are never
             overwritten) or the logs give no table (see ``result.notes``).
     """
-    from srfm.benchmark import write_tables
-
     out = Path(out)
     check_report_folder(out)
     if not result.seeds:

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm.metrics.frechet import frechet_distances
-from srfm.record import EpisodeRecord
+from srfm.sim.record import EpisodeRecord
 
 __all__ = [
     "EPISODE_METRICS",

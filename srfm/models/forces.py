@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 from srfm.errors import SimulationError
 from srfm.models import _kernels
 from srfm.models.params import SRFMParams
-from srfm.state import CrowdState, Obstacles
+from srfm.models.state import CrowdState, Obstacles
 
 __all__ = ["PARALLEL_MIN_AGENTS", "ForceComponents", "RobotBody", "force_components", "step_crowd"]
 

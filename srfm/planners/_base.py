@@ -8,9 +8,9 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm.robot import RobotConfig, RobotState
+from srfm.models.robot import RobotConfig, RobotState
+from srfm.models.state import Obstacles
 from srfm.scenarios import WorldBounds
-from srfm.state import Obstacles
 
 __all__ = ["Observation", "Planner", "PlannerContext"]
 

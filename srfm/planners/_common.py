@@ -10,11 +10,11 @@ import numpy as np
 
 from srfm._validate import finite_float, non_negative, positive, unit_interval
 from srfm.errors import PlannerError
+from srfm.models.robot import RobotConfig
+from srfm.models.state import Obstacles
 from srfm.planners import _kernels
 from srfm.planners._base import FloatArray, PlannerContext
-from srfm.robot import RobotConfig
 from srfm.scenarios import WorldBounds
-from srfm.state import Obstacles
 
 __all__ = [
     "DEFAULT_DT_S",

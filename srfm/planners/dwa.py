@@ -54,6 +54,7 @@ import attrs
 import numpy as np
 
 from srfm.errors import PlannerError
+from srfm.models.robot import RobotConfig
 from srfm.planners import _kernels
 from srfm.planners._base import FloatArray, Observation
 from srfm.planners._common import (
@@ -66,7 +67,6 @@ from srfm.planners._common import (
     check_positive,
     check_positive_int,
 )
-from srfm.robot import RobotConfig
 
 __all__ = ["DWAConfig", "DWAPlanner"]
 

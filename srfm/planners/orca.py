@@ -30,6 +30,7 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
+from srfm.models.robot import RobotConfig
 from srfm.planners import _kernels
 from srfm.planners._base import FloatArray, Observation
 from srfm.planners._common import (
@@ -40,7 +41,6 @@ from srfm.planners._common import (
     check_positive,
     check_unit_open,
 )
-from srfm.robot import RobotConfig
 
 __all__ = ["ORCAConfig", "ORCAPlanner", "orca_halfplane"]
 

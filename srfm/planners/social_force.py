@@ -34,6 +34,7 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
+from srfm.models.robot import RobotConfig
 from srfm.planners import _kernels
 from srfm.planners._base import FloatArray, Observation
 from srfm.planners._common import (
@@ -45,7 +46,6 @@ from srfm.planners._common import (
     check_positive,
     check_unit_interval,
 )
-from srfm.robot import RobotConfig
 
 __all__ = ["SocialForceConfig", "SocialForcePlanner"]
 

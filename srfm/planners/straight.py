@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
+from srfm.models.robot import RobotConfig
 from srfm.planners._base import FloatArray, Observation, PlannerContext
-from srfm.robot import RobotConfig
 
 __all__ = ["StraightPlanner"]
 

@@ -8,7 +8,7 @@ arbitrary code: load only policy files from a source you trust** (the two shippe
 After loading, the planner runs the actor in NumPy (weights copied out of the SB3
 actor, float32), so a step costs microseconds and torch is not called during an
 episode. The observation is built by the environment's own code
-(:class:`srfm.env.ObservationBuilder`), so a policy sees in evaluation exactly what
+(:class:`srfm.rl.ObservationBuilder`), so a policy sees in evaluation exactly what
 it saw in training.
 """
 
@@ -149,7 +149,7 @@ class NumpyActor:
 
 
 def _env_config_from(data: Any, source: str) -> Any:
-    from srfm.env import EnvConfig
+    from srfm.rl import EnvConfig
 
     if not isinstance(data, dict):
         raise PlannerError(
@@ -171,7 +171,7 @@ def load_policy(path: str | Path) -> tuple[NumpyActor, Any]:
         PlannerError: missing file, not a TD3 policy, or no srfm configuration in it.
         MissingDependencyError: stable-baselines3 / torch are not installed.
     """
-    from srfm.env._deps import require
+    from srfm.rl._deps import require
 
     path = Path(path)
     if not path.is_file():
@@ -204,13 +204,13 @@ class PolicyPlanner:
 
     Args:
         actor: the policy network.
-        config: the :class:`srfm.env.EnvConfig` it was trained with (observation layout,
+        config: the :class:`srfm.rl.EnvConfig` it was trained with (observation layout,
             social zone, kinematics).
         name: the planner's name.
     """
 
     def __init__(self, actor: NumpyActor, config: Any, name: str = "policy") -> None:
-        from srfm.env import ObservationBuilder
+        from srfm.rl import ObservationBuilder
 
         self.name = name
         self._actor = actor

@@ -33,6 +33,7 @@ import math
 import attrs
 import numpy as np
 
+from srfm.models.robot import RobotConfig
 from srfm.planners import _kernels
 from srfm.planners._base import FloatArray, Observation
 from srfm.planners._common import (
@@ -44,7 +45,6 @@ from srfm.planners._common import (
     check_positive,
     check_positive_int,
 )
-from srfm.robot import RobotConfig
 
 __all__ = [
     "VOConfig",

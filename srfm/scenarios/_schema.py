@@ -65,8 +65,8 @@ from numpy.typing import NDArray
 
 from srfm.errors import ScenarioError, SrfmError
 from srfm.models.forces import MAX_DT_S
-from srfm.robot import KINEMATICS, RobotConfig
-from srfm.state import MAX_RADIUS_M, MAX_SPEED_MPS, Obstacles
+from srfm.models.robot import KINEMATICS, RobotConfig
+from srfm.models.state import MAX_RADIUS_M, MAX_SPEED_MPS, Obstacles
 
 SCHEMA_VERSION: Final = 1
 MAX_HORIZON_STEPS: Final = 1_000_000

@@ -25,8 +25,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm.errors import ScenarioError
+from srfm.models.state import CrowdState
 from srfm.scenarios._schema import RandomSpec, Scenario, WorldBounds
-from srfm.state import CrowdState
 
 __all__ = ["EpisodeSetup", "episode_setup", "next_goal", "validate_seed"]
 

@@ -98,7 +98,7 @@ def test_results_folder_layout(reference_run: Path) -> None:
 
 
 def test_episode_files_hold_the_metrics_of_the_episode(reference_run: Path) -> None:
-    from srfm.episode import run_episode
+    from srfm.sim.episode import run_episode
 
     expected = episode_metrics(run_episode("concert", 2, "straight"))
     got = read_episode(episode_path(reference_run, "concert", "straight", 2))

@@ -9,10 +9,10 @@ from typing import Any
 import numpy as np
 import pytest
 
-from srfm.episode import run_episode
 from srfm.metrics import EpisodeMetrics, episode_metrics
-from srfm.record import EpisodeRecord
 from srfm.scenarios import Scenario, load_scenario
+from srfm.sim.episode import run_episode
+from srfm.sim.record import EpisodeRecord
 from tests.conftest import REPO, write_scenario
 
 # A short user scenario with a wall and a pillar, re-goaling off: fast, and it exercises

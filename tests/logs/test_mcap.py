@@ -24,7 +24,7 @@ from srfm.logs import (
     write_episode_mcap,
 )
 from srfm.metrics import episode_metrics
-from srfm.record import EpisodeRecord
+from srfm.sim.record import EpisodeRecord
 from tests.logs.conftest import check_json_schema, same_bits
 
 

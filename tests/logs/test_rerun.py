@@ -17,8 +17,8 @@ from rerun.chunk import RrdReader
 from srfm.logs import write_rrd
 from srfm.logs._rerun import FORCE_ARROW_SCALE_S2
 from srfm.models import RobotBody, force_components
+from srfm.models.state import CrowdState
 from srfm.scenarios import episode_setup
-from srfm.state import CrowdState
 
 ENTITY_TREE = {
     "/world",

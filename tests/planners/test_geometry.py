@@ -10,6 +10,8 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from srfm.models.robot import RobotConfig, RobotState, apply_command
+from srfm.models.state import Obstacles
 from srfm.planners import (
     DWAConfig,
     DWAPlanner,
@@ -22,9 +24,7 @@ from srfm.planners import _kernels as kern
 from srfm.planners._base import Observation, PlannerContext
 from srfm.planners.orca import orca_halfplane
 from srfm.planners.velocity_obstacles import in_velocity_obstacle
-from srfm.robot import RobotConfig, RobotState, apply_command
 from srfm.scenarios import WorldBounds
-from srfm.state import Obstacles
 
 DT = 1.0 / 15.0
 coord = st.floats(-5.0, 5.0, allow_nan=False)

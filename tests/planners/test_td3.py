@@ -23,7 +23,7 @@ from srfm.planners.td3 import (
 sb3 = pytest.importorskip("stable_baselines3")
 torch = pytest.importorskip("torch")
 
-from srfm.env import EnvConfig, SocialNavEnv  # noqa: E402
+from srfm.rl import EnvConfig, SocialNavEnv  # noqa: E402
 
 
 @pytest.fixture(scope="module")

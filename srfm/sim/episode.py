@@ -7,9 +7,9 @@ import numpy as np
 from srfm.errors import PlannerError, SimulationError
 from srfm.models.params import SRFMParams
 from srfm.planners import Planner, make_planner
-from srfm.record import EpisodeRecord, Event
 from srfm.scenarios import Scenario, episode_setup, load_scenario
-from srfm.simulator import TwinSimulator
+from srfm.sim.record import EpisodeRecord, Event
+from srfm.sim.simulator import TwinSimulator
 
 __all__ = ["PLANNER_STREAM", "planner_rng", "run_episode"]
 

@@ -194,7 +194,7 @@ def evaluate_planner(
     steps: int = 0,
 ) -> EvalResult:
     """Run full twin episodes (:func:`srfm.run_episode`) and summarise them."""
-    from srfm.episode import run_episode
+    from srfm.sim.episode import run_episode
 
     outcomes: dict[str, list[str]] = {}
     deviations: dict[str, list[float]] = {}
@@ -281,7 +281,7 @@ def train(
         MissingDependencyError: the ``rl`` extra is not installed.
         SrfmError: a bad resume file or run directory.
     """
-    from srfm.env._deps import require
+    from srfm.rl._deps import require
 
     require("gymnasium")
     sb3 = require("stable_baselines3")
@@ -292,8 +292,8 @@ def train(
     from stable_baselines3.common.noise import NormalActionNoise
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    from srfm.env import EnvConfig, SocialNavEnv
     from srfm.planners.td3 import NumpyActor, PolicyPlanner
+    from srfm.rl import EnvConfig, SocialNavEnv
     from srfm.scenarios import EVALUATION_SCENARIOS
 
     say = log or (lambda message: None)

@@ -6,7 +6,7 @@ kernels of :mod:`srfm.models._kernels` (the same ``twin_step_serial`` /
 robot update and event checks below reproduce :func:`srfm.apply_command` and the
 simulator's robot checks operation for operation, so that an environment episode is
 bit-identical to a :class:`~srfm.TwinSimulator` episode under the same commands
-(tested in ``tests/env/test_equivalence.py``).
+(tested in ``tests/rl/test_equivalence.py``).
 
 Layouts (all C-contiguous):
 
@@ -94,7 +94,7 @@ def obs_size(max_peds: int) -> int:
 
 @njit(cache=True)
 def _wrap(angle: float) -> float:
-    """``srfm.robot._wrap``: math.remainder(angle, 2π) mapped into (−π, π], exactly.
+    """``srfm.models.robot._wrap``: math.remainder(angle, 2π) mapped into (−π, π], exactly.
 
     numba has no ``math.remainder``; the IEEE remainder is reduced from the exact
     ``fmod`` by 4π (which keeps the parity of the quotient) with subtractions that are
@@ -206,7 +206,7 @@ def action_to_command(
 
 @njit(cache=True, inline="always")
 def _clip(value: float, lo: float, hi: float) -> float:
-    # The same comparisons as srfm.robot._clip.
+    # The same comparisons as srfm.models.robot._clip.
     return lo if value < lo else hi if value > hi else value
 
 

@@ -9,7 +9,7 @@ import attrs
 
 from srfm._validate import non_negative, positive
 from srfm.errors import ParameterError
-from srfm.robot import KINEMATICS, Kinematics
+from srfm.models.robot import KINEMATICS, Kinematics
 
 __all__ = ["DEFAULT_K_DIV", "EnvConfig"]
 

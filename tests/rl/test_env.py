@@ -13,12 +13,12 @@ import numpy as np
 import pytest
 
 import srfm
-import srfm.env
-from srfm.env import EnvConfig, SocialNavEnv
-from srfm.env import _kernels as kern
-from srfm.env._deps import MissingDependencyError, require
+import srfm.rl
 from srfm.errors import ParameterError, PlannerError, ScenarioError, SimulationError
-from tests.env._helpers import fixed_scenario
+from srfm.rl import EnvConfig, SocialNavEnv
+from srfm.rl import _kernels as kern
+from srfm.rl._deps import MissingDependencyError, require
+from tests.rl._helpers import fixed_scenario
 
 
 def _run(env: SocialNavEnv, actions: np.ndarray) -> list[tuple[bytes, float, bool, bool]]:
@@ -39,7 +39,7 @@ def test_registered_with_gymnasium() -> None:
 
 
 def test_module_path_form_of_make() -> None:
-    env = gym.make("srfm.env:srfm/SocialNav-v0")
+    env = gym.make("srfm.rl:srfm/SocialNav-v0")
     assert isinstance(env.unwrapped, SocialNavEnv)
 
 
@@ -326,7 +326,7 @@ def _observe(
     last_action: tuple[float, float] = (0.0, 0.0),
 ) -> np.ndarray:
     world = srfm.scenarios.WorldBounds()
-    from srfm.env._core import make_cfg
+    from srfm.rl._core import make_cfg
 
     cfg = make_cfg(
         robot=srfm.RobotConfig(kinematics="holonomic" if holonomic else "unicycle"),
@@ -440,4 +440,4 @@ def test_missing_dependency_names_the_extra() -> None:
     assert issubclass(MissingDependencyError, ImportError)
     with pytest.raises(ImportError) as info:
         require("surely_not_an_installed_module_xyz")
-    assert srfm.env.INSTALL_HINT in str(info.value)
+    assert srfm.rl.INSTALL_HINT in str(info.value)

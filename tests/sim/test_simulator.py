@@ -14,7 +14,7 @@ import pytest
 import srfm
 from srfm.planners import Observation, PlannerContext
 from srfm.scenarios import BUILTIN_SCENARIOS, episode_setup, load_scenario
-from srfm.simulator import TwinSimulator
+from srfm.sim.simulator import TwinSimulator
 from tests.conftest import REPO, record_digest, write_scenario
 
 NO_ROBOT = srfm.SRFMParams(a_robot=0.0)

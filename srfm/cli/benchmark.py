@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from srfm._cli_common import load_params_option, user_errors
+from srfm.cli._common import load_params_option, user_errors
 
 if TYPE_CHECKING:
     from srfm.benchmark import BenchmarkRequest

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from srfm.env import _kernels as kern
-from srfm.robot import RobotState
+from srfm.models.robot import RobotState
+from srfm.rl import _kernels as kern
 
 
 def fixed_scenario(

@@ -1,7 +1,7 @@
 """The environment's simulation core, free of gymnasium: arrays, reset, one fused step.
 
 :class:`EnvCore` holds one episode in flat arrays and advances it with one call of
-:func:`srfm.env._kernels.env_step` per step. :class:`ObservationBuilder` builds the
+:func:`srfm.rl._kernels.env_step` per step. :class:`ObservationBuilder` builds the
 same observation from a planner's :class:`~srfm.planners.Observation`, so a policy
 sees identical inputs in training (the environment) and in evaluation (a planner in
 :func:`srfm.run_episode`).
@@ -16,12 +16,12 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm.env import _kernels as _k
-from srfm.env._config import EnvConfig
 from srfm.errors import ScenarioError
 from srfm.models.params import SRFMParams
+from srfm.models.robot import RobotConfig, RobotState
 from srfm.planners._base import Observation, PlannerContext
-from srfm.robot import RobotConfig, RobotState
+from srfm.rl import _kernels as _k
+from srfm.rl._config import EnvConfig
 from srfm.scenarios import EpisodeSetup, Scenario, WorldBounds, episode_setup, next_goal
 
 __all__ = ["EVENT_OUTCOMES", "EnvCore", "ObservationBuilder", "make_cfg"]
@@ -162,7 +162,7 @@ def resolve_scenario(scenario: Scenario, config: EnvConfig) -> Scenario:
 
 
 class EnvCore:
-    """One episode of the environment in flat arrays (see :mod:`srfm.env._kernels`).
+    """One episode of the environment in flat arrays (see :mod:`srfm.rl._kernels`).
 
     Args:
         scenario: the scenario (its kinematics already resolved).

@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from srfm.env import _kernels as kern
-from srfm.robot import RobotConfig, RobotState, _wrap, apply_command
+from srfm.models.robot import RobotConfig, RobotState, _wrap, apply_command
+from srfm.rl import _kernels as kern
 
 finite = st.floats(min_value=-1e6, max_value=1e6, allow_nan=False, allow_infinity=False)
 tiny_or_large = st.floats(allow_nan=False, allow_infinity=False)

@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 import srfm
-from srfm.env import EnvConfig, SocialNavEnv
 from srfm.planners.td3 import NumpyActor, PolicyPlanner
+from srfm.rl import EnvConfig, SocialNavEnv
 from srfm.scenarios import episode_setup
-from srfm.simulator import TwinSimulator
-from tests.env._helpers import command_for, fixed_scenario, seek_action
+from srfm.sim.simulator import TwinSimulator
+from tests.rl._helpers import command_for, fixed_scenario, seek_action
 
 
 def _lockstep(

@@ -11,7 +11,7 @@ from click.testing import CliRunner
 import srfm
 from srfm.cli import main
 from srfm.errors import ParameterError
-from srfm.training import EvalResult, TrainConfig, evaluate_planner
+from srfm.rl.training import EvalResult, TrainConfig, evaluate_planner
 
 pytest.importorskip("stable_baselines3")
 

@@ -1,7 +1,7 @@
 """``srfm data convert|info``, ``srfm fit`` and ``srfm ade``: datasets, learning, evaluation.
 
 Hooked into the ``srfm`` group at the end of :mod:`srfm.cli`; shared pieces come from
-:mod:`srfm._cli_common`, so there is no import cycle.
+:mod:`srfm.cli._common`, so there is no import cycle.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from typing import Any, TypeVar
 
 import click
 
-from srfm._cli_common import load_params_option, user_errors
+from srfm.cli._common import load_params_option, user_errors
 from srfm.errors import DatasetError
 
 F = TypeVar("F", bound=Callable[..., Any])

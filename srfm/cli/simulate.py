@@ -1,4 +1,5 @@
-"""The ``srfm`` command line."""
+"""``srfm simulate``, ``srfm scenarios`` and ``srfm planners``: one episode, and what
+there is to run."""
 
 from __future__ import annotations
 
@@ -10,22 +11,12 @@ from typing import Any
 import click
 import numpy as np
 
-from srfm._cli_common import UserError, load_params_option, user_errors
+from srfm.cli._common import UserError, load_params_option, user_errors
 
-# Older names, kept for modules that import them from here.
-_user_errors = user_errors
-_load_params = load_params_option
-__all__ = ["UserError", "main"]
+__all__ = ["planners", "scenarios", "simulate"]
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
-@click.version_option(package_name="srfm")
-def main() -> None:
-    """srfm: simulate crowds with the Social Robot Force Model and measure how much a
-    robot makes people deviate from the paths they would have walked."""
-
-
-@main.command()
+@click.command()
 def scenarios() -> None:
     """List the built-in scenarios with a one-line description."""
     from srfm.scenarios import builtin_scenarios
@@ -36,7 +27,7 @@ def scenarios() -> None:
         click.echo(f"{s.name:<{width}}  {s.description}")
 
 
-@main.command()
+@click.command()
 def planners() -> None:
     """List the registered planners with a one-line description."""
     from srfm.planners import available_planners
@@ -47,7 +38,7 @@ def planners() -> None:
         click.echo(f"{p.name:<{width}}  {p.description}")
 
 
-@main.command()
+@click.command()
 @click.option(
     "--scenario",
     "scenario_name",
@@ -109,9 +100,9 @@ def simulate(
     forces: bool,
 ) -> None:
     """Run one twin episode and print a short summary (and write its logs with --out)."""
-    from srfm.episode import run_episode
     from srfm.planners import make_planner
     from srfm.scenarios import load_scenario
+    from srfm.sim.episode import run_episode
 
     if out is not None and no_mcap and no_rrd:
         raise UserError("--out with --no-mcap and --no-rrd writes nothing; drop one of them")
@@ -196,28 +187,3 @@ def format_summary(s: dict[str, Any]) -> str:
     for path in s.get("logs", ()):
         lines.append(f"log        {path}")
     return "\n".join(lines)
-
-
-# Subcommands that live in their own modules; each line imports one and adds it.
-from srfm._cli_benchmark import benchmark  # noqa: E402
-
-main.add_command(benchmark)
-from srfm._cli_logs import score as _score  # noqa: E402
-from srfm._cli_logs import view as _view  # noqa: E402
-
-main.add_command(_score)
-main.add_command(_view)
-from srfm._cli_data import ade as _ade  # noqa: E402
-from srfm._cli_data import data as _data  # noqa: E402
-from srfm._cli_data import fit as _fit  # noqa: E402
-
-main.add_command(_data)
-main.add_command(_fit)
-main.add_command(_ade)
-from srfm._cli_train import train as _train  # noqa: E402
-
-main.add_command(_train)
-
-
-if __name__ == "__main__":  # pragma: no cover
-    main()

@@ -10,12 +10,12 @@ import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm.env import _kernels as _k
-from srfm.env._config import EnvConfig
-from srfm.env._core import EVENT_OUTCOMES, EnvCore, resolve_scenario
 from srfm.errors import ParameterError, PlannerError, SimulationError
 from srfm.models.params import SRFMParams
-from srfm.robot import RobotState
+from srfm.models.robot import RobotState
+from srfm.rl import _kernels as _k
+from srfm.rl._config import EnvConfig
+from srfm.rl._core import EVENT_OUTCOMES, EnvCore, resolve_scenario
 from srfm.scenarios import Scenario, load_scenario, validate_seed
 
 __all__ = ["SocialNavEnv"]
@@ -39,7 +39,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
       holonomic: robot-frame velocity (a0, a1) v_max. Clipped to [−1, 1], then to the
       robot's speed and acceleration limits, as in the simulator.
     - **Observation**: Box([−1, 1]^(9 + 6K), float32), robot frame, normalised; see
-      :func:`srfm.env._kernels.build_observation` and ``docs/rl.md``.
+      :func:`srfm.rl._kernels.build_observation` and ``docs/rl.md``.
     - **Reward**: r = r_term − k1 r_dist − k2 r_div (:class:`EnvConfig`).
     - **Episode end**: terminated on goal, collision (centre distance below the sum of
       radii, or overlap with a wall or pillar) or leaving the world; truncated at the
@@ -72,7 +72,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         if config is None:
             config = EnvConfig()
         elif not isinstance(config, EnvConfig):
-            raise ParameterError(f"config must be an srfm.env.EnvConfig, got {config!r}")
+            raise ParameterError(f"config must be an srfm.rl.EnvConfig, got {config!r}")
         if params is None:
             params = SRFMParams()
         elif not isinstance(params, SRFMParams):

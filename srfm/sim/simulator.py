@@ -31,11 +31,11 @@ from srfm.errors import PlannerError, SimulationError
 from srfm.models import _kernels
 from srfm.models.forces import PARALLEL_MIN_AGENTS
 from srfm.models.params import SRFMParams
+from srfm.models.robot import RobotState, apply_command, stopped
+from srfm.models.state import CrowdState
 from srfm.planners._base import Observation, PlannerContext
-from srfm.record import Event, RobotOutcome
-from srfm.robot import RobotState, apply_command, stopped
 from srfm.scenarios import EpisodeSetup, next_goal
-from srfm.state import CrowdState
+from srfm.sim.record import Event, RobotOutcome
 
 __all__ = ["TwinSimulator"]
 

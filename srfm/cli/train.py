@@ -9,7 +9,7 @@ from typing import Any
 
 import click
 
-from srfm._cli_common import user_errors
+from srfm.cli._common import user_errors
 
 __all__ = ["train"]
 
@@ -21,7 +21,7 @@ def _default(name: str) -> Any:
     if not _DEFAULTS:
         import attrs
 
-        from srfm.training import TrainConfig
+        from srfm.rl.training import TrainConfig
 
         _DEFAULTS.update({f.name: f.default for f in attrs.fields(TrainConfig)})
     return _DEFAULTS[name]
@@ -167,8 +167,8 @@ def _train(
     torch_threads: int,
     progress: bool,
 ) -> None:
-    from srfm.training import TrainConfig
-    from srfm.training import train as run_training
+    from srfm.rl.training import TrainConfig
+    from srfm.rl.training import train as run_training
 
     config = TrainConfig(
         total_steps=steps,

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import srfm
-from srfm.robot import RobotConfig, RobotState, apply_command
+from srfm.models.robot import RobotConfig, RobotState, apply_command
 
 DT = 1.0 / 15.0
 UNI = RobotConfig()

@@ -4,22 +4,22 @@ Importing this module registers the environment with gymnasium (its only side
 effect)::
 
     import gymnasium as gym
-    import srfm.env
+    import srfm.rl
 
     env = gym.make("srfm/SocialNav-v0", scenario="random")
-    # or, without importing srfm.env first:
-    env = gym.make("srfm.env:srfm/SocialNav-v0")
+    # or, without importing srfm.rl first:
+    env = gym.make("srfm.rl:srfm/SocialNav-v0")
 
 See ``docs/rl.md`` for the observation, the action and the reward.
 """
 
-from srfm.env._deps import INSTALL_HINT, MissingDependencyError, require
+from srfm.rl._deps import INSTALL_HINT, MissingDependencyError, require
 
 require("gymnasium")
 
-from srfm.env._config import DEFAULT_K_DIV, EnvConfig  # noqa: E402
-from srfm.env._core import ObservationBuilder  # noqa: E402
-from srfm.env._env import SocialNavEnv  # noqa: E402
+from srfm.rl._config import DEFAULT_K_DIV, EnvConfig  # noqa: E402
+from srfm.rl._core import ObservationBuilder  # noqa: E402
+from srfm.rl._env import SocialNavEnv  # noqa: E402
 
 __all__ = [
     "DEFAULT_K_DIV",
@@ -38,7 +38,7 @@ def _register() -> None:
     import gymnasium
 
     if ENV_ID not in gymnasium.registry:
-        gymnasium.register(id=ENV_ID, entry_point="srfm.env:SocialNavEnv")
+        gymnasium.register(id=ENV_ID, entry_point="srfm.rl:SocialNavEnv")
 
 
 _register()

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import click
 
-from srfm._cli_common import UserError, user_errors
+from srfm.cli._common import UserError, user_errors
 from srfm.errors import LogError
 
 __all__ = ["check_recording", "display_available", "score", "view", "viewer_command"]

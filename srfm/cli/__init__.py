@@ -23,6 +23,3 @@ def main() -> None:
 for _command in (scenarios, planners, simulate, benchmark, score, view, data, fit, ade, train):
     main.add_command(_command)
 
-
-if __name__ == "__main__":  # pragma: no cover
-    main()

@@ -96,8 +96,8 @@ def read_file(path: str | Path, dt_s: float = DEFAULT_DT_S) -> Trajectories:
 
     Raises:
         DatasetError: empty file, wrong column count, non-numeric or non-finite value,
-            non-integer frame or id, frames going backwards, or a pedestrian twice in a
-            frame; the message names the file and line.
+            non-integer frame or id, a pedestrian's frames going backwards, or a
+            pedestrian twice in a frame; the message names the file and line.
     """
     path = Path(path)
     if not (isinstance(dt_s, int | float) and math.isfinite(dt_s) and dt_s > 0):
@@ -106,8 +106,10 @@ def read_file(path: str | Path, dt_s: float = DEFAULT_DT_S) -> Trajectories:
     ids: list[int] = []
     xy: list[tuple[float, float]] = []
     seen: dict[tuple[int, int], int] = {}
-    last_frame: int | None = None
-    last_line = 0
+    # Rows may come frame by frame or pedestrian by pedestrian (UCY zara03 in the
+    # Trajectron++ copy): each pedestrian's frames must increase; samples are sorted by
+    # (frame, id) below.
+    last_of: dict[int, tuple[int, int]] = {}
     for lineno, line in enumerate(read_text_lines(path), start=1):
         fields = line.split()
         if not fields:
@@ -122,10 +124,12 @@ def read_file(path: str | Path, dt_s: float = DEFAULT_DT_S) -> Trajectories:
         pid = integer(fields[1], where, "pedestrian id (column 2)")
         x = number(fields[2], where, "x (column 3)")
         y = number(fields[3], where, "y (column 4)")
-        if last_frame is not None and frame < last_frame:
+        previous = last_of.get(pid)
+        if previous is not None and frame < previous[0]:
             raise DatasetError(
-                f"{where}: frames go backwards: frame {frame} after frame {last_frame} "
-                f"(line {last_line}); rows must be sorted by frame"
+                f"{where}: frames go backwards for pedestrian {pid}: frame {frame} after "
+                f"frame {previous[0]} (line {previous[1]}); each pedestrian's rows must be "
+                "in frame order"
             )
         if frame < 0:
             raise DatasetError(f"{where}: frame must be >= 0, got {frame}")
@@ -135,13 +139,17 @@ def read_file(path: str | Path, dt_s: float = DEFAULT_DT_S) -> Trajectories:
                 f"(also line {seen[(frame, pid)]})"
             )
         seen[(frame, pid)] = lineno
-        last_frame, last_line = frame, lineno
+        last_of[pid] = (frame, lineno)
         frames.append(frame)
         ids.append(pid)
         xy.append((x, y))
     if not frames:
         raise DatasetError(f"{path}: no data rows (empty file)")
 
+    order = np.lexsort((np.array(ids, dtype=np.int64), np.array(frames, dtype=np.int64)))
+    frames = [frames[i] for i in order]
+    ids = [ids[i] for i in order]
+    xy = [xy[i] for i in order]
     frame_a = np.array(frames, dtype=np.int64)
     distinct = np.unique(frame_a)
     step = int(np.gcd.reduce(np.diff(distinct))) if distinct.size > 1 else 1

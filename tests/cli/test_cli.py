@@ -123,7 +123,7 @@ def test_bad_files_give_one_line_errors(tmp_path: Path) -> None:
 
 
 def test_installed_entry_point() -> None:
-    exe = shutil.which("srfm") or str(Path(__file__).resolve().parents[1] / ".venv/bin/srfm")
+    exe = shutil.which("srfm") or str(Path(__file__).resolve().parents[2] / ".venv/bin/srfm")
     out = subprocess.run([exe, "scenarios"], capture_output=True, text=True, check=True)
     assert "footpath" in out.stdout
     bad = subprocess.run([exe, "simulate", "--scenario", "nope"], capture_output=True, text=True)

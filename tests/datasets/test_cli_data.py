@@ -209,4 +209,4 @@ def test_convert_real_data(real_data: Path, tmp_path: Path) -> None:
     )
     assert code == 0, text
     assert "warning" not in text
-    assert len(read_mcap(tmp_path / "eth.mcap").scenes) == 4
+    assert len(read_mcap(tmp_path / "eth.mcap").scenes) == 5

@@ -66,7 +66,10 @@ def test_fast_walkers_warn(tmp_path: Path) -> None:
         ("0 1 2.0 3.0\n10 1 abc 3.0\n", r"bad\.txt:2: x \(column 3\) is not a number: 'abc'"),
         ("0 1 2.0 nan\n", r"bad\.txt:1: y \(column 4\) must be finite, got 'nan'"),
         ("0 1 inf 2\n", r"bad\.txt:1: x \(column 3\) must be finite"),
-        ("10 1 2 3\n0 2 2 3\n", r"bad\.txt:2: frames go backwards: frame 0 after frame 10"),
+        (
+            "10 1 2 3\n0 1 2 3\n",
+            r"bad\.txt:2: frames go backwards for pedestrian 1: frame 0 after frame 10",
+        ),
         (
             "0 1 2 3\n0 1 2 4\n",
             r"bad\.txt:2: pedestrian 1 appears twice in frame 0 \(also line 1\)",
@@ -81,6 +84,35 @@ def test_malformed_files_name_file_and_line(tmp_path: Path, text: str, match: st
         eth_ucy.read_file(path)
 
 
+def test_rows_by_pedestrian_read_as_rows_by_frame(tmp_path: Path) -> None:
+    by_frame = tmp_path / "a.txt"
+    by_frame.write_text(SMALL)
+    rows = sorted((line.split("\t") for line in SMALL.splitlines()), key=lambda r: r[1])
+    by_ped = tmp_path / "b.txt"
+    by_ped.write_text("".join("\t".join(r) + "\n" for r in rows))
+    assert by_ped.read_text() != SMALL
+    a = eth_ucy.read_file(by_frame, dt_s=0.4)
+    b = eth_ucy.read_file(by_ped, dt_s=0.4)
+    assert np.array_equal(a.frame, b.frame)
+    assert np.array_equal(a.agent, b.agent)
+    assert np.array_equal(a.xy, b.xy)
+    assert np.array_equal(a.t_ns, b.t_ns)
+
+
+def test_real_pedestrian_major_file(real_data: Path) -> None:
+    """UCY zara03 comes pedestrian by pedestrian; every row is read, in frame order."""
+    path = real_data / "eth_ucy" / "crowds_zara03.txt"
+    raw = np.loadtxt(path)
+    assert (np.diff(raw[:, 0]) < 0).any(), "the file is expected to be pedestrian-major"
+    scene = eth_ucy.read_file(path, dt_s=0.4)
+    assert scene.n_samples == raw.shape[0]
+    assert scene.n_agents == np.unique(raw[:, 1]).size
+    assert (np.diff(scene.frame) >= 0).all()
+    frame, pid, x, y = raw[500]
+    f, _, xy = scene.track(str(int(pid)))
+    assert xy[int(np.flatnonzero(f == int(frame))[0])].tolist() == [x, y]
+
+
 def test_missing_source() -> None:
     with pytest.raises(DatasetError, match="no such file or folder"):
         eth_ucy.list_sources("/nonexistent/eth")
@@ -90,9 +122,15 @@ def test_real_files(real_data: Path, tmp_path: Path) -> None:
     folder = real_data / "eth_ucy"
     with pytest.warns(DatasetWarning, match=r"biwi_eth\.txt: median pedestrian speed 2\.4"):
         scenes = eth_ucy.read_eth_ucy(folder)
-    assert [s.scene for s in scenes] == ["biwi_eth", "biwi_hotel", "students003", "uni_examples"]
+    assert [s.scene for s in scenes] == [
+        "biwi_eth",
+        "biwi_hotel",
+        "crowds_zara03",
+        "students003",
+        "uni_examples",
+    ]
     raw = np.loadtxt(folder / "students003.txt")
-    students = scenes[2]
+    students = scenes[3]
     assert students.n_samples == raw.shape[0]
     assert students.n_agents == np.unique(raw[:, 1]).size
     assert students.frame.min() == raw[:, 0].min()

@@ -7,16 +7,26 @@ Quick use::
     print(record.outcome, record.twin_separation_m().max())
 """
 
+from importlib import metadata as _metadata
+
 from srfm.errors import (
     BenchmarkError,
     DatasetError,
+    DatasetWarning,
+    FolderInUseError,
     LogError,
     MetricError,
+    MissingDependencyError,
+    OutputError,
     ParameterError,
     PlannerError,
+    ResourceError,
     ScenarioError,
     SimulationError,
     SrfmError,
+    SrfmWarning,
+    UserCodeError,
+    WriteError,
 )
 from srfm.models import (
     PRESETS,
@@ -42,7 +52,11 @@ from srfm.sim.episode import run_episode
 from srfm.sim.record import EpisodeRecord, Event
 from srfm.sim.simulator import TwinSimulator
 
-__version__ = "0.1.0"
+# The installed distribution's version: pyproject.toml is its one source.
+try:
+    __version__ = _metadata.version("srfm")
+except _metadata.PackageNotFoundError:  # a source tree that was never installed
+    __version__ = "0+unknown"
 
 __all__ = [
     "BUILTIN_SCENARIOS",
@@ -51,14 +65,19 @@ __all__ = [
     "BenchmarkError",
     "CrowdState",
     "DatasetError",
+    "DatasetWarning",
     "EpisodeRecord",
     "Event",
+    "FolderInUseError",
     "ForceComponents",
     "LogError",
     "MetricError",
+    "MissingDependencyError",
     "Obstacles",
+    "OutputError",
     "ParameterError",
     "PlannerError",
+    "ResourceError",
     "RobotBody",
     "RobotConfig",
     "RobotState",
@@ -67,7 +86,10 @@ __all__ = [
     "ScenarioError",
     "SimulationError",
     "SrfmError",
+    "SrfmWarning",
     "TwinSimulator",
+    "UserCodeError",
+    "WriteError",
     "__version__",
     "apply_command",
     "builtin_scenarios",

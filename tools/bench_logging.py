@@ -22,9 +22,13 @@ planners with 100 seeds twice, with ``--no-logs`` and with the default logs, int
 ``DIR/no-logs`` and ``DIR/logs``, and reports the wall and CPU time of both and the
 bytes of the MCAP and Rerun files actually written.
 
+The same command with ``PYTHONPATH`` pointing at an older checkout measures that
+tree's logging ("before" in docs/performance.md).
+
 Usage::
 
     .venv/bin/python tools/bench_logging.py
+    PYTHONPATH=/path/to/old/checkout .venv/bin/python tools/bench_logging.py
     .venv/bin/python tools/bench_logging.py --seeds 2 --planners straight dwa
     .venv/bin/python tools/bench_logging.py --full-benchmark /tmp/bench-logs -j 2
 """
@@ -57,22 +61,41 @@ def _timed(fn: Any) -> tuple[Any, float, float]:
 
 
 def _encodings(pos: Any, out: dict[str, list[float]]) -> None:
-    """zstd (level 3, as in MCAP chunks) bytes per value of exact positions, three ways."""
+    """zstd (level 3, as in MCAP chunks) bytes per value of exact positions, four ways:
+    decimal JSON text, the .npy file (what srfm stores since log schema 3, base64 in
+    JSON), and, for reference, a byte shuffle (the HDF5/Blosc filter) of the values
+    with time last, which is what the array codec of schema 2 improved on."""
+    import base64
+    import io
     import json
 
+    import numpy as np
     import zstandard
 
-    from srfm.logs._codec import encode_array
-
     zc = zstandard.ZstdCompressor(level=3)
-    per_step_json = "\n".join(json.dumps(p) for p in pos.tolist()).encode()
+    buf = io.BytesIO()
+    np.save(buf, pos, allow_pickle=False)
+    npy = buf.getvalue()
+    time_last = np.ascontiguousarray(np.moveaxis(pos, 0, -1))
     ways = {
-        "decimal JSON, one message per step": per_step_json,
-        "raw float64": pos.tobytes(),
-        "srfm array block (base64 in JSON)": encode_array(pos)["data"].encode(),
+        "decimal JSON, one message per step": "\n".join(json.dumps(p) for p in pos.tolist()),
+        ".npy file": npy,
+        ".npy file, base64 (stored)": base64.b64encode(npy),
+        "byte shuffle, time last (reference)": time_last.view(np.uint8).reshape(-1, 8).T.tobytes(),
     }
     for name, data in ways.items():
-        out[name].append(len(zc.compress(data)) / pos.size)
+        raw = data.encode() if isinstance(data, str) else data
+        out[name].append(len(zc.compress(raw)) / pos.size)
+
+
+def _run_episode() -> Any:
+    """``run_episode`` of this tree or of an older one (``PYTHONPATH`` = a checkout from
+    before the package layout of issue 11, for before/after measurements)."""
+    try:
+        from srfm.sim.episode import run_episode
+    except ImportError:  # the layout before srfm/sim/
+        from srfm.episode import run_episode  # type: ignore[no-redef]
+    return run_episode
 
 
 def _measure_one(
@@ -81,7 +104,8 @@ def _measure_one(
     """Simulate one episode, then time and size every kind of log of it."""
     from srfm.logs import load_episode, write_counterfactual_mcap, write_episode_mcap, write_rrd
     from srfm.metrics import episode_metrics
-    from srfm.sim.episode import run_episode
+
+    run_episode = _run_episode()
 
     def simulate() -> Any:
         record = run_episode(scenario, seed, planner, parallel=False)
@@ -152,7 +176,8 @@ def per_episode(scenarios: list[str], planners: list[str], seeds: list[int]) -> 
     from srfm.logs import load_episode, write_episode_mcap, write_rrd
     from srfm.metrics import episode_metrics
     from srfm.scenarios import load_scenario
-    from srfm.sim.episode import run_episode
+
+    run_episode = _run_episode()
 
     m: dict[str, Any] = {k: defaultdict(list) for k in ("cpu", "wall", "size", "encoding")}
     with tempfile.TemporaryDirectory() as tmp:
@@ -281,9 +306,11 @@ def main() -> None:
     parser.add_argument("-j", "--jobs", type=int, default=2)
     args = parser.parse_args()
     os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+    import srfm.logs
+
     print(
         f"python {platform.python_version()}, {platform.machine()}, {os.cpu_count()} CPUs, "
-        f"load average {os.getloadavg()[0]:.1f}"
+        f"load average {os.getloadavg()[0]:.1f}; srfm from {Path(srfm.logs.__file__).parents[2]}"
     )
     m = per_episode(args.scenarios, args.planners, list(range(args.seeds)))
     episodes = len(m["cpu"]["simulate + metrics"])

@@ -242,25 +242,38 @@ def _run_task(task: _Task) -> int:
 
     out = Path(task.out)
     for seed in task.seeds:
-        planner = make_planner(task.planner)
-        record = run_episode(task.scenario, seed, planner, task.params, parallel=False)
+        # make_planner names the planner task.planner (also a module:attribute spec),
+        # so the record and its metrics file carry the requested name.
+        record = run_episode(
+            task.scenario, seed, make_planner(task.planner), task.params, parallel=False
+        )
         metrics = episode_metrics(record)
-        if metrics.planner != task.planner:  # module:attribute planners report their own name
-            metrics = attrs.evolve(metrics, planner=task.planner)
         if task.writer is not None:
             task.writer(out, record, metrics)
         if seed == task.figure_seed:
             from srfm.benchmark.figures import save_figure_episode
 
-            save_figure_episode(out, task.planner, record)
+            save_figure_episode(out, record)
         write_episode(out, metrics)  # last: an episode counts as done once this exists
     return len(task.seeds)
 
 
 def _init_worker() -> None:
-    # One thread per worker process: threaded kernels stall when the cores are shared.
+    """Set up a worker process: one thread, and Ctrl-C left to the parent.
+
+    One thread per worker: threaded kernels stall when the cores are shared. A forked
+    worker has its libraries loaded already, where environment variables come too late:
+    their BLAS/OpenMP pools are limited with threadpoolctl and numba's own pool with
+    :func:`numba.set_num_threads`. The variables still cover libraries loaded later
+    (e.g. torch for a policy) and spawned workers.
+    """
+    import numba
+    from threadpoolctl import threadpool_limits  # type: ignore[import-untyped]
+
     for var in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"):
         os.environ[var] = "1"
+    threadpool_limits(limits=1)
+    numba.set_num_threads(1)
     # Ctrl-C reaches the whole process group: the parent stops the pool, the workers
     # should not each print a traceback.
     signal.signal(signal.SIGINT, signal.SIG_IGN)

@@ -73,21 +73,21 @@ def figure_episode_path(out: Path, scenario: str, planner: str) -> Path:
 _SAVED_ARRAYS = ("factual_pos", "counterfactual_pos", "robot_pose", "robot_goal")
 
 
-def _figure_episode(record: EpisodeRecord, planner: str) -> FigureEpisode:
+def _figure_episode(record: EpisodeRecord) -> FigureEpisode:
     return FigureEpisode(
         scenario=record.scenario,
         seed=record.seed,
-        planner=planner,
+        planner=record.planner,
         outcome=record.outcome,
         end_step=record.end_step,
         **{name: getattr(record, name) for name in _SAVED_ARRAYS},
     )
 
 
-def save_figure_episode(out: Path, planner: str, record: EpisodeRecord) -> None:
+def save_figure_episode(out: Path, record: EpisodeRecord) -> None:
     """Keep what the path figure needs of ``record`` (called in the worker that ran it,
     so that drawing the figures does not simulate anything again)."""
-    episode = _figure_episode(record, planner)
+    episode = _figure_episode(record)
     buf = io.BytesIO()
     np.savez(
         buf,
@@ -96,7 +96,7 @@ def save_figure_episode(out: Path, planner: str, record: EpisodeRecord) -> None:
         outcome=episode.outcome,
         **{name: getattr(episode, name) for name in _SAVED_ARRAYS},
     )
-    atomic_write_bytes(figure_episode_path(out, record.scenario, planner), buf.getvalue())
+    atomic_write_bytes(figure_episode_path(out, record.scenario, record.planner), buf.getvalue())
 
 
 def load_figure_episode(out: Path, scenario: str, planner: str, seed: int) -> FigureEpisode | None:
@@ -198,7 +198,7 @@ def write_figures(out: Path, request: BenchmarkRequest, table: BenchmarkTable) -
                 record = run_episode(
                     scenario, seed, make_planner(p), request.params, parallel=False
                 )
-                saved = _figure_episode(record, p)
+                saved = _figure_episode(record)
             records.append(saved)
         w = scenario.world
         fig = paths_figure(records, (w.x_min, w.x_max, w.y_min, w.y_max))

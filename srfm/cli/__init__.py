@@ -8,7 +8,7 @@ from srfm.cli.benchmark import benchmark
 from srfm.cli.data import ade, data, fit
 from srfm.cli.logs import score, view
 from srfm.cli.simulate import planners, scenarios, simulate
-from srfm.cli.train import train
+from srfm.cli.train import export_policy, train
 
 __all__ = ["main"]
 
@@ -20,6 +20,17 @@ def main() -> None:
     robot makes people deviate from the paths they would have walked."""
 
 
-for _command in (scenarios, planners, simulate, benchmark, score, view, data, fit, ade, train):
+for _command in (
+    scenarios,
+    planners,
+    simulate,
+    benchmark,
+    score,
+    view,
+    data,
+    fit,
+    ade,
+    train,
+    export_policy,
+):
     main.add_command(_command)
-

@@ -1,4 +1,5 @@
-"""``srfm train``: TD3 on ``srfm/SocialNav-v0`` (needs the ``rl`` extra)."""
+"""``srfm train``: TD3 on ``srfm/SocialNav-v0`` (needs the ``rl`` extra), and
+``srfm export-policy``: a checkpoint to a NumPy policy file."""
 
 from __future__ import annotations
 
@@ -11,9 +12,22 @@ import click
 
 from srfm.cli._common import user_errors
 
-__all__ = ["train"]
+__all__ = ["export_policy", "train"]
 
 _DEFAULTS: dict[str, Any] = {}
+
+
+def _net_arch(ctx: click.Context, param: click.Parameter, value: Any) -> tuple[int, ...]:
+    """``--net-arch``: comma-separated positive layer sizes, e.g. ``256,256``."""
+    if isinstance(value, tuple):
+        return value
+    try:
+        sizes = tuple(int(v) for v in str(value).split(","))
+    except ValueError:
+        sizes = ()
+    if not sizes or min(sizes) < 1:
+        raise click.BadParameter(f"{value!r} is not a comma-separated list of positive integers")
+    return sizes
 
 
 def _default(name: str) -> Any:
@@ -116,7 +130,50 @@ def _default(name: str) -> Any:
     show_default=True,
     help="Keep the replay buffer beside latest.zip, for --resume.",
 )
-@click.option("--torch-threads", type=click.IntRange(min=1), default=1, show_default=True)
+@click.option(
+    "--torch-threads",
+    type=click.IntRange(min=1),
+    default=1,
+    show_default=True,
+    help="Learner threads: torch intra-op threads; with --backend sbx, 1 turns XLA's "
+    "multi-threaded CPU kernels off.",
+)
+@click.option(
+    "--backend",
+    type=click.Choice(["sb3", "sbx"]),
+    default=_default("backend"),
+    show_default=True,
+    help="sb3: stable-baselines3 + torch (the paper's reference); sbx: SBX, the same "
+    "TD3 in JAX (needs the sbx extra).",
+)
+@click.option(
+    "--net-arch",
+    callback=_net_arch,
+    default=",".join(map(str, _default("net_arch"))),
+    show_default=True,
+    help="Hidden layer sizes of actor and critics, comma-separated.",
+)
+@click.option(
+    "--train-freq",
+    type=click.IntRange(min=1),
+    default=_default("train_freq"),
+    show_default=True,
+    help="(Vectorised) environment steps between updates.",
+)
+@click.option(
+    "--gradient-steps",
+    type=click.IntRange(min=1),
+    default=_default("gradient_steps"),
+    show_default=True,
+    help="Gradient steps per update (update-to-data ratio: gradient steps / (train freq x envs)).",
+)
+@click.option(
+    "--n-envs",
+    type=click.IntRange(min=1),
+    default=_default("n_envs"),
+    show_default=True,
+    help="Environments stepped together (seeds seed, seed + 1, ...).",
+)
 @click.option("--progress/--no-progress", default=True, show_default=True)
 def train(**options: Any) -> None:
     """Train a TD3 navigation policy on srfm/SocialNav-v0 (stable-baselines3).
@@ -142,6 +199,8 @@ def _command_line() -> str:
         elif param.is_flag:
             if value:
                 words.append(param.opts[0])
+        elif isinstance(value, tuple):
+            words += [param.opts[0], ",".join(map(str, value))]
         else:
             words += [param.opts[0], str(value)]
     return shlex.join(words)
@@ -165,6 +224,11 @@ def _train(
     twin: bool,
     save_replay_buffer: bool,
     torch_threads: int,
+    backend: str,
+    net_arch: tuple[int, ...],
+    train_freq: int,
+    gradient_steps: int,
+    n_envs: int,
     progress: bool,
 ) -> None:
     from srfm.rl.training import TrainConfig
@@ -186,6 +250,11 @@ def _train(
         counterfactual_twin=twin,
         save_replay_buffer=save_replay_buffer,
         torch_threads=torch_threads,
+        backend=backend,
+        net_arch=net_arch,
+        train_freq=train_freq,
+        gradient_steps=gradient_steps,
+        n_envs=n_envs,
     )
     command = _command_line()
     if not progress:
@@ -212,3 +281,28 @@ def _train(
         f"trained {result.steps} steps in {result.wall_time_s:.0f} s "
         f"({result.session_wall_time_s:.0f} s in this session); run in {result.run_dir}"
     )
+
+
+@click.command("export-policy")
+@click.argument("checkpoint", type=click.Path(dir_okay=False, exists=True, path_type=Path))
+@click.argument("out", type=click.Path(dir_okay=False, path_type=Path))
+@click.option(
+    "--eval-seeds",
+    type=click.IntRange(min=0),
+    default=0,
+    show_default=True,
+    help="Also evaluate the exported actor on the five evaluation scenarios with this "
+    "many seeds each (10000, 10001, ...) and record the figures.",
+)
+@click.option("--note", default=None, help="Free text recorded in the metadata (training.note).")
+def export_policy(checkpoint: Path, out: Path, eval_seeds: int, note: str | None) -> None:
+    """Export an SB3/SBX TD3 CHECKPOINT (a zip of `srfm train`) to a NumPy policy file.
+
+    Writes OUT with suffixes .npz (the actor's weights) and .json (metadata: observation
+    layout version, kinematics, action scaling, training configuration and seed,
+    evaluation figures). The result loads with NumPy only and runs as a planner
+    (srfm.planners.td3.TD3Planner). Reading the checkpoint unpickles: trusted files only.
+    """
+    from srfm.rl.training import export_policy as run_export
+
+    user_errors(run_export)(checkpoint, out, eval_seeds=eval_seeds, note=note, log=click.echo)

@@ -16,8 +16,10 @@ Layout (schema version 1; see ``datasets/README.md`` for the full description):
   number of scenes) and one ``srfm.datasets.scene`` record per scene (scene, topic,
   frame of reference, agent table as JSON lists, and the adapter's source metadata
   under ``source.*`` keys);
-- zstd-compressed chunks with message indices and a summary section, written by the
-  ``mcap`` library, so any MCAP reader (``mcap`` CLI, Foxglove, ``rerun mcap``) opens it.
+- zstd-compressed chunks with every index, a summary section and CRCs (chunks, data
+  section, summary), written by the ``mcap`` library's ``Writer`` with its defaults plus
+  the data-section CRC, so any MCAP reader (``mcap`` CLI, Foxglove, ``rerun mcap``,
+  ``@mcap/core``) opens it. The reader checks the chunk CRCs.
 """
 
 from __future__ import annotations
@@ -161,7 +163,7 @@ def write_mcap(
             raise DatasetError(f"{path}: metadata must map str to str, got {key!r}: {value!r}")
 
     buf = io.BytesIO()
-    writer = Writer(buf, compression=CompressionType.ZSTD)
+    writer = Writer(buf, compression=CompressionType.ZSTD, enable_data_crcs=True)
     writer.start(profile="", library=f"srfm {_version()}")
     schema_id = writer.register_schema(
         name=SCHEMA_NAME,
@@ -254,19 +256,23 @@ def read_mcap(path: str | Path) -> DatasetFile:
             newer schema version, or holds a malformed message (the message names the
             topic and log time).
     """
+    import zstandard
     from mcap.exceptions import McapError
     from mcap.reader import make_reader
 
     path = Path(path)
     try:
         with path.open("rb") as fh:
-            reader = make_reader(fh)
+            reader = make_reader(fh, validate_crcs=True)
+            library = reader.get_header().library
             meta_records = [(m.name, dict(m.metadata)) for m in reader.iter_metadata()]
+            file_meta = next((m for name, m in meta_records if name == FILE_RECORD), None)
+            writer = _writer_of(library, file_meta)
             raw: dict[int, list[tuple[str, str, int, bytes]]] = {}
             for schema, channel, message in reader.iter_messages(log_time_order=False):
                 if schema is None or not schema.name.startswith("srfm.datasets.AgentFrame"):
                     continue
-                _check_schema(path, schema.name, schema.encoding, channel.message_encoding)
+                _check_schema(path, schema.name, schema.encoding, channel.message_encoding, writer)
                 raw.setdefault(channel.id, []).append(
                     (
                         channel.topic,
@@ -279,7 +285,7 @@ def read_mcap(path: str | Path) -> DatasetFile:
         raise DatasetError(f"{path}: file not found") from None
     except IsADirectoryError:
         raise DatasetError(f"{path}: is a directory, expected an .mcap file") from None
-    except (McapError, struct.error, EOFError, ValueError, KeyError) as exc:
+    except (McapError, struct.error, zstandard.ZstdError, EOFError, ValueError, KeyError) as exc:
         if isinstance(exc, DatasetError):
             raise
         raise DatasetError(
@@ -288,7 +294,6 @@ def read_mcap(path: str | Path) -> DatasetFile:
     except OSError as exc:
         raise DatasetError(f"{path}: cannot read: {exc.strerror}") from None
 
-    file_meta = next((m for name, m in meta_records if name == FILE_RECORD), None)
     scene_meta = {m.get("scene", ""): m for name, m in meta_records if name == SCENE_RECORD}
     if not raw:
         if file_meta is None:
@@ -309,15 +314,23 @@ def read_mcap(path: str | Path) -> DatasetFile:
     )
 
 
-def _check_schema(path: Path, name: str, encoding: str, message_encoding: str) -> None:
+def _writer_of(library: str, file_meta: Mapping[str, str] | None) -> str:
+    """``srfm X.Y.Z`` that wrote a file, from its metadata or MCAP header."""
+    version = (file_meta or {}).get("srfm_version")
+    if not version and library.startswith("srfm "):
+        version = library.removeprefix("srfm ")
+    return f"srfm {version}" if version else "an unknown srfm version"
+
+
+def _check_schema(path: Path, name: str, encoding: str, message_encoding: str, writer: str) -> None:
     match = _SCHEMA_RE.match(name)
     if match is None:
         raise DatasetError(f"{path}: unrecognised srfm dataset schema name {name!r}")
     version = int(match.group(1))
     if version != SCHEMA_VERSION:
         raise DatasetError(
-            f"{path}: dataset schema version {version} is not supported by this srfm "
-            f"(it reads version {SCHEMA_VERSION}); convert the data again"
+            f"{path}: dataset schema version {version}, written by {writer}; this srfm "
+            f"({_version()}) reads version {SCHEMA_VERSION} only: convert the data again"
         )
     if encoding != "jsonschema" or message_encoding != "json":
         raise DatasetError(

@@ -15,7 +15,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm.errors import DatasetError
+from srfm.errors import DatasetError, DatasetWarning
 
 __all__ = [
     "AGENT_KINDS",
@@ -34,10 +34,6 @@ AgentKind = Literal["pedestrian", "robot"]
 # "world": a fixed frame (odometry, a surveyed scene). "robot": the robot's own moving
 # frame (x forward, y left), used when a robot-mounted dataset comes without odometry.
 FRAMES_OF_REFERENCE: Final = ("world", "robot")
-
-
-class DatasetWarning(UserWarning):
-    """Suspicious but readable data (e.g. implausible walking speeds for the given dt)."""
 
 
 def _read_only(arr: NDArray[Any]) -> NDArray[Any]:

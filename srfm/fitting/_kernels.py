@@ -7,7 +7,8 @@ force function (:func:`srfm.models._kernels._agent_forces`) and integrator, so a
 parameter set means the same thing in the simulator.
 
 Not cached on disk: numba's cache is keyed on this file only, so a change of the force
-kernels in ``srfm/models/_kernels.py`` would silently keep stale physics here. The
+kernels in ``srfm/models/_kernels.py`` (or of the primitives in
+``srfm/models/_primitives.py``) would silently keep stale physics here. The
 kernel compiles in a few seconds once per process.
 
 Shapes: W windows, S = Σ steps of all windows, G frames of all scenes, E neighbour
@@ -22,6 +23,7 @@ import numpy as np
 from numba import njit
 
 from srfm.models._kernels import _agent_forces, integrate
+from srfm.models.params import SRFMKernelParams
 
 
 @njit(cache=False)
@@ -47,7 +49,7 @@ def replay_windows(
     ped_radius: float,
     robot_radius: float,
     max_substep: float,
-    params: np.ndarray,
+    params: SRFMKernelParams,
     use_robot: bool,
     out: np.ndarray,
 ) -> None:
@@ -73,7 +75,7 @@ def replay_windows(
         max_substep: longest integration step (s); each frame interval is split into
             ceil(dt / max_substep − 1e-6) equal substeps (the tolerance keeps a 15 Hz
             interval rounded to whole nanoseconds at one substep of 1/15 s).
-        params: (9,) SRFM parameter vector (``SRFMParams.as_array``).
+        params: the SRFM parameters (``SRFMParams.for_kernels``).
         use_robot: apply the robot force (SRFM); False ignores the robot (SFM).
         out: (S, 2) predicted positions (m), written for the selected windows only.
     """

@@ -74,7 +74,7 @@ def predict(
         float(windows.config.ped_radius_m),
         float(windows.config.robot_radius_m),
         float(windows.config.max_substep_s),
-        params.as_array(),
+        params.for_kernels(),
         mode != "sfm",
         out,
     )

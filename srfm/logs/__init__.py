@@ -6,9 +6,11 @@ knows nothing of them and pays nothing when logging is off:
 - :func:`write_rrd`: a Rerun recording with its own ``RecordingStream`` (never the
   global one) and a default blueprint; entity tree in :mod:`srfm.logs._rerun` and
   ``docs/logging.md``.
-- :func:`write_episode_mcap`: an MCAP file of versioned JSON-schema channels plus
-  Foxglove scene messages, zstd-compressed; :func:`load_episode` rebuilds the episode
-  from it bit for bit.
+- :func:`write_episode_mcap`: an MCAP file written with the ``mcap`` library: versioned
+  JSON-schema channels (exact arrays as NumPy ``.npy`` files) plus Foxglove scene
+  messages built with the Foxglove SDK (``foxglove.SceneUpdate``, protobuf);
+  :func:`load_episode` rebuilds the episode from it bit for bit, and refuses files of
+  another log schema version naming it and the srfm that wrote them.
 - :func:`score_logs` / :func:`write_score_reports`: every metric and the benchmark
   tables from MCAP files alone (``srfm score``).
 - :class:`EpisodeLogger`: the benchmark's per-episode writer; :class:`LogOptions` says

@@ -1,25 +1,32 @@
-"""Foxglove ``SceneUpdate`` messages (JSON) that draw a twin episode from above.
+"""Foxglove ``SceneUpdate`` messages that draw a twin episode from above.
 
-Entities on the ``/foxglove/scene`` topic, all in frame ``world`` (metres, z up):
+The messages are built and encoded by the Foxglove SDK (``foxglove-sdk``,
+:mod:`foxglove.messages`): protobuf messages of Foxglove's official schema, whose
+``FileDescriptorSet`` the SDK also provides (:func:`scene_schema`). Entities on the
+``/foxglove/scene`` topic, all in frame ``world`` (metres, z up):
 
 - ``world`` (once, at time 0): the world bounds as a line loop, walls as line
-  segments, pillars as cylinders;
-- ``robot_goal`` and ``robot_path`` (once): the robot's goal and its whole path;
-- ``goals`` (at time 0 and whenever a goal changes): the factual pedestrians' goals;
-- ``pedestrians``, ``counterfactual`` and ``robot`` (every ``stride`` samples): factual
-  pedestrians as blue discs with velocity arrows (length = 1 s of motion), their
-  counterfactual twins as translucent grey discs, the robot as a red disc with a
-  heading arrow.
+  segments, pillars as grey cylinders;
+- ``robot_goal`` and ``robot_path`` (once): the robot's goal (a green disc and a label)
+  and its whole path (a red line through its positions every 10 cm of travel);
+- ``goals`` (at time 0 and whenever a goal changes): the factual pedestrians' goals
+  (yellow discs);
+- ``pedestrians``, ``counterfactual`` and ``robot`` (every ``stride`` samples and at the
+  last one): factual pedestrians as blue discs (in full logs with velocity arrows,
+  length = 1 s of motion), their counterfactual twins as translucent grey discs (the
+  ghosts; drawn where they are apart from their factual twin, elsewhere the blue disc
+  would cover them), the robot as a red disc with a heading arrow.
 
-Coordinates are rounded to 1 cm and angles to 0.001: the scene is for looking at; the
-exact numbers are on the ``/srfm/...`` channels. Messages are formatted from string
-templates rather than dictionaries because a benchmark writes hundreds of thousands.
+Positions are rounded to 1 cm, arrow directions to 5 degrees and lengths to 5 cm, so
+that primitives can be reused (an agent standing still costs a dictionary look-up
+rather than four SDK objects): the scene is for looking at, the exact numbers are on
+the ``/srfm/...`` channels.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Final
+from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,185 +34,273 @@ from numpy.typing import NDArray
 from srfm.models.state import Obstacles
 from srfm.sim.record import EpisodeRecord
 
-__all__ = ["scene_messages"]
+if TYPE_CHECKING:
+    from foxglove.messages import Color, Pose, Quaternion, SceneEntity, Timestamp, Vector3
+
+__all__ = ["SCENE_TOPIC", "scene_messages", "scene_schema"]
 
 FloatArray = NDArray[np.float64]
+RGBA = tuple[float, float, float, float]
 
-_IDENTITY: Final = '"orientation":{"x":0,"y":0,"z":0,"w":1}'
-_BLUE: Final = '{"r":0.16,"g":0.43,"b":0.86,"a":1}'
-_GHOST: Final = '{"r":0.55,"g":0.55,"b":0.55,"a":0.45}'
-_RED: Final = '{"r":0.86,"g":0.2,"b":0.16,"a":1}'
-_GREEN: Final = '{"r":0.2,"g":0.7,"b":0.3,"a":0.9}'
-_YELLOW: Final = '{"r":0.95,"g":0.75,"b":0.1,"a":1}'
-_GREY: Final = '{"r":0.3,"g":0.3,"b":0.3,"a":1}'
+SCENE_TOPIC: Final = "/foxglove/scene"
+FRAME_ID: Final = "world"
 
-_CYL: Final = (
-    '{"pose":{"position":{"x":%.2f,"y":%.2f,"z":%s},' + _IDENTITY + "},"
-    '"size":{"x":%s,"y":%s,"z":%s},"bottom_scale":1,"top_scale":1,"color":%s}'
-)
-_ARROW: Final = (
-    '{"pose":{"position":{"x":%.2f,"y":%.2f,"z":%s},'
-    '"orientation":{"x":0,"y":0,"z":%.3f,"w":%.3f}},"shaft_length":%.2f,'
-    '"shaft_diameter":0.04,"head_length":0.12,"head_diameter":0.12,"color":%s}'
-)
-_LINE: Final = (
-    '{"type":%d,"pose":{"position":{"x":0,"y":0,"z":0},' + _IDENTITY + '},"thickness":%s,'
-    '"scale_invariant":false,"points":[%s],"color":%s,"colors":[],"indices":[]}'
-)
-_POINT: Final = '{"x":%.2f,"y":%.2f,"z":0.01}'
-_TEXT: Final = (
-    '{"pose":{"position":{"x":%.2f,"y":%.2f,"z":0.5},' + _IDENTITY + '},"billboard":true,'
-    '"font_size":0.3,"scale_invariant":false,"color":%s,"text":"%s"}'
-)
-_ENTITY: Final = (
-    '{"timestamp":{"sec":%d,"nsec":%d},"frame_id":"world","id":"%s",'
-    '"lifetime":{"sec":0,"nsec":0},"frame_locked":false,"metadata":[],'
-    '"arrows":[%s],"cubes":[],"spheres":[],"cylinders":[%s],"lines":[%s],'
-    '"triangles":[],"texts":[%s],"models":[]}'
-)
-_UPDATE: Final = '{"deletions":[],"entities":[%s]}'
+_BLUE: Final[RGBA] = (0.16, 0.43, 0.86, 1.0)
+_GHOST: Final[RGBA] = (0.55, 0.55, 0.55, 0.45)
+_RED: Final[RGBA] = (0.86, 0.2, 0.16, 1.0)
+_GREEN: Final[RGBA] = (0.2, 0.7, 0.3, 0.9)
+_YELLOW: Final[RGBA] = (0.95, 0.75, 0.1, 1.0)
+_GREY: Final[RGBA] = (0.3, 0.3, 0.3, 1.0)
 
-
-def _entity_template(name: str, *, arrows: bool, cylinders: bool) -> str:
-    """An entity with (sec, nsec) and the chosen primitive lists left to fill."""
-    out = _ENTITY.replace('"id":"%s"', f'"id":"{name}"')
-    out = out.replace('"lines":[%s]', '"lines":[]').replace('"texts":[%s]', '"texts":[]')
-    if not arrows:
-        out = out.replace('"arrows":[%s]', '"arrows":[]')
-    if not cylinders:
-        out = out.replace('"cylinders":[%s]', '"cylinders":[]')
-    return out
-
-
-# One frame of the agents: pedestrians (arrows, discs), their twins (discs), the robot.
-_FRAME: Final = _UPDATE % ",".join(
-    (
-        _entity_template("pedestrians", arrows=True, cylinders=True),
-        _entity_template("counterfactual", arrows=False, cylinders=True),
-        _entity_template("robot", arrows=True, cylinders=True),
-    )
-)
-
-_YAW_STEP: Final = math.radians(5.0)
+_YAW_STEPS: Final = 72  # arrow directions in 5-degree steps
 _LENGTH_STEP: Final = 0.05
 _PED_HEIGHT: Final = 0.4
+_GHOST_HEIGHT: Final = 0.36
 _ROBOT_HEIGHT: Final = 0.5
+_PATH_SPACING: Final = 0.1  # m between the drawn points of the robot's path
 
 
-def _entity(
-    t_ns: int,
-    name: str,
-    *,
-    arrows: list[str] | None = None,
-    cylinders: list[str] | None = None,
-    lines: list[str] | None = None,
-    texts: list[str] | None = None,
-) -> str:
-    return _ENTITY % (
-        t_ns // 1_000_000_000,
-        t_ns % 1_000_000_000,
-        name,
-        ",".join(arrows or ()),
-        ",".join(cylinders or ()),
-        ",".join(lines or ()),
-        ",".join(texts or ()),
-    )
+def scene_schema() -> tuple[str, str, bytes]:
+    """(name, encoding, data) of Foxglove's ``SceneUpdate`` schema, from the SDK:
+    ``("foxglove.SceneUpdate", "protobuf", <FileDescriptorSet>)``."""
+    from foxglove.messages import SceneUpdate
+
+    schema = SceneUpdate.get_schema()
+    return schema.name, schema.encoding, schema.data
 
 
-def _disc_template(diameter: str, height: float, color: str) -> str:
-    """A cylinder standing on the ground with only its centre (x, y) left to fill."""
-    filled = _CYL % (0.0, 0.0, repr(height / 2), diameter, diameter, repr(height), color)
-    return filled.replace('"x":0.00,"y":0.00', '"x":%.2f,"y":%.2f', 1)
+def _color(rgba: RGBA) -> Color:
+    from foxglove.messages import Color
+
+    r, g, b, a = rgba
+    return Color(r=r, g=g, b=b, a=a)
 
 
-def _arrow_template(z: float, color: str) -> str:
-    """An arrow at height ``z`` with (x, y, qz, qw, shaft length) left to fill."""
-    return _ARROW.replace("%s", repr(round(z, 3)), 1).replace("%s", color, 1)
+class _Builder:
+    """Primitives of one episode's scene; shared sub-messages (colours, sizes,
+    orientations) are built once."""
 
+    def __init__(self) -> None:
+        from foxglove import messages as fm
 
-class _Frames:
-    """The agents of the drawn frames, formatted one frame at a time with a single
-    ``%`` each for the discs (the template of a whole frame is built once)."""
+        self.fm = fm
+        self.identity = fm.Quaternion(x=0.0, y=0.0, z=0.0, w=1.0)
+        self.colors = {rgba: _color(rgba) for rgba in (_BLUE, _GHOST, _RED, _GREEN, _YELLOW, _GREY)}
+        self._sizes: dict[tuple[float, float], Vector3] = {}
+        self._yaws: dict[int, Quaternion] = {}
+        # Primitives by rounded position and style: standing agents (most of an
+        # episode, once pedestrians have arrived) reuse the same objects.
+        self._primitives: dict[tuple[Any, ...], Any] = {}
+        self._poses: dict[tuple[int, int, float, int], Pose] = {}
+        self._stamp: tuple[int, Timestamp] = (0, fm.Timestamp(sec=0, nsec=0))
 
-    def __init__(
+    def size(self, diameter: float, height: float) -> Vector3:
+        key = (diameter, height)
+        if key not in self._sizes:
+            self._sizes[key] = self.fm.Vector3(x=diameter, y=diameter, z=height)
+        return self._sizes[key]
+
+    def yaw(self, step: int) -> Quaternion:
+        """The rotation about z by ``step`` × 5 degrees."""
+        step %= _YAW_STEPS
+        if step not in self._yaws:
+            half = math.pi * step / _YAW_STEPS
+            self._yaws[step] = self.fm.Quaternion(x=0.0, y=0.0, z=math.sin(half), w=math.cos(half))
+        return self._yaws[step]
+
+    def pose(self, x: int, y: int, z: float, yaw_step: int = 0) -> Pose:
+        """The pose at (x, y) in whole cm, height ``z`` m, turned by ``yaw_step`` × 5
+        degrees (shared by every primitive there: a pedestrian and its ghost twin, while
+        they coincide, and an agent standing still)."""
+        key = (x, y, z, yaw_step)
+        pose = self._poses.get(key)
+        if pose is None:
+            fm = self.fm
+            pose = self._poses[key] = fm.Pose(
+                position=fm.Vector3(x=x / 100, y=y / 100, z=z), orientation=self.yaw(yaw_step)
+            )
+        return pose
+
+    def discs(
         self,
-        pos: FloatArray,
-        diameters: list[str],
+        xy_cm: list[list[int]],
+        diameters: list[float],
         height: float,
-        color: str,
-    ) -> None:
-        n = pos.shape[1]
-        self.template = ",".join(_disc_template(d, height, color) for d in diameters[:n])
-        self.rows = [tuple(r) for r in pos.reshape(pos.shape[0], 2 * n).tolist()]
+        rgba: RGBA,
+        centre: float | None = None,
+    ) -> list[Any]:
+        """Upright cylinders of ``height`` at (x, y) in whole cm, centred at height
+        ``centre`` (default: standing on the ground)."""
+        cylinder = self.fm.CylinderPrimitive
+        cache = self._primitives
+        color = self.colors[rgba]
+        z = height / 2 if centre is None else centre
+        out = []
+        for (x, y), d in zip(xy_cm, diameters, strict=False):
+            key = (x, y, d, height, rgba)
+            disc = cache.get(key)
+            if disc is None:
+                disc = cache[key] = cylinder(
+                    pose=self.pose(x, y, z),
+                    size=self.size(d, height),
+                    bottom_scale=1.0,
+                    top_scale=1.0,
+                    color=color,
+                )
+            out.append(disc)
+        return out
 
-    def at(self, i: int) -> str:
-        return self.template % self.rows[i]
-
-
-class _ArrowTable:
-    """Arrow parameters of a list of frames, computed at once (row i: frame i).
-
-    Directions are rounded to 5 degrees and lengths to 5 cm (the repeated text then
-    compresses well); arrows shorter than 2.5 cm are left out.
-    """
-
-    def __init__(
-        self, pos: FloatArray, direction: FloatArray, length: FloatArray, z: float, color: str
-    ) -> None:
-        yaw = np.round(np.arctan2(direction[..., 1], direction[..., 0]) / _YAW_STEP) * _YAW_STEP
-        rounded = np.round(length / _LENGTH_STEP) * _LENGTH_STEP
-        table = np.stack(
-            [pos[..., 0], pos[..., 1], np.sin(yaw / 2), np.cos(yaw / 2), rounded], axis=-1
+    def ghosts(
+        self, ghosts_cm: list[list[int]], twins_cm: list[list[int]], diameters: list[float]
+    ) -> list[Any]:
+        """The counterfactual discs that differ from their factual twin's (rounded)
+        position: translucent, lower, centred like the pedestrians, so that where the
+        twins coincide the factual disc would cover the ghost anyway."""
+        drawn = [(g, d) for g, f, d in zip(ghosts_cm, twins_cm, diameters, strict=False) if g != f]
+        return self.discs(
+            [g for g, _ in drawn], [d for _, d in drawn], _GHOST_HEIGHT, _GHOST, _PED_HEIGHT / 2
         )
-        n = pos.shape[1]
-        self.one = _arrow_template(z, color)
-        self.template = ",".join([self.one] * n)
-        self.rows = table.reshape(table.shape[0], 5 * n).tolist()
-        self.drawn = (rounded >= 0.025).tolist()
 
-    def at(self, i: int) -> str:
-        drawn = self.drawn[i]
-        row = self.rows[i]
-        if all(drawn):
-            return self.template % tuple(row)
-        one = self.one
-        return ",".join(one % tuple(row[5 * j : 5 * j + 5]) for j, d in enumerate(drawn) if d)
+    def arrows(
+        self,
+        xy_cm: list[list[int]],
+        yaw_steps: list[int],
+        length_steps: list[int],
+        z: float,
+        rgba: RGBA,
+    ) -> list[Any]:
+        """Arrows from (x, y) in whole cm at height ``z``, pointing ``yaw_steps`` × 5
+        degrees from the x axis, ``length_steps`` × 5 cm long (none when 0)."""
+        arrow_type = self.fm.ArrowPrimitive
+        cache = self._primitives
+        color = self.colors[rgba]
+        out = []
+        for (x, y), k, n in zip(xy_cm, yaw_steps, length_steps, strict=True):
+            if n <= 0:
+                continue
+            key = (x, y, k, n, z, rgba)
+            arrow = cache.get(key)
+            if arrow is None:
+                arrow = cache[key] = arrow_type(
+                    pose=self.pose(x, y, z, k),
+                    shaft_length=n * _LENGTH_STEP,
+                    shaft_diameter=0.04,
+                    head_length=0.12,
+                    head_diameter=0.12,
+                    color=color,
+                )
+            out.append(arrow)
+        return out
+
+    def line(
+        self, kind: str, points: list[tuple[float, float]], thickness: float, rgba: RGBA
+    ) -> Any:
+        fm = self.fm
+        return fm.LinePrimitive(
+            type=getattr(fm.LinePrimitiveLineType, kind),
+            pose=fm.Pose(position=fm.Vector3(x=0.0, y=0.0, z=0.0), orientation=self.identity),
+            thickness=thickness,
+            scale_invariant=False,
+            points=[fm.Point3(x=x, y=y, z=0.01) for x, y in points],
+            color=self.colors[rgba],
+        )
+
+    def entity(
+        self,
+        t_ns: int,
+        name: str,
+        *,
+        arrows: list[Any] | None = None,
+        cylinders: list[Any] | None = None,
+        lines: list[Any] | None = None,
+        texts: list[Any] | None = None,
+    ) -> SceneEntity:
+        if self._stamp[0] != t_ns:  # the entities of one message share their timestamp
+            sec, nsec = divmod(t_ns, 1_000_000_000)
+            self._stamp = (t_ns, self.fm.Timestamp(sec=sec, nsec=nsec))
+        return self.fm.SceneEntity(
+            timestamp=self._stamp[1],
+            frame_id=FRAME_ID,
+            id=name,
+            arrows=arrows,
+            cylinders=cylinders,
+            lines=lines,
+            texts=texts,
+        )
+
+    def update(self, entities: list[SceneEntity]) -> bytes:
+        return self.fm.SceneUpdate(entities=entities).encode()
+
+
+def _cm(xy: FloatArray) -> list[Any]:
+    """Coordinates (m) rounded to whole centimetres, as nested lists of ints."""
+    return np.rint(xy * 100.0).astype(np.int64).tolist()  # type: ignore[no-any-return]
+
+
+def _arrow_table(direction: FloatArray, length: FloatArray) -> tuple[list[Any], list[Any]]:
+    """Per frame and agent: yaw in 5-degree steps and length in 5-cm steps (0 when
+    shorter than 2.5 cm)."""
+    yaw = np.arctan2(direction[..., 1], direction[..., 0])
+    steps = np.rint(yaw / (2 * math.pi / _YAW_STEPS)).astype(np.int64) % _YAW_STEPS
+    lengths = np.rint(length / _LENGTH_STEP).astype(np.int64)
+    return steps.tolist(), lengths.tolist()
+
+
+def _thinned(path: FloatArray, spacing: float = _PATH_SPACING) -> FloatArray:
+    """The first point of a path, each point reached after ``spacing`` m of travel since
+    the last one kept, and the last point (a drawn path needs no point every 3 cm)."""
+    if path.shape[0] <= 2:
+        return path
+    keep = [0]
+    steps = np.linalg.norm(np.diff(path, axis=0), axis=1).tolist()
+    travelled = 0.0
+    for i, step in enumerate(steps, start=1):
+        travelled += step
+        if travelled >= spacing:
+            keep.append(i)
+            travelled = 0.0
+    if keep[-1] != path.shape[0] - 1:
+        keep.append(path.shape[0] - 1)
+    return path[keep]
 
 
 def _static(
+    b: _Builder,
     record: EpisodeRecord,
     bounds: tuple[float, float, float, float],
     obstacles: Obstacles,
-) -> str:
+) -> bytes:
     x0, x1, y0, y1 = bounds
-    corners = ",".join(_POINT % p for p in ((x0, y0), (x1, y0), (x1, y1), (x0, y1)))
-    lines = [_LINE % (1, "0.05", corners, _GREY)]
+    lines = [b.line("LineLoop", [(x0, y0), (x1, y0), (x1, y1), (x0, y1)], 0.05, _GREY)]
     if obstacles.segments.shape[0]:
-        pts = ",".join(
-            _POINT % (a, b) for s in obstacles.segments.tolist() for a, b in (s[:2], s[2:])
-        )
-        lines.append(_LINE % (2, "0.1", pts, _GREY))
-    pillars = [
-        _CYL % (cx, cy, "0.5", repr(2 * r), repr(2 * r), "1.0", _GREY)
-        for cx, cy, r in obstacles.circles.tolist()
-    ]
-    world = _entity(0, "world", cylinders=pillars, lines=lines)
+        pts = [(a, c) for s in obstacles.segments.tolist() for a, c in (s[:2], s[2:])]
+        lines.append(b.line("LineList", pts, 0.1, _GREY))
+    circles = obstacles.circles.tolist()
+    pillars: list[Any] = []
+    for cx, cy, r in circles:
+        pillars += b.discs(_cm(np.array([[cx, cy]])), [2 * r], 1.0, _GREY)
+    world = b.entity(0, "world", cylinders=pillars, lines=lines)
     gx, gy = (float(v) for v in record.robot_goal)
-    goal = _entity(
+    fm = b.fm
+    label = fm.TextPrimitive(
+        pose=fm.Pose(position=fm.Vector3(x=gx, y=gy, z=0.5), orientation=b.identity),
+        billboard=True,
+        font_size=0.3,
+        scale_invariant=False,
+        color=b.colors[_GREEN],
+        text="robot goal",
+    )
+    goal = b.entity(
         0,
         "robot_goal",
-        cylinders=[_CYL % (gx, gy, "0.01", "0.4", "0.4", "0.02", _GREEN)],
-        texts=[_TEXT % (gx, gy, _GREEN, "robot goal")],
+        cylinders=b.discs(_cm(record.robot_goal[None, :]), [0.4], 0.02, _GREEN),
+        texts=[label],
     )
-    path_xy = record.robot_pose[: record.end_step + 1, :2]
-    pts = ",".join(_POINT % (a, b) for a, b in path_xy.tolist())
-    path = _entity(0, "robot_path", lines=[_LINE % (0, "0.04", pts, _RED)] if pts else [])
-    return _UPDATE % ",".join((world, goal, path))
-
-
-def _goals(t_ns: int, goals: FloatArray) -> str:
-    discs = [_CYL % (x, y, "0.005", "0.2", "0.2", "0.01", _YELLOW) for x, y in goals.tolist()]
-    return _UPDATE % _entity(t_ns, "goals", cylinders=discs)
+    path_xy = [(x, y) for x, y in _thinned(record.robot_pose[: record.end_step + 1, :2]).tolist()]
+    path = b.entity(
+        0, "robot_path", lines=[b.line("LineStrip", path_xy, 0.04, _RED)] if path_xy else []
+    )
+    return b.update([world, goal, path])
 
 
 def scene_messages(
@@ -215,8 +310,9 @@ def scene_messages(
     bounds: tuple[float, float, float, float],
     obstacles: Obstacles,
     stride: int,
+    velocities: bool = True,
 ) -> list[tuple[int, bytes]]:
-    """Every scene message of an episode as (sample index, JSON bytes), in time order.
+    """Every scene message of an episode as (sample index, protobuf bytes), in time order.
 
     Args:
         record: the episode.
@@ -224,54 +320,59 @@ def scene_messages(
         bounds: world (x_min, x_max, y_min, y_max) in m.
         obstacles: walls and pillars.
         stride: draw the agents every ``stride`` samples (and at the last sample).
+        velocities: draw the pedestrians' velocity arrows (they half the cost of a
+            frame; compact logs leave them out).
     """
+    b = _Builder()
     n_samples = record.time_s.shape[0]
-    ped_d = [repr(round(2 * float(r), 3)) for r in record.ped_radius]
-    robot_d = [repr(round(2 * record.robot_radius, 3))]
+    ped_d = [2 * float(r) for r in record.ped_radius]
+    robot_d = [2 * record.robot_radius]
     frames = sorted({*range(0, n_samples, stride), n_samples - 1})
     idx = np.array(frames)
     # Per-frame tables, computed for the drawn samples only (row i is frames[i]).
-    f_pos = record.factual_pos[idx]
-    peds = _Frames(f_pos, ped_d, _PED_HEIGHT, _BLUE)
-    ghosts = _Frames(record.counterfactual_pos[idx], ped_d, _PED_HEIGHT * 0.9, _GHOST)
+    peds = _cm(record.factual_pos[idx])
+    ghosts = _cm(record.counterfactual_pos[idx])
     pose = record.robot_pose[idx]
-    robot = _Frames(pose[:, None, :2], robot_d, _ROBOT_HEIGHT, _RED)
+    robot = _cm(pose[:, None, :2])
     vel = record.factual_vel[idx]
-    ped_arrows = _ArrowTable(f_pos, vel, np.linalg.norm(vel, axis=2), _PED_HEIGHT + 0.02, _BLUE)
+    ped_yaw, ped_len = _arrow_table(vel, np.linalg.norm(vel, axis=2))
     heading = np.stack([np.cos(pose[:, 2]), np.sin(pose[:, 2])], axis=1)[:, None, :]
-    robot_arrows = _ArrowTable(
-        pose[:, None, :2],
-        heading,
-        np.full((len(frames), 1), max(0.4, 2 * record.robot_radius)),
-        _ROBOT_HEIGHT + 0.02,
-        _RED,
+    robot_yaw, robot_len = _arrow_table(
+        heading, np.full((len(frames), 1), max(0.4, 2 * record.robot_radius))
     )
-    out: list[tuple[int, bytes]] = [(0, _static(record, bounds, obstacles).encode())]
+    out: list[tuple[int, bytes]] = [(0, _static(b, record, bounds, obstacles))]
     goal_changes = np.flatnonzero(
         np.any(record.factual_goal[1:] != record.factual_goal[:-1], (1, 2))
     )
     goal_steps = {0, *(int(k) + 1 for k in goal_changes)}
     row = {k: i for i, k in enumerate(frames)}
+    goal_d = [0.2] * record.n_pedestrians
     for k in sorted(goal_steps | set(frames)):
         t = times_ns[k]
         if k in goal_steps:
-            out.append((k, _goals(t, record.factual_goal[k]).encode()))
+            goals = b.discs(_cm(record.factual_goal[k]), goal_d, 0.01, _YELLOW)
+            out.append((k, b.update([b.entity(t, "goals", cylinders=goals)])))
         i = row.get(k)
         if i is None:
             continue
-        sec, nsec = divmod(t, 1_000_000_000)
-        update = _FRAME % (
-            sec,
-            nsec,
-            ped_arrows.at(i),
-            peds.at(i),
-            sec,
-            nsec,
-            ghosts.at(i),
-            sec,
-            nsec,
-            robot_arrows.at(i),
-            robot.at(i),
-        )
-        out.append((k, update.encode()))
+        entities = [
+            b.entity(
+                t,
+                "pedestrians",
+                cylinders=b.discs(peds[i], ped_d, _PED_HEIGHT, _BLUE),
+                arrows=(
+                    b.arrows(peds[i], ped_yaw[i], ped_len[i], _PED_HEIGHT + 0.02, _BLUE)
+                    if velocities
+                    else None
+                ),
+            ),
+            b.entity(t, "counterfactual", cylinders=b.ghosts(ghosts[i], peds[i], ped_d)),
+            b.entity(
+                t,
+                "robot",
+                cylinders=b.discs(robot[i], robot_d, _ROBOT_HEIGHT, _RED),
+                arrows=b.arrows(robot[i], robot_yaw[i], robot_len[i], _ROBOT_HEIGHT + 0.02, _RED),
+            ),
+        ]
+        out.append((k, b.update(entities)))
     return out

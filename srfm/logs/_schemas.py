@@ -1,18 +1,21 @@
-"""Versioned JSON schemas of the MCAP channels (encoding ``jsonschema``, messages ``json``).
+"""The MCAP channels: versioned JSON schemas of srfm's own, Foxglove's scene schema.
 
-Every srfm message carries ``"schema_version"``; a schema's name ends in ``.v<version>``
-so that a reader can tell an old file from a new one before decoding a message. The
-Foxglove scene schema is our own description of the subset of ``foxglove.SceneUpdate``
-that srfm writes (Foxglove recognises the schema by its name); it is inlined without
-``$ref`` because not every JSON-schema consumer resolves references.
+srfm's channels use message encoding ``json`` and schema encoding ``jsonschema``;
+every srfm message carries ``"schema_version"`` and a schema's name ends in
+``.v<version>``, so that a reader can tell an old file from a new one before decoding a
+message. The Foxglove scene (``/foxglove/scene``) uses Foxglove's official
+``foxglove.SceneUpdate`` schema as the Foxglove SDK provides it (protobuf; see
+:mod:`srfm.logs._foxglove`). Exact arrays are NumPy ``.npy`` files, base64 in the
+JSON (``contentEncoding`` / ``contentMediaType`` say so in the schema).
 """
 
 from __future__ import annotations
 
+import functools
 import json
 from typing import Any, Final
 
-from srfm.logs._codec import BOOL_ENCODING, F64_ENCODING
+import attrs
 
 __all__ = [
     "CHANNELS",
@@ -21,7 +24,8 @@ __all__ = [
     "schema_bytes",
 ]
 
-SCHEMA_VERSION: Final = 2
+SCHEMA_VERSION: Final = 3
+NPY_MEDIA_TYPE: Final = "application/x-npy"
 _DRAFT: Final = "https://json-schema.org/draft/2020-12/schema"
 
 
@@ -78,24 +82,13 @@ def _srfm_schema(name: str, description: str, properties: dict[str, Any], **kw: 
     return json.dumps(doc, separators=(",", ":"), ensure_ascii=False).encode("utf-8")
 
 
-_ARRAY_BLOCK: Final = _obj(
-    {
-        "dtype": {"enum": ["float64", "bool"]},
-        "shape": {
-            "type": "array",
-            "items": {"type": "integer", "minimum": 0},
-            "description": "array shape, time first",
-        },
-        "encoding": {
-            "enum": [F64_ENCODING, BOOL_ENCODING],
-            "description": f"{F64_ENCODING}: linear prediction along time, differences of "
-            "the IEEE-754 bit patterns, byte planes, base64 (docs/logging.md, 'Array "
-            f"blocks'); {BOOL_ENCODING}: one byte per boolean, C order",
-        },
-        "data": {"type": "string", "contentEncoding": "base64"},
-    },
-    description="An exact array (see docs/logging.md, 'Array blocks').",
-)
+_NPY: Final = {
+    "type": "string",
+    "contentEncoding": "base64",
+    "contentMediaType": NPY_MEDIA_TYPE,
+    "description": "a NumPy .npy file (format 1.0: little-endian float64 or bool, C "
+    "order, shape in its header), base64: numpy.load(io.BytesIO(base64.b64decode(s)))",
+}
 
 EPISODE: Final = _srfm_schema(
     "Episode",
@@ -231,8 +224,8 @@ EVENT: Final = _srfm_schema(
 
 TRAJECTORIES: Final = _srfm_schema(
     "Trajectories",
-    "Exact arrays of every sample of one group (published once, at the end): what "
-    "srfm score reads.",
+    "Exact arrays of every sample of one group (published once, at the end), as "
+    ".npy files: what srfm score reads.",
     {
         "group": {"enum": ["factual", "counterfactual", "robot"]},
         "samples": _int("T + 1"),
@@ -241,7 +234,7 @@ TRAJECTORIES: Final = _srfm_schema(
             "description": "factual, counterfactual: pos, goal (T + 1, N, 2) and, in full "
             "logs, vel; robot: pose (T + 1, 3) as (x, y, theta), vel (T + 1, 2), active "
             "(T + 1,) bool, cmd (T, 2) (NaN where the planner was not asked)",
-            "additionalProperties": _ARRAY_BLOCK,
+            "additionalProperties": _NPY,
         },
     },
 )
@@ -269,101 +262,41 @@ METRICS: Final = _srfm_schema(
 )
 
 
-# --- Foxglove -------------------------------------------------------------------------
-
-
-def _fox_obj(fields: dict[str, str]) -> dict[str, Any]:
-    """An object of named fields, each with just a JSON type."""
-    return {"type": "object", "properties": {k: {"type": t} for k, t in fields.items()}}
-
-
-def _foxglove_scene_schema() -> bytes:
-    """Foxglove recognises the scene by the schema's name; the schema describes the
-    structure srfm writes down to the primitives' fields (poses, sizes and colours are
-    Foxglove's Pose, Vector3 and Color objects). It is kept short because every file
-    repeats its schemas uncompressed."""
-    obj, num, boolean, arr = "object", "number", "boolean", "array"
-    primitives = {
-        "arrows": _fox_obj(
-            {
-                "pose": obj,
-                "shaft_length": num,
-                "shaft_diameter": num,
-                "head_length": num,
-                "head_diameter": num,
-                "color": obj,
-            }
-        ),
-        "cylinders": _fox_obj(
-            {"pose": obj, "size": obj, "bottom_scale": num, "top_scale": num, "color": obj}
-        ),
-        "lines": _fox_obj(
-            {
-                "type": "integer",
-                "pose": obj,
-                "thickness": num,
-                "scale_invariant": boolean,
-                "points": arr,
-                "color": obj,
-                "colors": arr,
-                "indices": arr,
-            }
-        ),
-        "texts": _fox_obj(
-            {
-                "pose": obj,
-                "billboard": boolean,
-                "font_size": num,
-                "scale_invariant": boolean,
-                "color": obj,
-                "text": "string",
-            }
-        ),
-    }
-    entity = _fox_obj(
-        {
-            "timestamp": obj,
-            "frame_id": "string",
-            "id": "string",
-            "lifetime": obj,
-            "frame_locked": boolean,
-            "metadata": arr,
-            "cubes": arr,
-            "spheres": arr,
-            "triangles": arr,
-            "models": arr,
-        }
-    )
-    for name, item in primitives.items():
-        entity["properties"][name] = {"type": "array", "items": item}
-    doc = {
-        "$schema": _DRAFT,
-        "title": "foxglove.SceneUpdate",
-        "description": "An update to the entities displayed in a 3D scene (the subset of "
-        "Foxglove's SceneUpdate that srfm writes; field meanings: Foxglove's schema "
-        "documentation).",
-        "type": "object",
-        "properties": {
-            "deletions": {"type": "array", "items": {"type": "object"}},
-            "entities": {"type": "array", "items": entity},
-        },
-    }
-    return json.dumps(doc, separators=(",", ":")).encode("utf-8")
-
-
+@attrs.frozen
 class ChannelSpec:
-    """One MCAP channel: topic, schema name and schema text."""
+    """One MCAP channel.
 
-    __slots__ = ("schema", "schema_name", "topic")
+    Attributes:
+        topic: the channel's topic.
+        schema_name: the schema's name (``srfm.logs.<Name>.v<version>`` or
+            ``foxglove.SceneUpdate``).
+        schema_encoding: ``jsonschema`` (srfm's) or ``protobuf`` (Foxglove's).
+        message_encoding: ``json`` (srfm's) or ``protobuf`` (Foxglove's).
+    """
 
-    def __init__(self, topic: str, schema_name: str, schema: bytes) -> None:
-        self.topic = topic
-        self.schema_name = schema_name
-        self.schema = schema
+    topic: str
+    schema_name: str
+    schema_encoding: str
+    message_encoding: str
+    _schema: bytes | None = attrs.field(default=None, alias="schema", repr=False)
+
+    @property
+    def schema(self) -> bytes:
+        """The schema's data (Foxglove's is loaded from the SDK when first asked for)."""
+        if self._schema is not None:
+            return self._schema
+        return _foxglove_schema()[2]
+
+
+@functools.cache
+def _foxglove_schema() -> tuple[str, str, bytes]:
+    from srfm.logs._foxglove import scene_schema
+
+    return scene_schema()
 
 
 def _spec(topic: str, schema: bytes) -> ChannelSpec:
-    return ChannelSpec(topic, json.loads(schema)["title"], schema)
+    return ChannelSpec(topic, json.loads(schema)["title"], "jsonschema", "json", schema=schema)
 
 
 CHANNELS: Final[dict[str, ChannelSpec]] = {
@@ -375,11 +308,11 @@ CHANNELS: Final[dict[str, ChannelSpec]] = {
     "events": _spec("/srfm/events", EVENT),
     "trajectories": _spec("/srfm/trajectories", TRAJECTORIES),
     "metrics": _spec("/srfm/metrics", METRICS),
-    "scene": _spec("/foxglove/scene", _foxglove_scene_schema()),
+    "scene": ChannelSpec("/foxglove/scene", "foxglove.SceneUpdate", "protobuf", "protobuf"),
 }
 """Every channel srfm writes, by key; docs/logging.md lists them."""
 
 
 def schema_bytes(key: str) -> bytes:
-    """The JSON schema text of channel ``key`` (for tests and docs)."""
+    """The schema data of channel ``key`` (for tests and docs)."""
     return CHANNELS[key].schema

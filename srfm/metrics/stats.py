@@ -11,6 +11,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import stats
 
+from srfm.errors import MetricError
+
 __all__ = ["ALPHA", "Comparison", "Summary", "compare", "summarize"]
 
 ALPHA: Final = 0.05
@@ -92,7 +94,7 @@ def compare(
     a = np.asarray(reference, dtype=np.float64).ravel()
     b = np.asarray(other, dtype=np.float64).ravel()
     if a.shape != b.shape:
-        raise ValueError(f"need one value per shared seed, got {a.shape} and {b.shape}")
+        raise MetricError(f"need one value per shared seed, got {a.shape} and {b.shape}")
     fa = a[np.isfinite(a)]
     fb = b[np.isfinite(b)]
     both = np.isfinite(a) & np.isfinite(b)

@@ -2,14 +2,22 @@
 
 Plain module-level functions over C-contiguous float64 arrays: no objects, no
 allocation inside loops, no I/O, no raising, no random draws. Shapes: ``pos``, ``vel``,
-``goal`` (N, 2); ``radius``, ``v0``, ``vmax`` (N,); ``params`` the vector of
-:meth:`srfm.SRFMParams.as_array`; ``robot`` (3,) = (x, y, radius); ``segments`` (M, 4)
-= (x1, y1, x2, y2); ``circles`` (K, 3) = (cx, cy, radius). All forces are accelerations
-(m/s², unit mass).
+``goal`` (N, 2); ``radius``, ``v0``, ``vmax`` (N,); ``params`` the
+:class:`~srfm.models.params.SRFMKernelParams` of :meth:`srfm.SRFMParams.for_kernels`;
+``robot`` (3,) = (x, y, radius); ``segments`` (M, 4) = (x1, y1, x2, y2); ``circles``
+(K, 3) = (cx, cy, radius). All forces are accelerations (m/s², unit mass).
 
-Exponents are capped at ``EXP_ARG_MAX`` (e^60 ≈ 1e26), far beyond any force that
-changes a step (the speed cap clips it), so that extreme but valid inputs (tiny B,
-deep overlap with a large pillar) give huge finite forces instead of inf and NaN.
+The force primitives (desired velocity, capped exponential, anisotropy ψ, push of a
+disc, closest point of a wall) live in :mod:`srfm.models._primitives`, shared with the
+social-force planner. Exponents are
+capped at ``EXP_ARG_MAX`` (e^60 ≈ 1e26), far beyond any force that changes a step (the
+speed cap clips it), so that extreme but valid inputs (tiny B, deep overlap with a
+large pillar) give huge finite forces instead of inf and NaN.
+
+Serial and threaded variants share one per-agent body (:func:`_agent_total`); they
+differ only in the loop over the agents (``range`` or ``prange``), so their results
+are identical. Each variant is its own top-level function (numba's on-disk cache does
+not tell apart variants made by a factory from one Python function).
 
 Zero distances use an explicit epsilon: two coincident centres exert no force on each
 other (the direction is undefined), an agent at rest with no desired direction has no
@@ -23,31 +31,14 @@ import math
 import numpy as np
 from numba import njit, prange
 
-EPS = 1e-12
-EXP_ARG_MAX = 60.0
-
-# Parameter vector layout, see srfm.models.params.
-_A_PED, _B_PED, _LAMBDA_PED, _TAU = 0, 1, 2, 3
-_A_ROBOT, _B_ROBOT, _LAMBDA_ROBOT = 4, 5, 6
-_A_OBS, _B_OBS = 7, 8
-
-
-@njit(cache=True, inline="always")
-def _capped_exp(arg: float) -> float:
-    """exp(min(arg, EXP_ARG_MAX))."""
-    return math.exp(min(arg, EXP_ARG_MAX))
-
-
-@njit(cache=True, inline="always")
-def _desired_velocity(px: float, py: float, gx: float, gy: float, v0: float) -> tuple[float, float]:
-    """(g − x) capped at the desired speed v0: walk at v0, slow down within v0·1 s of the goal."""
-    dx = gx - px
-    dy = gy - py
-    dist = math.sqrt(dx * dx + dy * dy)
-    if dist > v0:
-        scale = v0 / dist
-        return dx * scale, dy * scale
-    return dx, dy
+from srfm.models._primitives import (
+    EPS,
+    capped_exp,
+    closest_on_segment,
+    desired_velocity,
+    disc_repulsion,
+)
+from srfm.models.params import SRFMKernelParams
 
 
 @njit(cache=True, inline="always")
@@ -63,15 +54,6 @@ def _heading(vx: float, vy: float, dvx: float, dvy: float) -> tuple[float, float
 
 
 @njit(cache=True, inline="always")
-def _anisotropy(hx: float, hy: float, has_heading: bool, ux: float, uy: float, lam: float) -> float:
-    """ψ = λ + (1 − λ)(1 + cos φ)/2, φ between the heading and the unit vector u to the source."""
-    if not has_heading:
-        return 1.0
-    cos_phi = hx * ux + hy * uy
-    return lam + (1.0 - lam) * (1.0 + cos_phi) * 0.5
-
-
-@njit(cache=True, inline="always")
 def _agent_forces(
     i: int,
     pos: np.ndarray,
@@ -79,7 +61,7 @@ def _agent_forces(
     goal: np.ndarray,
     radius: np.ndarray,
     v0: np.ndarray,
-    params: np.ndarray,
+    params: SRFMKernelParams,
     robot: np.ndarray,
     robot_on: bool,
     segments: np.ndarray,
@@ -91,73 +73,56 @@ def _agent_forces(
     vx = vel[i, 0]
     vy = vel[i, 1]
     ri = radius[i]
-    dvx, dvy = _desired_velocity(px, py, goal[i, 0], goal[i, 1], v0[i])
+    dvx, dvy = desired_velocity(px, py, goal[i, 0], goal[i, 1], v0[i])
     hx, hy, has_h = _heading(vx, vy, dvx, dvy)
 
-    tau = params[_TAU]
+    tau = params.tau
     gfx = (dvx - vx) / tau
     gfy = (dvy - vy) / tau
 
     # Pedestrian repulsion, summed over j in index order (deterministic).
-    a_p = params[_A_PED]
-    b_p = params[_B_PED]
-    lam_p = params[_LAMBDA_PED]
+    a_p = params.a_ped
+    b_p = params.b_ped
+    lam_p = params.lambda_ped
     pfx = 0.0
     pfy = 0.0
     if a_p != 0.0:
         for j in range(pos.shape[0]):
             if j == i:
                 continue
-            dx = px - pos[j, 0]  # from j to i
-            dy = py - pos[j, 1]
-            d = math.sqrt(dx * dx + dy * dy)
-            if d < EPS:
-                continue
-            nx = dx / d
-            ny = dy / d
-            psi = _anisotropy(hx, hy, has_h, -nx, -ny, lam_p)
-            mag = a_p * _capped_exp((ri + radius[j] - d) / b_p) * psi
-            pfx += mag * nx
-            pfy += mag * ny
+            fx, fy = disc_repulsion(
+                px, py, pos[j, 0], pos[j, 1], ri + radius[j], a_p, b_p, hx, hy, has_h, lam_p
+            )
+            pfx += fx
+            pfy += fy
 
     # Robot repulsion (absent in the counterfactual twin, or when A_r = 0).
     rfx = 0.0
     rfy = 0.0
-    a_r = params[_A_ROBOT]
+    a_r = params.a_robot
     if robot_on and a_r != 0.0:
-        dx = px - robot[0]
-        dy = py - robot[1]
-        d = math.sqrt(dx * dx + dy * dy)
-        if d >= EPS:
-            nx = dx / d
-            ny = dy / d
-            psi = _anisotropy(hx, hy, has_h, -nx, -ny, params[_LAMBDA_ROBOT])
-            mag = a_r * _capped_exp((ri + robot[2] - d) / params[_B_ROBOT]) * psi
-            rfx = mag * nx
-            rfy = mag * ny
+        b_r = params.b_robot
+        lam_r = params.lambda_robot
+        rfx, rfy = disc_repulsion(
+            px, py, robot[0], robot[1], ri + robot[2], a_r, b_r, hx, hy, has_h, lam_r
+        )
 
     # Obstacle repulsion from the closest point of every wall segment and pillar.
     ofx = 0.0
     ofy = 0.0
-    a_o = params[_A_OBS]
-    b_o = params[_B_OBS]
+    a_o = params.a_obs
+    b_o = params.b_obs
     if a_o != 0.0:
         for k in range(segments.shape[0]):
-            x1 = segments[k, 0]
-            y1 = segments[k, 1]
-            sx = segments[k, 2] - x1
-            sy = segments[k, 3] - y1
-            len2 = sx * sx + sy * sy
-            t = 0.0
-            if len2 > EPS:
-                t = ((px - x1) * sx + (py - y1) * sy) / len2
-                t = min(1.0, max(0.0, t))
-            dx = px - (x1 + t * sx)
-            dy = py - (y1 + t * sy)
+            cx, cy = closest_on_segment(
+                px, py, segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]
+            )
+            dx = px - cx
+            dy = py - cy
             d = math.sqrt(dx * dx + dy * dy)
             if d < EPS:
                 continue
-            mag = a_o * _capped_exp((ri - d) / b_o)
+            mag = a_o * capped_exp((ri - d) / b_o)
             ofx += mag * dx / d
             ofy += mag * dy / d
         for k in range(circles.shape[0]):
@@ -167,7 +132,7 @@ def _agent_forces(
             if dc < EPS:
                 continue
             d = dc - circles[k, 2]  # distance to the pillar's surface
-            mag = a_o * _capped_exp((ri - d) / b_o)
+            mag = a_o * capped_exp((ri - d) / b_o)
             ofx += mag * dx / dc
             ofy += mag * dy / dc
     return gfx, gfy, pfx, pfy, rfx, rfy, ofx, ofy
@@ -180,7 +145,7 @@ def force_components_kernel(
     goal: np.ndarray,
     radius: np.ndarray,
     v0: np.ndarray,
-    params: np.ndarray,
+    params: SRFMKernelParams,
     robot: np.ndarray,
     robot_on: bool,
     segments: np.ndarray,
@@ -203,65 +168,26 @@ def force_components_kernel(
 
 
 @njit(cache=True, inline="always")
-def _total(
+def _agent_total(
     i: int,
     pos: np.ndarray,
     vel: np.ndarray,
     goal: np.ndarray,
     radius: np.ndarray,
     v0: np.ndarray,
-    params: np.ndarray,
+    params: SRFMKernelParams,
     robot: np.ndarray,
     robot_on: bool,
     segments: np.ndarray,
     circles: np.ndarray,
-) -> tuple[float, float]:
+    out: np.ndarray,
+) -> None:
+    """Total force F_i on agent i into ``out[i]``: goal + pedestrians + robot + obstacles."""
     g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(
         i, pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles
     )
-    return g0 + p0 + r0 + o0, g1 + p1 + r1 + o1
-
-
-@njit(cache=True)
-def total_forces_serial(
-    pos: np.ndarray,
-    vel: np.ndarray,
-    goal: np.ndarray,
-    radius: np.ndarray,
-    v0: np.ndarray,
-    params: np.ndarray,
-    robot: np.ndarray,
-    robot_on: bool,
-    segments: np.ndarray,
-    circles: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    """Total force on every agent into ``out`` (N, 2), one agent after another."""
-    for i in range(pos.shape[0]):
-        fx, fy = _total(i, pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles)
-        out[i, 0] = fx
-        out[i, 1] = fy
-
-
-@njit(cache=True, parallel=True)
-def total_forces_parallel(
-    pos: np.ndarray,
-    vel: np.ndarray,
-    goal: np.ndarray,
-    radius: np.ndarray,
-    v0: np.ndarray,
-    params: np.ndarray,
-    robot: np.ndarray,
-    robot_on: bool,
-    segments: np.ndarray,
-    circles: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    """As :func:`total_forces_serial`, agents split over threads; bit-identical results."""
-    for i in prange(pos.shape[0]):
-        fx, fy = _total(i, pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles)
-        out[i, 0] = fx
-        out[i, 1] = fy
+    out[i, 0] = g0 + p0 + r0 + o0
+    out[i, 1] = g1 + p1 + r1 + o1
 
 
 @njit(cache=True)
@@ -291,7 +217,7 @@ def step_serial(
     radius: np.ndarray,
     v0: np.ndarray,
     vmax: np.ndarray,
-    params: np.ndarray,
+    params: SRFMKernelParams,
     robot: np.ndarray,
     robot_on: bool,
     segments: np.ndarray,
@@ -299,14 +225,16 @@ def step_serial(
     dt: float,
     force_buf: np.ndarray,
 ) -> None:
-    """One crowd step in place: all forces from one snapshot, then integrate."""
-    total_forces_serial(
-        pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles, force_buf
-    )
+    """One crowd step in place: the total force on every agent from one snapshot into
+    ``force_buf`` (N, 2), one agent after another, then :func:`integrate`."""
+    for i in range(pos.shape[0]):
+        _agent_total(
+            i, pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles, force_buf
+        )
     integrate(pos, vel, force_buf, vmax, dt)
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def step_parallel(
     pos: np.ndarray,
     vel: np.ndarray,
@@ -314,7 +242,7 @@ def step_parallel(
     radius: np.ndarray,
     v0: np.ndarray,
     vmax: np.ndarray,
-    params: np.ndarray,
+    params: SRFMKernelParams,
     robot: np.ndarray,
     robot_on: bool,
     segments: np.ndarray,
@@ -322,10 +250,12 @@ def step_parallel(
     dt: float,
     force_buf: np.ndarray,
 ) -> None:
-    """As :func:`step_serial` with the force pass split over threads (for large crowds)."""
-    total_forces_parallel(
-        pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles, force_buf
-    )
+    """As :func:`step_serial` with the agents of the force pass split over threads (for
+    large crowds); bit-identical results."""
+    for i in prange(pos.shape[0]):
+        _agent_total(
+            i, pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles, force_buf
+        )
     integrate(pos, vel, force_buf, vmax, dt)
 
 
@@ -385,18 +315,31 @@ def segment_distance(segments: np.ndarray, x: float, y: float) -> float:
     """Smallest distance from (x, y) to any segment (x1, y1, x2, y2); inf when none."""
     best = np.inf
     for k in range(segments.shape[0]):
-        x1 = segments[k, 0]
-        y1 = segments[k, 1]
-        sx = segments[k, 2] - x1
-        sy = segments[k, 3] - y1
-        len2 = sx * sx + sy * sy
-        t = 0.0
-        if len2 > EPS:
-            t = min(1.0, max(0.0, ((x - x1) * sx + (y - y1) * sy) / len2))
-        dx = x - (x1 + t * sx)
-        dy = y - (y1 + t * sy)
+        cx, cy = closest_on_segment(
+            x, y, segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]
+        )
+        dx = x - cx
+        dy = y - cy
         best = min(best, math.sqrt(dx * dx + dy * dy))
     return best
+
+
+@njit(cache=True, inline="always")
+def _twin_arrivals(
+    f_pos: np.ndarray,
+    f_goal: np.ndarray,
+    c_pos: np.ndarray,
+    c_goal: np.ndarray,
+    goal_radius: float,
+    f_arrived: np.ndarray,
+    c_arrived: np.ndarray,
+    f_new: np.ndarray,
+    c_new: np.ndarray,
+) -> int:
+    """New arrivals of the factual and the counterfactual crowd, flagged in ``f_new`` and
+    ``c_new`` (see :func:`mark_arrivals`); return how many in total."""
+    count = mark_arrivals(f_pos, f_goal, goal_radius, f_arrived, f_new)
+    return count + mark_arrivals(c_pos, c_goal, goal_radius, c_arrived, c_new)
 
 
 @njit(cache=True)
@@ -410,7 +353,7 @@ def twin_step_serial(
     radius: np.ndarray,
     v0: np.ndarray,
     vmax: np.ndarray,
-    params: np.ndarray,
+    params: SRFMKernelParams,
     robot: np.ndarray,
     segments: np.ndarray,
     circles: np.ndarray,
@@ -454,8 +397,9 @@ def twin_step_serial(
         dt,
         force_buf,
     )
-    count = mark_arrivals(f_pos, f_goal, goal_radius, f_arrived, f_new)
-    return count + mark_arrivals(c_pos, c_goal, goal_radius, c_arrived, c_new)
+    return _twin_arrivals(
+        f_pos, f_goal, c_pos, c_goal, goal_radius, f_arrived, c_arrived, f_new, c_new
+    )
 
 
 @njit(cache=True)
@@ -469,7 +413,7 @@ def twin_step_parallel(
     radius: np.ndarray,
     v0: np.ndarray,
     vmax: np.ndarray,
-    params: np.ndarray,
+    params: SRFMKernelParams,
     robot: np.ndarray,
     segments: np.ndarray,
     circles: np.ndarray,
@@ -512,5 +456,6 @@ def twin_step_parallel(
         dt,
         force_buf,
     )
-    count = mark_arrivals(f_pos, f_goal, goal_radius, f_arrived, f_new)
-    return count + mark_arrivals(c_pos, c_goal, goal_radius, c_arrived, c_new)
+    return _twin_arrivals(
+        f_pos, f_goal, c_pos, c_goal, goal_radius, f_arrived, c_arrived, f_new, c_new
+    )

@@ -25,6 +25,8 @@ PARALLEL_MIN_AGENTS: Final = 50
 MAX_DT_S: Final = 1.0
 
 _NO_OBSTACLES: Final = Obstacles()
+# The kernels' robot argument when there is no robot (never read then, never written).
+_NO_ROBOT: Final = np.zeros(3)
 
 
 @attrs.frozen(kw_only=True)
@@ -57,7 +59,7 @@ class ForceComponents:
 
 def _robot_args(robot: RobotBody | None) -> tuple[NDArray[np.float64], bool]:
     if robot is None:
-        return np.zeros(3), False
+        return _NO_ROBOT, False
     arr = robot.as_array()
     if not np.all(np.isfinite(arr)) or arr[2] < 0.0:
         raise SimulationError(f"robot body must be finite with radius >= 0, got {robot!r}")
@@ -91,7 +93,7 @@ def force_components(
         crowd.goal,
         crowd.radius,
         crowd.v0,
-        params.as_array(),
+        params.for_kernels(),
         robot_arr,
         robot_on,
         obstacles.segments,
@@ -135,11 +137,11 @@ def step_crowd(
         crowd.radius,
         crowd.v0,
         crowd.vmax,
-        params.as_array(),
+        params.for_kernels(),
         robot_arr,
         robot_on,
         obstacles.segments,
         obstacles.circles,
         float(dt),
-        np.empty((crowd.n, 2)),
+        np.empty_like(crowd.pos),
     )

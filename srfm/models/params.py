@@ -17,10 +17,11 @@ are arrays in :class:`srfm.CrowdState`.
 
 from __future__ import annotations
 
+import functools
 import json
 import tomllib
 from pathlib import Path
-from typing import Any, Final
+from typing import Any, Final, NamedTuple
 
 import attrs
 import numpy as np
@@ -30,15 +31,39 @@ from srfm._io import atomic_write_text
 from srfm._validate import finite_float, non_negative, positive, unit_interval
 from srfm.errors import ParameterError
 
-__all__ = ["PRESETS", "SRFMParams", "load_params", "save_params"]
+__all__ = ["PRESETS", "SRFMKernelParams", "SRFMParams", "load_params", "save_params"]
 
 PARAMS_SCHEMA_VERSION: Final = 1
 
-# Index of each parameter in the float64 vector the kernels take.
-IDX_A_PED, IDX_B_PED, IDX_LAMBDA_PED, IDX_TAU = 0, 1, 2, 3
-IDX_A_ROBOT, IDX_B_ROBOT, IDX_LAMBDA_ROBOT = 4, 5, 6
-IDX_A_OBS, IDX_B_OBS = 7, 8
-N_PARAMS: Final = 9
+
+class SRFMKernelParams(NamedTuple):
+    """The SRFM parameters as the force kernels take them (see :class:`SRFMParams`).
+
+    The one definition of the parameter layout: :meth:`SRFMParams.for_kernels` builds
+    it, and :meth:`SRFMParams.as_array` orders its vector by ``_fields``. numba types it
+    as a tuple of nine float64 and reads the fields by name.
+
+    Attributes:
+        a_ped: A_p, pedestrian repulsion strength (m/s²).
+        b_ped: B_p, pedestrian repulsion range (m).
+        lambda_ped: λ, anisotropy of the pedestrian force.
+        tau: τ, relaxation time (s).
+        a_robot: A_r, robot repulsion strength (m/s²).
+        b_robot: B_r, robot repulsion range (m).
+        lambda_robot: λ_r, anisotropy of the robot force.
+        a_obs: A_o, obstacle repulsion strength (m/s²).
+        b_obs: B_o, obstacle repulsion range (m).
+    """
+
+    a_ped: float
+    b_ped: float
+    lambda_ped: float
+    tau: float
+    a_robot: float
+    b_robot: float
+    lambda_robot: float
+    a_obs: float
+    b_obs: float
 
 
 def _check_positive(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
@@ -121,22 +146,18 @@ class SRFMParams:
             raise ParameterError(f"unknown SRFM parameter {unknown[0]!r}")
         return attrs.evolve(self, **changes)
 
+    def for_kernels(self) -> SRFMKernelParams:
+        """The parameters as the kernels take them (built once per instance)."""
+        return self._kernel_params
+
+    @functools.cached_property
+    def _kernel_params(self) -> SRFMKernelParams:
+        return SRFMKernelParams._make(getattr(self, name) for name in SRFMKernelParams._fields)
+
     def as_array(self) -> NDArray[np.float64]:
-        """The parameters as the float64 vector the kernels take (see ``IDX_*``)."""
-        return np.array(
-            [
-                self.a_ped,
-                self.b_ped,
-                self.lambda_ped,
-                self.tau,
-                self.a_robot,
-                self.b_robot,
-                self.lambda_robot,
-                self.a_obs,
-                self.b_obs,
-            ],
-            dtype=np.float64,
-        )
+        """The parameters as a (9,) float64 vector, in the order of
+        ``SRFMKernelParams._fields``."""
+        return np.array(self.for_kernels(), dtype=np.float64)
 
     def as_dict(self) -> dict[str, float]:
         """Field name -> value."""

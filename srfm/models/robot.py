@@ -9,6 +9,10 @@ Two kinematic models:
 
 Both respect acceleration limits: the applied velocity changes by at most
 ``max_accel_mps2 · dt`` per step (and ω by ``max_angular_accel_radps2 · dt``).
+
+The update itself is the numba kernel :func:`srfm.models._robot_kernels.move_robot`,
+the one implementation that the simulator and the RL environment call as well;
+:func:`apply_command` validates a command and calls it.
 """
 
 from __future__ import annotations
@@ -22,8 +26,17 @@ from numpy.typing import NDArray
 
 from srfm._validate import positive
 from srfm.errors import ParameterError, PlannerError
+from srfm.models._robot_kernels import RobotLimits, move_robot
 
-__all__ = ["KINEMATICS", "Kinematics", "RobotConfig", "RobotState", "apply_command", "stopped"]
+__all__ = [
+    "KINEMATICS",
+    "Kinematics",
+    "RobotConfig",
+    "RobotState",
+    "apply_command",
+    "command_pair",
+    "stopped",
+]
 
 Kinematics = Literal["unicycle", "holonomic"]
 KINEMATICS: tuple[Kinematics, ...] = ("unicycle", "holonomic")
@@ -61,6 +74,18 @@ class RobotConfig:
     max_angular_accel_radps2: float = attrs.field(default=2.0 * math.pi, validator=_positive)
     goal_radius_m: float = attrs.field(default=0.5, validator=_positive)
 
+    def for_kernels(self) -> RobotLimits:
+        """The body and limits as the robot kernels take them (a NamedTuple)."""
+        return RobotLimits(
+            holonomic=self.kinematics == "holonomic",
+            radius_m=float(self.radius_m),
+            max_speed_mps=float(self.max_speed_mps),
+            max_angular_speed_radps=float(self.max_angular_speed_radps),
+            max_accel_mps2=float(self.max_accel_mps2),
+            max_angular_accel_radps2=float(self.max_angular_accel_radps2),
+            goal_radius_m=float(self.goal_radius_m),
+        )
+
 
 @attrs.frozen(kw_only=True)
 class RobotState:
@@ -92,28 +117,25 @@ class RobotState:
         """(3,) = (x, y, theta)."""
         return np.array([self.x, self.y, self.theta])
 
+    def as_array(self) -> NDArray[np.float64]:
+        """(7,) = (x, y, theta, vx, vy, v, omega), the robot kernels' layout."""
+        return np.array([self.x, self.y, self.theta, self.vx, self.vy, self.v, self.omega])
 
-def _wrap(angle: float) -> float:
-    """Angle in (−π, π]."""
-    wrapped = math.remainder(angle, 2.0 * math.pi)
-    return math.pi if wrapped == -math.pi else wrapped
+    @classmethod
+    def from_array(cls, robot: NDArray[np.float64]) -> RobotState:
+        """The state held in a (7,) array of the robot kernels' layout."""
+        x, y, theta, vx, vy, v, omega = robot.tolist()
+        return cls(x=x, y=y, theta=theta, vx=vx, vy=vy, v=v, omega=omega)
 
 
-def _clip(value: float, lo: float, hi: float) -> float:
-    return lo if value < lo else hi if value > hi else value
-
-
-def apply_command(state: RobotState, command: Any, config: RobotConfig, dt: float) -> RobotState:
-    """Move the robot one step of ``dt`` seconds under ``command`` within its limits.
+def command_pair(command: Any) -> tuple[float, float]:
+    """The two numbers of a planner's command, checked.
 
     Args:
-        state: the robot before the step.
         command: (2,) (v, ω) for a unicycle, (vx, vy) world frame for a holonomic robot.
-        config: body and limits.
-        dt: step (s).
 
     Returns:
-        The robot after the step, with the velocity actually applied.
+        (c0, c1) as floats.
 
     Raises:
         PlannerError: the command is not two finite numbers.
@@ -129,49 +151,31 @@ def apply_command(state: RobotState, command: Any, config: RobotConfig, dt: floa
         raise PlannerError(f"a command must be two numbers, got {command!r}") from None
     if not (math.isfinite(c0) and math.isfinite(c1)):
         raise PlannerError(f"a command must be finite, got {command!r}")
-    dv_max = config.max_accel_mps2 * dt
-    if config.kinematics == "unicycle":
-        vmax = config.max_speed_mps
-        wmax = config.max_angular_speed_radps
-        dw_max = config.max_angular_accel_radps2 * dt
-        v = _clip(_clip(c0, -vmax, vmax), state.v - dv_max, state.v + dv_max)
-        w = _clip(_clip(c1, -wmax, wmax), state.omega - dw_max, state.omega + dw_max)
-        mid = state.theta + 0.5 * w * dt
-        vx = v * math.cos(mid)
-        vy = v * math.sin(mid)
-        return RobotState(
-            x=state.x + vx * dt,
-            y=state.y + vy * dt,
-            theta=_wrap(state.theta + w * dt),
-            vx=vx,
-            vy=vy,
-            v=v,
-            omega=w,
-        )
-    # Holonomic: cap the speed, then the change of the velocity vector.
-    speed = math.hypot(c0, c1)
-    if speed > config.max_speed_mps:
-        c0 *= config.max_speed_mps / speed
-        c1 *= config.max_speed_mps / speed
-    ddx = c0 - state.vx
-    ddy = c1 - state.vy
-    dnorm = math.hypot(ddx, ddy)
-    if dnorm > dv_max:
-        ddx *= dv_max / dnorm
-        ddy *= dv_max / dnorm
-    vx = state.vx + ddx
-    vy = state.vy + ddy
-    speed = math.hypot(vx, vy)
-    theta = math.atan2(vy, vx) if speed > 1e-9 else state.theta
-    return RobotState(
-        x=state.x + vx * dt,
-        y=state.y + vy * dt,
-        theta=theta,
-        vx=vx,
-        vy=vy,
-        v=speed,
-        omega=_wrap(theta - state.theta) / dt,
-    )
+    return c0, c1
+
+
+def apply_command(state: RobotState, command: Any, config: RobotConfig, dt: float) -> RobotState:
+    """Move the robot one step of ``dt`` seconds under ``command`` within its limits.
+
+    A checked call of the robot kernel :func:`srfm.models._robot_kernels.move_robot`
+    (the module docstring describes the two kinematic models).
+
+    Args:
+        state: the robot before the step.
+        command: (2,) (v, ω) for a unicycle, (vx, vy) world frame for a holonomic robot.
+        config: body and limits.
+        dt: step (s).
+
+    Returns:
+        The robot after the step, with the velocity actually applied.
+
+    Raises:
+        PlannerError: the command is not two finite numbers.
+    """
+    c0, c1 = command_pair(command)
+    robot = state.as_array()
+    move_robot(robot, c0, c1, config.for_kernels(), float(dt))
+    return RobotState.from_array(robot)
 
 
 def stopped(state: RobotState) -> RobotState:

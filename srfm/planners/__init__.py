@@ -1,6 +1,6 @@
 """Robot planners: the protocol, the registry, and the built-in planners."""
 
-from srfm.planners._base import Observation, Planner, PlannerContext
+from srfm.planners._base import Observation, Planner, PlannerContext, check_planner
 from srfm.planners._registry import (
     PlannerInfo,
     available_planners,
@@ -28,6 +28,7 @@ __all__ = [
     "VOConfig",
     "VelocityObstaclePlanner",
     "available_planners",
+    "check_planner",
     "make_planner",
     "register_planner",
 ]

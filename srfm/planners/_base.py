@@ -8,11 +8,12 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm.errors import PlannerError
 from srfm.models.robot import RobotConfig, RobotState
 from srfm.models.state import Obstacles
 from srfm.scenarios import WorldBounds
 
-__all__ = ["Observation", "Planner", "PlannerContext"]
+__all__ = ["Observation", "Planner", "PlannerContext", "check_planner"]
 
 FloatArray = NDArray[np.float64]
 
@@ -100,3 +101,44 @@ class Planner(Protocol):
     def act(self, observation: Observation) -> FloatArray:
         """The command for this step."""
         ...
+
+
+def check_planner(planner: object) -> None:
+    """Check that ``planner`` follows the :class:`Planner` protocol before it is used.
+
+    A planner needs a ``name`` (a non-empty string) and callable ``reset`` and ``act``;
+    ``detection_range_m`` may be left out, which observes every pedestrian (its value is
+    checked by :func:`srfm.run_episode`).
+
+    Raises:
+        PlannerError: naming every member that is missing or unusable.
+    """
+    problems = protocol_problems(planner)
+    if problems:
+        name = getattr(planner, "name", None)
+        label = repr(name) if isinstance(name, str) and name else type(planner).__qualname__
+        raise protocol_error(label, problems)
+
+
+def protocol_problems(planner: object, *, check_name: bool = True) -> list[str]:
+    """What ``planner`` lacks of the protocol, one phrase each (empty when nothing)."""
+    problems = []
+    if check_name:
+        if not hasattr(planner, "name"):
+            problems.append("no 'name' attribute")
+        elif not isinstance(planner.name, str) or not planner.name:
+            problems.append(f"'name' must be a non-empty string, got {planner.name!r}")
+    for method in ("reset", "act"):
+        if not hasattr(planner, method):
+            problems.append(f"no {method}() method")
+        elif not callable(getattr(planner, method)):
+            problems.append(f"{method!r} is not callable")
+    return problems
+
+
+def protocol_error(label: str, problems: list[str]) -> PlannerError:
+    """The error for a planner (``label``: its name or type) lacking ``problems``."""
+    return PlannerError(
+        f"planner {label} lacks the Planner protocol (name, detection_range_m, reset, act): "
+        + "; ".join(problems)
+    )

@@ -3,7 +3,8 @@ the per-episode set-up every kernel-backed planner does at reset."""
 
 from __future__ import annotations
 
-from typing import Any
+import math
+from typing import Any, Generic, TypeVar
 
 import attrs
 import numpy as np
@@ -12,8 +13,8 @@ from srfm._validate import finite_float, non_negative, positive, unit_interval
 from srfm.errors import PlannerError
 from srfm.models.robot import RobotConfig
 from srfm.models.state import Obstacles
-from srfm.planners import _kernels
 from srfm.planners._base import FloatArray, PlannerContext
+from srfm.planners._geometry import CommonParams
 from srfm.scenarios import WorldBounds
 
 __all__ = [
@@ -32,6 +33,8 @@ __all__ = [
 ]
 
 DEFAULT_DT_S = 1.0 / 15.0
+
+P = TypeVar("P", bound=tuple[Any, ...])
 
 
 def _field(inst: Any, attribute: attrs.Attribute[Any]) -> str:
@@ -98,17 +101,20 @@ def static_geometry(obstacles: Obstacles) -> tuple[FloatArray, FloatArray]:
     return segments, circles
 
 
-class KernelPlanner:
+class KernelPlanner(Generic[P]):
     """Base of the planners whose step is one numba kernel call.
 
-    Subclasses set ``name``, fill their own entries of the parameter vector in
-    :meth:`_fill_params` and implement ``act``. Everything a planner knows about an
-    episode is rebuilt by :meth:`reset`; nothing carries over between episodes and no
-    randomness is drawn.
+    Subclasses set ``name``, build their own kernel parameters in :meth:`_own_params`
+    and implement ``act``. Everything a planner knows about an episode is rebuilt by
+    :meth:`reset`; nothing carries over between episodes and no randomness is drawn.
+
+    Attributes:
+        common: the robot and world part of the kernel parameters of the episode.
+        params: the planner's own kernel parameters (a NamedTuple per planner).
     """
 
     name: str = ""
-    _n_params: int = _kernels.N_COMMON
+    params: P
 
     def __init__(
         self,
@@ -137,25 +143,41 @@ class KernelPlanner:
         self._unicycle = robot.kinematics == "unicycle"
         self._segments, self._circles = static_geometry(obstacles)
         self._near = np.zeros(self._segments.shape[0])
-        params = np.zeros(self._n_params)
-        params[_kernels.P_RADIUS] = robot.radius_m
-        params[_kernels.P_VMAX] = robot.max_speed_mps
-        params[_kernels.P_WMAX] = robot.max_angular_speed_radps
-        params[_kernels.P_HEADING_GAIN] = self._heading_gain
-        params[_kernels.P_UNICYCLE] = 1.0 if self._unicycle else 0.0
-        params[_kernels.P_MARGIN] = self._margin
-        params[_kernels.P_DT] = dt_s
-        params[_kernels.P_GOAL_RADIUS] = robot.goal_radius_m
+        edges = False
+        bounds = (0.0, 0.0, 0.0, 0.0)
         if self._avoid_edges and world is not None:
-            params[_kernels.P_EDGES] = 1.0
-            params[_kernels.P_XMIN] = world.x_min
-            params[_kernels.P_XMAX] = world.x_max
-            params[_kernels.P_YMIN] = world.y_min
-            params[_kernels.P_YMAX] = world.y_max
-        self._fill_params(params, robot, dt_s)
-        if np.any(np.isnan(params)):
-            raise PlannerError(f"{self.name}: NaN in the planner parameters {params!r}")
-        self._params = params
+            edges = True
+            bounds = (
+                float(world.x_min),
+                float(world.x_max),
+                float(world.y_min),
+                float(world.y_max),
+            )
+        self.common = CommonParams(
+            radius_m=float(robot.radius_m),
+            max_speed_mps=float(robot.max_speed_mps),
+            max_angular_speed_radps=float(robot.max_angular_speed_radps),
+            heading_gain_per_s=self._heading_gain,
+            unicycle=self._unicycle,
+            margin_m=self._margin,
+            dt_s=float(dt_s),
+            goal_radius_m=float(robot.goal_radius_m),
+            avoid_edges=edges,
+            x_min=bounds[0],
+            x_max=bounds[1],
+            y_min=bounds[2],
+            y_max=bounds[3],
+        )
+        self.params = self._own_params(robot, dt_s)
+        if any(math.isnan(value) for value in (*self.common, *self.params)):
+            raise PlannerError(
+                f"{self.name}: NaN in the planner parameters {self.common!r}, {self.params!r}"
+            )
+        # What the kernels are passed each step: the same fields as plain tuples, which
+        # numba types far faster than NamedTuples (see srfm.planners._geometry).
+        self._common_fields = tuple(self.common)
+        self._params_fields = tuple(self.params)
 
-    def _fill_params(self, params: FloatArray, robot: RobotConfig, dt_s: float) -> None:
-        """Write the planner's own entries of the kernel parameter vector."""
+    def _own_params(self, robot: RobotConfig, dt_s: float) -> P:
+        """The planner's own kernel parameters (a NamedTuple) for this robot and step."""
+        raise NotImplementedError

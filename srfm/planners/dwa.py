@@ -42,8 +42,8 @@ velocity (the points of a ``holonomic_samples`` × ``holonomic_samples`` grid in
 it), rolls out straight lines after the same ramp, and takes the direction of the
 sample velocity as its heading (heading term 0.5 for the zero velocity).
 
-Each step is one numba kernel call (:func:`srfm.planners._kernels.dwa_unicycle`,
-:func:`srfm.planners._kernels.dwa_holonomic`); with no pedestrian, obstacle or edge
+Each step is one numba kernel call (:func:`srfm.planners._dwa_kernels.dwa_unicycle`,
+:func:`srfm.planners._dwa_kernels.dwa_holonomic`); with no pedestrian, obstacle or edge
 within reach of the rollouts, they are skipped and only the heading and velocity
 terms are computed.
 """
@@ -55,7 +55,6 @@ import numpy as np
 
 from srfm.errors import PlannerError
 from srfm.models.robot import RobotConfig
-from srfm.planners import _kernels
 from srfm.planners._base import FloatArray, Observation
 from srfm.planners._common import (
     KernelPlanner,
@@ -67,6 +66,7 @@ from srfm.planners._common import (
     check_positive,
     check_positive_int,
 )
+from srfm.planners._dwa_kernels import DWAParams, dwa_holonomic, dwa_unicycle, dynamic_window
 
 __all__ = ["DWAConfig", "DWAPlanner"]
 
@@ -126,7 +126,7 @@ class DWAConfig:
             )
 
 
-class DWAPlanner(KernelPlanner):
+class DWAPlanner(KernelPlanner[DWAParams]):
     """The Dynamic Window Approach for a unicycle (and a holonomic) robot.
 
     Args:
@@ -141,58 +141,58 @@ class DWAPlanner(KernelPlanner):
     """
 
     name = "dwa"
-    _n_params = _kernels.N_DWA
 
     def __init__(self, config: DWAConfig | None = None) -> None:
         self.config = config if config is not None else DWAConfig()
         c = self.config
         super().__init__(c.detection_range_m, c.safety_margin_m, 0.0, c.avoid_world_edges)
 
-    def _fill_params(self, params: FloatArray, robot: RobotConfig, dt_s: float) -> None:
+    def _own_params(self, robot: RobotConfig, dt_s: float) -> DWAParams:
         c = self.config
         if not -robot.max_speed_mps <= c.min_speed_mps <= robot.max_speed_mps:
             raise PlannerError(
                 f"DWAConfig.min_speed_mps must lie in [-v_max, v_max] = "
                 f"[{-robot.max_speed_mps!r}, {robot.max_speed_mps!r}], got {c.min_speed_mps!r}"
             )
-        params[_kernels.DWA_VMIN] = c.min_speed_mps
-        params[_kernels.DWA_ACCEL] = robot.max_accel_mps2
-        params[_kernels.DWA_WACCEL] = robot.max_angular_accel_radps2
-        params[_kernels.DWA_STEPS] = max(1, round(c.horizon_s / c.rollout_step_s))
-        params[_kernels.DWA_SIM_STEP] = c.rollout_step_s
-        if robot.kinematics == "unicycle":
-            params[_kernels.DWA_NV] = c.v_samples
-            params[_kernels.DWA_NW] = c.omega_samples
-        else:
-            params[_kernels.DWA_NV] = c.holonomic_samples
-            params[_kernels.DWA_NW] = c.holonomic_samples  # the grid is n × n
-        params[_kernels.DWA_HEADING_W] = c.heading_weight
-        params[_kernels.DWA_CLEAR_W] = c.clearance_weight
-        params[_kernels.DWA_VEL_W] = c.velocity_weight
-        params[_kernels.DWA_CLEAR_CAP] = c.clearance_cap_m
-        params[_kernels.DWA_PREDICT] = 1.0 if c.predict_pedestrians else 0.0
-        params[_kernels.DWA_WINDOW_T] = dt_s if c.window_time_s is None else c.window_time_s
-        rows = int(params[_kernels.DWA_NV] * params[_kernels.DWA_NW])
-        self.table = np.full((rows, 5), np.nan)
+        # A holonomic robot searches an n × n grid of (vx, vy).
+        unicycle = robot.kinematics == "unicycle"
+        params = DWAParams(
+            min_speed_mps=float(c.min_speed_mps),
+            accel_mps2=float(robot.max_accel_mps2),
+            angular_accel_radps2=float(robot.max_angular_accel_radps2),
+            steps=max(1, round(c.horizon_s / c.rollout_step_s)),
+            rollout_step_s=float(c.rollout_step_s),
+            v_samples=int(c.v_samples if unicycle else c.holonomic_samples),
+            omega_samples=int(c.omega_samples if unicycle else c.holonomic_samples),
+            heading_weight=float(c.heading_weight),
+            clearance_weight=float(c.clearance_weight),
+            velocity_weight=float(c.velocity_weight),
+            clearance_cap_m=float(c.clearance_cap_m),
+            predict_pedestrians=c.predict_pedestrians,
+            window_time_s=float(dt_s if c.window_time_s is None else c.window_time_s),
+        )
+        self.table = np.full((params.v_samples * params.omega_samples, 5), np.nan)
+        return params
 
     def window(self, v: float, omega: float) -> tuple[float, float, float, float]:
         """The dynamic window (v_lo, v_hi, ω_lo, ω_hi) at (v, ω) for the current robot."""
-        return _kernels.dynamic_window(float(v), float(omega), self._params)
+        return dynamic_window(float(v), float(omega), self._common_fields, self._params_fields)
 
     def act(self, observation: Observation) -> FloatArray:
         """(v, ω) for a unicycle, (vx, vy) for a holonomic robot."""
         r = observation.robot
-        g = observation.robot_goal
         if self._unicycle:
-            c0, c1 = _kernels.dwa_unicycle(
-                r.x, r.y, r.theta, r.v, r.omega, g[0], g[1],
+            command = dwa_unicycle(
+                r.x, r.y, r.theta, r.v, r.omega, observation.robot_goal,
                 observation.ped_pos, observation.ped_vel, observation.ped_radius,
-                self._segments, self._circles, self._params, self._near, self.table,
+                self._segments, self._circles, self._common_fields, self._params_fields,
+                self._near, self.table,
             )  # fmt: skip
         else:
-            c0, c1 = _kernels.dwa_holonomic(
-                r.x, r.y, r.vx, r.vy, g[0], g[1],
+            command = dwa_holonomic(
+                r.x, r.y, r.vx, r.vy, observation.robot_goal,
                 observation.ped_pos, observation.ped_vel, observation.ped_radius,
-                self._segments, self._circles, self._params, self._near, self.table,
+                self._segments, self._circles, self._common_fields, self._params_fields,
+                self._near, self.table,
             )  # fmt: skip
-        return np.array((c0, c1))
+        return np.array(command)

@@ -31,7 +31,7 @@ import attrs
 import numpy as np
 
 from srfm.models.robot import RobotConfig
-from srfm.planners import _kernels
+from srfm.planners import _orca_kernels
 from srfm.planners._base import FloatArray, Observation
 from srfm.planners._common import (
     KernelPlanner,
@@ -41,6 +41,7 @@ from srfm.planners._common import (
     check_positive,
     check_unit_open,
 )
+from srfm.planners._orca_kernels import ORCAParams, orca_command
 
 __all__ = ["ORCAConfig", "ORCAPlanner", "orca_halfplane"]
 
@@ -93,7 +94,7 @@ def orca_halfplane(
         (point, normal): the allowed velocities v satisfy (v − point) · normal >= 0;
         normal is a unit vector.
     """
-    px, py, nx, ny = _kernels.orca_halfplane(
+    px, py, nx, ny = _orca_kernels.orca_halfplane(
         float(rel_pos[0]),
         float(rel_pos[1]),
         float(velocity[0]),
@@ -108,7 +109,7 @@ def orca_halfplane(
     return (px, py), (nx, ny)
 
 
-class ORCAPlanner(KernelPlanner):
+class ORCAPlanner(KernelPlanner[ORCAParams]):
     """ORCA: the velocity closest to the preferred one in every ORCA half-plane.
 
     Args:
@@ -116,7 +117,6 @@ class ORCAPlanner(KernelPlanner):
     """
 
     name = "orca"
-    _n_params = _kernels.N_ORCA
 
     def __init__(self, config: ORCAConfig | None = None) -> None:
         self.config = config if config is not None else ORCAConfig()
@@ -127,23 +127,25 @@ class ORCAPlanner(KernelPlanner):
         self._lines = np.zeros((16, 4))
         self._proj = np.zeros((16, 4))
 
-    def _fill_params(self, params: FloatArray, robot: RobotConfig, dt_s: float) -> None:
+    def _own_params(self, robot: RobotConfig, dt_s: float) -> ORCAParams:
         c = self.config
-        params[_kernels.ORCA_TAU] = c.time_horizon_s
-        params[_kernels.ORCA_TAU_OBS] = c.obstacle_time_horizon_s
-        params[_kernels.ORCA_RESP] = c.responsibility
+        return ORCAParams(
+            tau_s=float(c.time_horizon_s),
+            tau_obstacle_s=float(c.obstacle_time_horizon_s),
+            responsibility=float(c.responsibility),
+        )
 
     def act(self, observation: Observation) -> FloatArray:
         """(v, ω) for a unicycle, (vx, vy) for a holonomic robot."""
         r = observation.robot
-        g = observation.robot_goal
         rows = observation.ped_pos.shape[0] + self._segments.shape[0] + self._circles.shape[0] + 4
         if rows > self._lines.shape[0]:
             self._lines = np.zeros((2 * rows, 4))
             self._proj = np.zeros((2 * rows, 4))
-        c0, c1 = _kernels.orca_command(
-            r.x, r.y, r.theta, r.vx, r.vy, g[0], g[1],
+        command = orca_command(
+            r.x, r.y, r.theta, r.vx, r.vy, observation.robot_goal,
             observation.ped_pos, observation.ped_vel, observation.ped_radius,
-            self._segments, self._circles, self._params, self._lines, self._proj,
+            self._segments, self._circles, self._common_fields, self._params_fields,
+            self._lines, self._proj,
         )  # fmt: skip
-        return np.array((c0, c1))
+        return np.array(command)

@@ -35,7 +35,6 @@ import attrs
 import numpy as np
 
 from srfm.models.robot import RobotConfig
-from srfm.planners import _kernels
 from srfm.planners._base import FloatArray, Observation
 from srfm.planners._common import (
     KernelPlanner,
@@ -46,6 +45,7 @@ from srfm.planners._common import (
     check_positive,
     check_unit_interval,
 )
+from srfm.planners._social_force_kernels import SocialForceParams, social_force_command
 
 __all__ = ["SocialForceConfig", "SocialForcePlanner"]
 
@@ -80,7 +80,7 @@ class SocialForceConfig:
     avoid_world_edges: bool = attrs.field(default=True, validator=check_bool)
 
 
-class SocialForcePlanner(KernelPlanner):
+class SocialForcePlanner(KernelPlanner[SocialForceParams]):
     """A robot driven by a social force model toward its goal.
 
     Args:
@@ -88,31 +88,31 @@ class SocialForcePlanner(KernelPlanner):
     """
 
     name = "social-force"
-    _n_params = _kernels.N_SF
 
     def __init__(self, config: SocialForceConfig | None = None) -> None:
         self.config = config if config is not None else SocialForceConfig()
         c = self.config
         super().__init__(c.detection_range_m, 0.0, c.heading_gain_per_s, c.avoid_world_edges)
 
-    def _fill_params(self, params: FloatArray, robot: RobotConfig, dt_s: float) -> None:
+    def _own_params(self, robot: RobotConfig, dt_s: float) -> SocialForceParams:
         c = self.config
         vdes = robot.max_speed_mps if c.desired_speed_mps is None else c.desired_speed_mps
-        params[_kernels.SF_VDES] = vdes
-        params[_kernels.SF_TAU] = c.tau_s
-        params[_kernels.SF_A] = c.ped_strength_mps2
-        params[_kernels.SF_B] = c.ped_range_m
-        params[_kernels.SF_LAMBDA] = c.anisotropy
-        params[_kernels.SF_A_OBS] = c.obstacle_strength_mps2
-        params[_kernels.SF_B_OBS] = c.obstacle_range_m
+        return SocialForceParams(
+            desired_speed_mps=float(vdes),
+            tau_s=float(c.tau_s),
+            ped_strength_mps2=float(c.ped_strength_mps2),
+            ped_range_m=float(c.ped_range_m),
+            anisotropy=float(c.anisotropy),
+            obstacle_strength_mps2=float(c.obstacle_strength_mps2),
+            obstacle_range_m=float(c.obstacle_range_m),
+        )
 
     def act(self, observation: Observation) -> FloatArray:
         """(v, ω) for a unicycle, (vx, vy) for a holonomic robot."""
         r = observation.robot
-        g = observation.robot_goal
-        c0, c1 = _kernels.social_force_command(
-            r.x, r.y, r.theta, r.vx, r.vy, g[0], g[1],
+        command = social_force_command(
+            r.x, r.y, r.theta, r.vx, r.vy, observation.robot_goal,
             observation.ped_pos, observation.ped_vel, observation.ped_radius,
-            self._segments, self._circles, self._params,
+            self._segments, self._circles, self._common_fields, self._params_fields,
         )  # fmt: skip
-        return np.array((c0, c1))
+        return np.array(command)

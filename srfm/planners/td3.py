@@ -1,20 +1,36 @@
-"""TD3 policies as planners: ``td3-srfm`` and ``td3-base``, and any policy file you train.
+"""TD3 policies as planners: ``td3-srfm``, ``td3-base``, and any policy you train.
 
-A policy file is a stable-baselines3 ``TD3`` zip written by ``srfm train``. It is read
-with SB3's loader, **which unpickles Python objects and can therefore execute
-arbitrary code: load only policy files from a source you trust** (the two shipped in
-``srfm/policies/`` are built by ``tools/train_policies.sh``).
+Two kinds of policy file:
 
-After loading, the planner runs the actor in NumPy (weights copied out of the SB3
-actor, float32), so a step costs microseconds and torch is not called during an
-episode. The observation is built by the environment's own code
-(:class:`srfm.rl.ObservationBuilder`), so a policy sees in evaluation exactly what
-it saw in training.
+- **NumPy policy files** (what ``srfm/policies/`` ships, and what
+  ``srfm export-policy`` writes): the actor's weights in ``<stem>.npz`` and its
+  metadata in ``<stem>.json`` (format and observation layout versions, the
+  :class:`EnvConfig` with the kinematics, the action scaling, the training
+  configuration and seed, evaluation figures). Loading needs NumPy only: no torch,
+  stable-baselines3, gymnasium, and no pickle (``np.load(allow_pickle=False)`` and
+  :mod:`json`). Everything is validated on load and a bad file is named with what is
+  wrong (:class:`~srfm.errors.PlannerError`).
+- **Training checkpoints**: the stable-baselines3 (or SBX) ``TD3`` zips written by
+  ``srfm train``. They are read with SB3's loader, **which unpickles Python objects and
+  can therefore execute arbitrary code: load only checkpoints from a source you
+  trust** (a :class:`UserWarning` says so on every load). Export one with
+  ``srfm export-policy`` to get a NumPy policy file.
+
+Either way the planner runs the actor in NumPy (float32, one numba call per layer), so
+a step costs microseconds. The observation is built by the environment's own kernel
+(:class:`srfm.planners._observation.ObservationBuilder`), so a policy sees in
+evaluation exactly what it saw in training. This module never imports the
+environment (:mod:`srfm.rl`) or gymnasium; torch / SB3 / SBX only to read a zip.
 """
 
 from __future__ import annotations
 
+import hashlib
+import json
 import threading
+import warnings
+import zipfile
+from collections.abc import Mapping
 from importlib import resources
 from pathlib import Path
 from typing import Any, Final
@@ -24,22 +40,46 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from srfm.errors import PlannerError
+from srfm.errors import MissingDependencyError, PlannerError
+from srfm.models.robot import KINEMATICS
 from srfm.planners._base import FloatArray, Observation, PlannerContext
+from srfm.planners._observation import EnvConfig, ObservationBuilder, obs_size
 
 __all__ = [
+    "ACTION_SIZE",
+    "OBSERVATION_LAYOUT_VERSION",
+    "POLICY_FORMAT",
+    "POLICY_FORMAT_VERSION",
     "SHIPPED_POLICIES",
     "NumpyActor",
+    "NumpyPolicy",
     "PolicyPlanner",
     "TD3Planner",
+    "checkpoint_backend",
+    "load_checkpoint",
+    "load_numpy_policy",
     "load_policy",
+    "read_policy_config",
+    "save_numpy_policy",
     "shipped_policy_path",
     "td3_base",
     "td3_srfm",
 ]
 
-# Registry name -> file in srfm/policies/.
-SHIPPED_POLICIES: Final = {"td3-srfm": "td3_srfm.zip", "td3-base": "td3_base.zip"}
+# Registry name -> NumPy policy file (metadata JSON; the weights are <stem>.npz beside
+# it) in srfm/policies/. The SB3 checkpoints they were exported from lie beside them as
+# <stem>.zip.
+SHIPPED_POLICIES: Final = {"td3-srfm": "td3_srfm.json", "td3-base": "td3_base.json"}
+
+# Identifies a NumPy policy file and the version of its layout (bump on a change of the
+# files' keys or meaning).
+POLICY_FORMAT: Final = "srfm-td3-actor"
+POLICY_FORMAT_VERSION: Final = 1
+# Version of the observation vector (the table in srfm/planners/_observation.py). Bump
+# it whenever build_observation changes what an entry means: old policy files are then
+# refused instead of silently fed another input.
+OBSERVATION_LAYOUT_VERSION: Final = 1
+ACTION_SIZE: Final = 2
 
 F32 = NDArray[np.float32]
 
@@ -147,10 +187,31 @@ class NumpyActor:
             raise PlannerError("the TD3 actor must be Linear/ReLU layers with a final Tanh")
         return cls(tuple(weights), tuple(biases))
 
+    @classmethod
+    def from_sbx(cls, params: Any) -> NumpyActor:
+        """Copy the layers of an SBX TD3 actor (``model.policy.actor_state.params``).
 
-def _env_config_from(data: Any, source: str) -> Any:
-    from srfm.rl import EnvConfig
+        SBX's actor is flax ``Dense`` layers ``Dense_0 … Dense_n`` with ReLU between
+        them and a final tanh; a ``kernel`` is (in, out), the transpose of torch's
+        weight.
+        """
+        inner = params.get("params", params) if isinstance(params, Mapping) else None
+        if not isinstance(inner, Mapping):
+            raise PlannerError("the SBX actor parameters are not a mapping of flax layers")
+        names = sorted(inner, key=lambda n: int(n.rsplit("_", 1)[-1]) if "_" in n else -1)
+        if not names or any(n != f"Dense_{k}" for k, n in enumerate(names)):
+            raise PlannerError(
+                f"unsupported SBX actor layers {sorted(inner)}: only Dense_0 … Dense_n "
+                "(SBX's default TD3 actor) can run in NumPy"
+            )
+        weights = tuple(
+            np.ascontiguousarray(np.asarray(inner[n]["kernel"], dtype=np.float32).T) for n in names
+        )
+        biases = tuple(np.asarray(inner[n]["bias"], dtype=np.float32).copy() for n in names)
+        return cls(weights, biases)
 
+
+def _env_config_from(data: Any, source: str) -> EnvConfig:
     if not isinstance(data, dict):
         raise PlannerError(
             f"{source}: no srfm environment configuration in the policy file; "
@@ -162,41 +223,376 @@ def _env_config_from(data: Any, source: str) -> Any:
         raise PlannerError(f"{source}: bad environment configuration: {exc}") from None
 
 
-def load_policy(path: str | Path) -> tuple[NumpyActor, Any]:
-    """Load a policy file written by ``srfm train``: its NumPy actor and EnvConfig.
+def _is_numpy_policy(path: Path) -> bool:
+    return path.suffix.lower() in (".json", ".npz")
 
-    Uses SB3's loader (``TD3.load``), which unpickles: trusted files only.
+
+def _policy_paths(path: str | Path) -> tuple[Path, Path]:
+    """(metadata JSON, weights NPZ) of a NumPy policy named by either file."""
+    path = Path(path)
+    return path.with_suffix(".json"), path.with_suffix(".npz")
+
+
+@attrs.frozen(eq=False)
+class NumpyPolicy:
+    """A NumPy policy file, loaded: the actor, its EnvConfig and the metadata.
+
+    Attributes:
+        actor: the network.
+        config: the :class:`EnvConfig` it was trained with.
+        metadata: the whole JSON document (see :func:`save_numpy_policy`).
+    """
+
+    actor: NumpyActor
+    config: EnvConfig
+    metadata: dict[str, Any]
+
+
+def _sha256(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def save_numpy_policy(
+    actor: NumpyActor,
+    config: EnvConfig,
+    path: str | Path,
+    *,
+    training: Mapping[str, Any] | None = None,
+    evaluation: Mapping[str, Any] | None = None,
+) -> tuple[Path, Path]:
+    """Write a NumPy policy file: ``<stem>.npz`` (weights) and ``<stem>.json`` (metadata).
+
+    The NPZ holds float32 arrays ``weight_k`` (out, in) and ``bias_k`` (out,) for layers
+    k = 0 … n (ReLU after every layer but the last, tanh after the last). The JSON holds
+    ``format``/``format_version``, ``observation_layout_version``, ``obs_size``,
+    ``action_size``, ``layers`` (the (out, in) shapes), ``activations``, ``env_config``
+    (the :class:`EnvConfig`, with ``kinematics``), ``action_scaling`` (how an action in
+    [−1, 1]² becomes a command), ``training`` (configuration, seed, steps, source
+    checkpoint; as given) and ``evaluation`` (as given, or null), and the SHA-256 of the
+    NPZ, checked on load.
+
+    Args:
+        actor: the network.
+        config: the :class:`EnvConfig` the policy was trained with (its kinematics set).
+        path: the file name; its suffix is replaced by ``.npz`` and ``.json``.
+        training: what is known of the training run (JSON-serialisable).
+        evaluation: evaluation figures (JSON-serialisable).
+
+    Returns:
+        The paths of the JSON and the NPZ.
+
+    Raises:
+        PlannerError: the actor does not fit the configuration.
+    """
+    json_path, npz_path = _policy_paths(path)
+    if config.kinematics is None:
+        raise PlannerError("the policy's EnvConfig must name its kinematics")
+    _check_layers(
+        [w.shape for w in actor.weights],
+        [b.shape for b in actor.biases],
+        obs_size(config.max_pedestrians),
+        str(json_path),
+    )
+    arrays: dict[str, F32] = {}
+    for k, (w, b) in enumerate(zip(actor.weights, actor.biases, strict=True)):
+        arrays[f"weight_{k}"] = np.ascontiguousarray(w, dtype=np.float32)
+        arrays[f"bias_{k}"] = np.ascontiguousarray(b, dtype=np.float32)
+    npz_path.parent.mkdir(parents=True, exist_ok=True)
+    np.savez(npz_path, allow_pickle=False, **arrays)
+    n = len(actor.weights)
+    meta: dict[str, Any] = {
+        "format": POLICY_FORMAT,
+        "format_version": POLICY_FORMAT_VERSION,
+        "observation_layout_version": OBSERVATION_LAYOUT_VERSION,
+        "obs_size": actor.obs_size,
+        "action_size": ACTION_SIZE,
+        "layers": [list(w.shape) for w in actor.weights],
+        "activations": ["relu"] * (n - 1) + ["tanh"],
+        "env_config": attrs.asdict(config),
+        "kinematics": config.kinematics,
+        "action_scaling": {
+            "low": [-1.0, -1.0],
+            "high": [1.0, 1.0],
+            "unicycle": "(v, omega) = (a0 v_max, a1 omega_max)",
+            "holonomic": "robot-frame (vx, vy) = (a0, a1) v_max",
+            "clip": "actions are clipped to [-1, 1] before scaling",
+        },
+        "training": dict(training) if training is not None else None,
+        "evaluation": dict(evaluation) if evaluation is not None else None,
+        "weights_file": npz_path.name,
+        "weights_sha256": _sha256(npz_path),
+    }
+    json_path.write_text(json.dumps(meta, indent=2, sort_keys=True) + "\n")
+    return json_path, npz_path
+
+
+def _check_layers(
+    weights: list[tuple[int, ...]], biases: list[tuple[int, ...]], n_obs: int, source: str
+) -> None:
+    """Shapes of a chain of dense layers from ``n_obs`` inputs to the 2 actions."""
+    if not weights:
+        raise PlannerError(f"{source}: the actor has no layers")
+    width = n_obs
+    for k, (w, b) in enumerate(zip(weights, biases, strict=True)):
+        if len(w) != 2 or w[1] != width:
+            raise PlannerError(
+                f"{source}: weight_{k} has shape {tuple(w)}, expected (out, {width})"
+                + (" (the observation size)" if k == 0 else " (the previous layer's outputs)")
+            )
+        if tuple(b) != (w[0],):
+            raise PlannerError(f"{source}: bias_{k} has shape {tuple(b)}, expected ({w[0]},)")
+        width = w[0]
+    if width != ACTION_SIZE:
+        raise PlannerError(
+            f"{source}: the last layer has {width} outputs, expected {ACTION_SIZE} (the action)"
+        )
+
+
+def _require(meta: Mapping[str, Any], key: str, source: str) -> Any:
+    if key not in meta:
+        raise PlannerError(f"{source}: metadata has no {key!r}")
+    return meta[key]
+
+
+def load_numpy_policy(path: str | Path) -> NumpyPolicy:
+    """Load and validate a NumPy policy file (name either the ``.json`` or the ``.npz``).
+
+    Needs NumPy only: the NPZ is read with ``allow_pickle=False`` and the metadata with
+    :mod:`json`.
+
+    Raises:
+        PlannerError: a missing file, a format or observation layout version this srfm
+            does not read, an invalid EnvConfig or kinematics, a weights file that is
+            not the one the metadata names (SHA-256), missing or extra arrays, shapes
+            that do not chain from the observation to the two actions, non-float or
+            non-finite weights. The message names the file and what is wrong.
+    """
+    json_path, npz_path = _policy_paths(path)
+    source = str(json_path)
+    for p in (json_path, npz_path):
+        if not p.is_file():
+            raise PlannerError(f"policy file {str(p)!r} does not exist")
+    try:
+        meta = json.loads(json_path.read_text())
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise PlannerError(f"{source}: not a JSON policy metadata file: {exc}") from None
+    if not isinstance(meta, dict):
+        raise PlannerError(f"{source}: the metadata must be a JSON object")
+    fmt = meta.get("format")
+    if fmt != POLICY_FORMAT:
+        raise PlannerError(f"{source}: format is {fmt!r}, expected {POLICY_FORMAT!r}")
+    version = _require(meta, "format_version", source)
+    if version != POLICY_FORMAT_VERSION:
+        raise PlannerError(
+            f"{source}: format_version {version!r}; this srfm reads version {POLICY_FORMAT_VERSION}"
+        )
+    layout = _require(meta, "observation_layout_version", source)
+    if layout != OBSERVATION_LAYOUT_VERSION:
+        raise PlannerError(
+            f"{source}: observation_layout_version {layout!r}, but this srfm builds "
+            f"observation layout {OBSERVATION_LAYOUT_VERSION}: retrain or re-export the policy"
+        )
+    config = _env_config_from(_require(meta, "env_config", source), source)
+    kinematics = _require(meta, "kinematics", source)
+    if kinematics not in KINEMATICS or config.kinematics != kinematics:
+        raise PlannerError(
+            f"{source}: kinematics {kinematics!r} must be one of {KINEMATICS} and equal "
+            f"env_config.kinematics ({config.kinematics!r})"
+        )
+    digest = meta.get("weights_sha256")
+    if digest is not None and digest != _sha256(npz_path):
+        raise PlannerError(
+            f"{npz_path}: its SHA-256 differs from weights_sha256 in {json_path.name}: "
+            "the weights and the metadata do not belong together"
+        )
+    try:
+        with np.load(npz_path, allow_pickle=False) as data:
+            arrays = {name: data[name] for name in data.files}
+    except (OSError, ValueError, zipfile.BadZipFile) as exc:
+        raise PlannerError(f"{npz_path}: cannot read the weights: {exc}") from None
+    n = len(arrays) // 2
+    expected = {f"{kind}_{k}" for k in range(n) for kind in ("weight", "bias")}
+    if set(arrays) != expected or n == 0:
+        raise PlannerError(
+            f"{npz_path}: arrays {sorted(arrays)}; expected weight_0, bias_0, … weight_n, bias_n"
+        )
+    weights = [arrays[f"weight_{k}"] for k in range(n)]
+    biases = [arrays[f"bias_{k}"] for k in range(n)]
+    for name, a in arrays.items():
+        if a.dtype.kind != "f":
+            raise PlannerError(f"{npz_path}: {name} has dtype {a.dtype}, expected float32")
+        if not np.all(np.isfinite(a)):
+            raise PlannerError(f"{npz_path}: {name} holds NaN or infinite values")
+    n_obs = obs_size(config.max_pedestrians)
+    if _require(meta, "obs_size", source) != n_obs:
+        raise PlannerError(
+            f"{source}: obs_size {meta['obs_size']!r} does not match env_config "
+            f"(max_pedestrians {config.max_pedestrians} gives {n_obs})"
+        )
+    _check_layers([w.shape for w in weights], [b.shape for b in biases], n_obs, str(npz_path))
+    layers = _require(meta, "layers", source)
+    if layers != [list(w.shape) for w in weights]:
+        raise PlannerError(
+            f"{source}: layers {layers!r} do not match the arrays in {npz_path.name} "
+            f"({[list(w.shape) for w in weights]})"
+        )
+    activations = _require(meta, "activations", source)
+    if activations != ["relu"] * (n - 1) + ["tanh"]:
+        raise PlannerError(
+            f"{source}: activations {activations!r}; only ReLU between layers and a final "
+            "tanh are supported"
+        )
+    actor = NumpyActor(
+        tuple(w.astype(np.float32) for w in weights), tuple(b.astype(np.float32) for b in biases)
+    )
+    return NumpyPolicy(actor=actor, config=config, metadata=meta)
+
+
+_PICKLE_WARNING: Final = (
+    "{path}: a stable-baselines3/SBX checkpoint is loaded with SB3's loader, which "
+    "unpickles Python objects and can execute arbitrary code: load only files you trust "
+    "(`srfm export-policy` turns a checkpoint into a NumPy policy file that needs no pickle)"
+)
+
+
+def _checkpoint_data(path: Path, what: str = "read a TD3 policy file") -> dict[str, Any]:
+    """The JSON ``data`` member of an SB3/SBX zip (nothing unpickled, no torch)."""
+    try:
+        with zipfile.ZipFile(path) as archive:
+            data = json.loads(archive.read("data"))
+    except (OSError, zipfile.BadZipFile, KeyError, ValueError) as exc:
+        raise PlannerError(f"{path}: cannot {what}: {exc}") from None
+    if not isinstance(data, dict):
+        raise PlannerError(f"{path}: cannot {what}: no SB3 data")
+    return data
+
+
+def checkpoint_backend(path: str | Path, what: str = "read a TD3 policy file") -> str:
+    """``"sbx"`` or ``"sb3"``: the library that wrote a checkpoint zip (read from its
+    JSON, nothing unpickled)."""
+    policy_class = _checkpoint_data(Path(path), what).get("policy_class")
+    module = policy_class.get("__module__", "") if isinstance(policy_class, dict) else ""
+    return "sbx" if str(module).startswith("sbx") else "sb3"
+
+
+def read_policy_config(path: str | Path) -> EnvConfig:
+    """The :class:`EnvConfig` recorded in a policy file, without loading the policy.
+
+    A NumPy policy file's JSON, or an SB3/SBX zip's member ``data`` (JSON, where
+    ``srfm train`` records the configuration as a plain mapping), read with
+    :mod:`zipfile` and :mod:`json` only: nothing is unpickled, and neither torch nor
+    stable-baselines3 is imported.
+
+    Raises:
+        PlannerError: missing file, not a policy file, or no srfm configuration in it.
+    """
+    path = Path(path)
+    if _is_numpy_policy(path):
+        json_path = path.with_suffix(".json")
+        if not json_path.is_file():
+            raise PlannerError(f"policy file {str(json_path)!r} does not exist")
+        try:
+            meta = json.loads(json_path.read_text())
+        except (OSError, UnicodeDecodeError, ValueError) as exc:
+            raise PlannerError(f"{json_path}: not a JSON policy metadata file: {exc}") from None
+        recorded = meta.get("env_config") if isinstance(meta, dict) else None
+        return _env_config_from(recorded, str(json_path))
+    if not path.is_file():
+        raise PlannerError(f"policy file {str(path)!r} does not exist")
+    recorded = _checkpoint_data(path).get("srfm_env_config")
+    return _env_config_from(recorded, str(path))
+
+
+def load_checkpoint(path: str | Path) -> tuple[NumpyActor, EnvConfig, dict[str, Any]]:
+    """Load an SB3 or SBX TD3 checkpoint written by ``srfm train``.
+
+    Uses the library's loader (``TD3.load``), which unpickles: trusted files only (a
+    :class:`UserWarning` says so).
+
+    Returns:
+        The NumPy actor, the EnvConfig, and what the zip records of the run:
+        ``backend``, ``steps`` (``num_timesteps``), ``seed``.
 
     Raises:
         PlannerError: missing file, not a TD3 policy, or no srfm configuration in it.
-        MissingDependencyError: stable-baselines3 / torch are not installed.
+        MissingDependencyError: the library that wrote it is not installed.
     """
-    from srfm.rl._deps import require
+    from srfm._deps import require
 
     path = Path(path)
     if not path.is_file():
         raise PlannerError(f"policy file {str(path)!r} does not exist")
-    sb3 = require("stable_baselines3")
-    require("torch")
+    backend = checkpoint_backend(path, "load a TD3 policy")
+    warnings.warn(_PICKLE_WARNING.format(path=path), UserWarning, stacklevel=2)
+    if backend == "sbx":
+        try:
+            lib = require("sbx")
+        except MissingDependencyError:
+            raise MissingDependencyError(
+                f"{path} is an SBX checkpoint: install the sbx extra to read it: "
+                "pip install -c constraints.txt 'srfm[rl,sbx]'"
+            ) from None
+    else:
+        lib = require("stable_baselines3")
+        require("torch")
     try:
-        model = sb3.TD3.load(path, device="cpu")
+        model = lib.TD3.load(path, device="cpu")
     except Exception as exc:  # SB3 raises many kinds on a bad file
         raise PlannerError(f"{path}: cannot load a TD3 policy: {exc}") from None
     config = _env_config_from(getattr(model, "srfm_env_config", None), str(path))
-    actor = NumpyActor.from_sb3(model.actor)
+    if backend == "sbx":
+        actor = NumpyActor.from_sbx(model.policy.actor_state.params)
+    else:
+        actor = NumpyActor.from_sb3(model.actor)
+    seed = getattr(model, "seed", None)
+    info = {
+        "backend": backend,
+        "steps": int(model.num_timesteps),
+        "seed": None if seed is None else int(seed),
+    }
+    return actor, config, info
+
+
+def load_policy(path: str | Path) -> tuple[NumpyActor, EnvConfig]:
+    """Load a policy file: its NumPy actor and EnvConfig.
+
+    A ``.json``/``.npz`` is a NumPy policy file (:func:`load_numpy_policy`: NumPy only);
+    anything else a training checkpoint (:func:`load_checkpoint`: SB3's loader, which
+    unpickles; trusted files only).
+
+    Raises:
+        PlannerError: missing or invalid file (the message says what is wrong).
+        MissingDependencyError: a checkpoint, and SB3 / SBX is not installed.
+    """
+    path = Path(path)
+    if _is_numpy_policy(path):
+        policy = load_numpy_policy(path)
+        return policy.actor, policy.config
+    actor, config, _ = load_checkpoint(path)
     return actor, config
 
 
-_CACHE: dict[str, tuple[NumpyActor, Any]] = {}
+_CACHE: dict[str, tuple[NumpyActor, EnvConfig]] = {}
+_CONFIG_CACHE: dict[str, EnvConfig] = {}
 _CACHE_LOCK = threading.Lock()
 
 
-def _cached_policy(path: Path) -> tuple[NumpyActor, Any]:
+def _cached_policy(path: Path) -> tuple[NumpyActor, EnvConfig]:
     key = str(path.resolve())
     with _CACHE_LOCK:
         if key not in _CACHE:
             _CACHE[key] = load_policy(path)
         return _CACHE[key]
+
+
+def _cached_config(path: Path) -> EnvConfig:
+    key = str(path.resolve())
+    with _CACHE_LOCK:
+        if key in _CACHE:
+            return _CACHE[key][1]
+        if key not in _CONFIG_CACHE:
+            _CONFIG_CACHE[key] = read_policy_config(path)
+        return _CONFIG_CACHE[key]
 
 
 class PolicyPlanner:
@@ -209,15 +605,12 @@ class PolicyPlanner:
         name: the planner's name.
     """
 
-    def __init__(self, actor: NumpyActor, config: Any, name: str = "policy") -> None:
-        from srfm.rl import ObservationBuilder
-
+    def __init__(self, actor: NumpyActor, config: EnvConfig, name: str = "policy") -> None:
         self.name = name
         self._actor = actor
         self._config = config
         self.detection_range_m: float | None = float(config.social_zone_m)
-        self._builder_cls = ObservationBuilder
-        self._builder: Any = None
+        self._builder: ObservationBuilder | None = None
         self._obs: F32 = np.zeros(actor.obs_size, dtype=np.float32)
         self._last = np.zeros(2)
 
@@ -229,7 +622,7 @@ class PolicyPlanner:
                 f"planner {self.name!r} was trained for a {want} robot; scenario "
                 f"{context.scenario!r} has a {context.robot.kinematics} robot"
             )
-        builder = self._builder_cls(context, self._config)
+        builder = ObservationBuilder(context, self._config)
         if builder.size != self._actor.obs_size:
             raise PlannerError(
                 f"planner {self.name!r}: the actor takes {self._actor.obs_size} inputs, "
@@ -252,22 +645,29 @@ class PolicyPlanner:
 
 
 class TD3Planner:
-    """A TD3 policy file as a planner; the file is loaded at the first reset.
+    """A TD3 policy file as a planner; the policy is loaded at the first reset.
+
+    The construction reads only the configuration recorded in the file
+    (:func:`read_policy_config`, no unpickling, no torch), so that
+    ``detection_range_m``, the social zone the policy observes, is valid from the
+    start (:func:`srfm.run_episode` reads it before the first reset). The network is
+    loaded at the first :meth:`reset` (or :meth:`load`): a NumPy policy file with NumPy
+    only, a checkpoint zip with SB3 / SBX.
 
     Args:
-        path: the policy zip (trusted files only: SB3's loader unpickles).
+        path: a NumPy policy file (``.json`` or ``.npz``), or an SB3/SBX checkpoint
+            zip (trusted files only: SB3's loader unpickles).
         name: the planner's name.
+
+    Raises:
+        PlannerError: the file is missing or holds no srfm configuration.
     """
 
     def __init__(self, path: str | Path, name: str = "td3") -> None:
         self.name = name
         self.path = Path(path)
-        # The social zone once the file is loaded (by this or an earlier instance);
-        # None (observe everyone) before: the observation is the same either way.
-        cached = _CACHE.get(str(self.path.resolve()))
-        self.detection_range_m: float | None = (
-            None if cached is None else float(cached[1].social_zone_m)
-        )
+        self.config = _cached_config(self.path)
+        self.detection_range_m: float | None = float(self.config.social_zone_m)
         self._inner: PolicyPlanner | None = None
 
     def _load(self) -> PolicyPlanner:
@@ -296,7 +696,7 @@ class TD3Planner:
 
 
 def shipped_policy_path(name: str) -> Path:
-    """The file of a shipped policy (``td3-srfm`` or ``td3-base``)."""
+    """The NumPy policy file (its JSON) of a shipped policy (``td3-srfm`` or ``td3-base``)."""
     try:
         filename = SHIPPED_POLICIES[name]
     except KeyError:

@@ -8,7 +8,7 @@ velocities u that bring the two discs into contact within the time horizon T:
     VO_B^T = { u | ∃ t ∈ [0, T]: |(x_B + v_B t) − (x_R + u t)| < r_R + r_B + margin }.
 
 Membership is tested exactly through the time to collision of the relative motion
-(:func:`srfm.planners._kernels.time_to_collision`): u ∈ VO_B^T iff that time is <= T.
+(:func:`srfm.planners._geometry.time_to_collision`): u ∈ VO_B^T iff that time is <= T.
 With ``time_horizon_s = None`` the cones are untruncated. Pillars are obstacles with
 zero velocity, walls are capsules around their segments, and the world's edges are
 walls too (unless ``avoid_world_edges`` is off).
@@ -34,7 +34,6 @@ import attrs
 import numpy as np
 
 from srfm.models.robot import RobotConfig
-from srfm.planners import _kernels
 from srfm.planners._base import FloatArray, Observation
 from srfm.planners._common import (
     KernelPlanner,
@@ -45,6 +44,8 @@ from srfm.planners._common import (
     check_positive,
     check_positive_int,
 )
+from srfm.planners._geometry import time_to_collision
+from srfm.planners._vo_kernels import VOParams, vo_command
 
 __all__ = [
     "VOConfig",
@@ -100,7 +101,7 @@ def in_velocity_obstacle(
         True when moving at ``velocity`` brings the centres closer than ``radius``
         within T (touching exactly at the boundary counts as inside).
     """
-    t = _kernels.time_to_collision(
+    t = time_to_collision(
         float(rel_pos[0]),
         float(rel_pos[1]),
         float(velocity[0]) - float(obstacle_vel[0]),
@@ -130,7 +131,7 @@ def candidate_velocities(max_speed_mps: float, speeds: int, headings: int) -> Fl
     return np.ascontiguousarray(cands[np.argsort(cost, kind="stable")])
 
 
-class VelocityObstaclePlanner(KernelPlanner):
+class VelocityObstaclePlanner(KernelPlanner[VOParams]):
     """Velocity Obstacles: the admissible velocity closest to the preferred one.
 
     Args:
@@ -138,7 +139,6 @@ class VelocityObstaclePlanner(KernelPlanner):
     """
 
     name = "vo"
-    _n_params = _kernels.N_VO
 
     def __init__(self, config: VOConfig | None = None) -> None:
         self.config = config if config is not None else VOConfig()
@@ -147,20 +147,20 @@ class VelocityObstaclePlanner(KernelPlanner):
             c.detection_range_m, c.safety_margin_m, c.heading_gain_per_s, c.avoid_world_edges
         )
 
-    def _fill_params(self, params: FloatArray, robot: RobotConfig, dt_s: float) -> None:
+    def _own_params(self, robot: RobotConfig, dt_s: float) -> VOParams:
         c = self.config
-        params[_kernels.VO_HORIZON] = math.inf if c.time_horizon_s is None else c.time_horizon_s
         self._candidates = candidate_velocities(
             robot.max_speed_mps, c.speed_samples, c.heading_samples
         )
+        return VOParams(horizon_s=math.inf if c.time_horizon_s is None else float(c.time_horizon_s))
 
     def act(self, observation: Observation) -> FloatArray:
         """(v, ω) for a unicycle, (vx, vy) for a holonomic robot."""
         r = observation.robot
-        g = observation.robot_goal
-        c0, c1 = _kernels.vo_command(
-            r.x, r.y, r.theta, g[0], g[1],
+        command = vo_command(
+            r.x, r.y, r.theta, observation.robot_goal,
             observation.ped_pos, observation.ped_vel, observation.ped_radius,
-            self._segments, self._circles, self._params, self._candidates, self._near,
+            self._segments, self._circles, self._common_fields, self._params_fields,
+            self._candidates, self._near,
         )  # fmt: skip
-        return np.array((c0, c1))
+        return np.array(command)

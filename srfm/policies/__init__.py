@@ -1,6 +1,13 @@
-"""Shipped TD3 policy files (stable-baselines3 zips), loaded by ``srfm.planners.td3``.
+"""Shipped TD3 policies, loaded by ``srfm.planners.td3``.
 
-``td3_srfm.zip`` (SRFM-aware, k2 > 0) and ``td3_base.zip`` (RL_base, k2 = 0) were
-trained with ``tools/train_policies.sh``; ``docs/rl.md`` gives the exact commands,
-the steps trained and the wall time. SB3's loader unpickles: load only trusted files.
+``td3_srfm`` (SRFM-aware, k2 > 0) and ``td3_base`` (RL_base, k2 = 0), each as
+
+- ``<name>.npz`` + ``<name>.json``: the NumPy policy file the registered planners
+  ``td3-srfm`` and ``td3-base`` run (weights and metadata; loads with NumPy only, no
+  pickle);
+- ``<name>.zip``: the stable-baselines3 checkpoint it was exported from
+  (``srfm export-policy``); SB3's loader unpickles: load only trusted files.
+
+``tools/train_policies.sh`` trains and exports them; ``docs/rl.md`` gives the exact
+commands, the steps trained and the wall time.
 """

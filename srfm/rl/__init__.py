@@ -1,44 +1,61 @@
-"""The gymnasium environment ``srfm/SocialNav-v0`` (needs the ``rl`` extra).
+"""Reinforcement learning: the gymnasium environment ``srfm/SocialNav-v0`` and TD3
+training (both need the ``rl`` extra).
 
-Importing this module registers the environment with gymnasium (its only side
-effect)::
+``import srfm.rl`` itself is light: it loads no gymnasium, torch or stable-baselines3,
+so the command line and the training configuration work without them. The environment
+lives in :mod:`srfm.rl.env`; importing that module (or using :class:`SocialNavEnv` or
+:data:`MAX_EPISODE_STEPS` from here) registers ``srfm/SocialNav-v0`` with gymnasium and
+raises :class:`srfm.MissingDependencyError` without the extra::
 
     import gymnasium as gym
-    import srfm.rl
+    import srfm.rl.env
 
     env = gym.make("srfm/SocialNav-v0", scenario="random")
-    # or, without importing srfm.rl first:
-    env = gym.make("srfm.rl:srfm/SocialNav-v0")
+    # or, without importing srfm first:
+    env = gym.make("srfm.rl.env:srfm/SocialNav-v0")
 
-See ``docs/rl.md`` for the observation, the action and the reward.
+When gymnasium is already imported, ``import srfm.rl`` registers the environment too,
+so that ``gym.make("srfm.rl:srfm/SocialNav-v0")`` keeps working.
+
+:class:`EnvConfig` and :class:`ObservationBuilder` are defined in
+:mod:`srfm.planners._observation` (the policy planners read them without gymnasium).
 """
 
-from srfm.rl._deps import INSTALL_HINT, MissingDependencyError, require
+from __future__ import annotations
 
-require("gymnasium")
+import sys
+from typing import TYPE_CHECKING, Any
 
-from srfm.rl._config import DEFAULT_K_DIV, EnvConfig  # noqa: E402
-from srfm.rl._core import ObservationBuilder  # noqa: E402
-from srfm.rl._env import SocialNavEnv  # noqa: E402
+from srfm._deps import INSTALL_HINT
+from srfm.errors import MissingDependencyError
+from srfm.planners._observation import DEFAULT_K_DIV, EnvConfig, ObservationBuilder
+from srfm.rl._ids import ENV_ID
+
+if TYPE_CHECKING:
+    from srfm.rl.env import MAX_EPISODE_STEPS, SocialNavEnv
 
 __all__ = [
     "DEFAULT_K_DIV",
     "ENV_ID",
     "INSTALL_HINT",
+    "MAX_EPISODE_STEPS",
     "EnvConfig",
     "MissingDependencyError",
     "ObservationBuilder",
     "SocialNavEnv",
 ]
 
-ENV_ID = "srfm/SocialNav-v0"
+_FROM_ENV = frozenset({"MAX_EPISODE_STEPS", "SocialNavEnv"})
 
 
-def _register() -> None:
-    import gymnasium
+def __getattr__(name: str) -> Any:
+    # PEP 562: the environment (and gymnasium) load on first use.
+    if name in _FROM_ENV:
+        from srfm.rl import env
 
-    if ENV_ID not in gymnasium.registry:
-        gymnasium.register(id=ENV_ID, entry_point="srfm.rl:SocialNavEnv")
+        return getattr(env, name)
+    raise AttributeError(f"module 'srfm.rl' has no attribute {name!r}")
 
 
-_register()
+if "gymnasium" in sys.modules:
+    import srfm.rl.env  # noqa: F401  (registers srfm/SocialNav-v0)

@@ -1,8 +1,8 @@
 """The environment's simulation core, free of gymnasium: arrays, reset, one fused step.
 
 :class:`EnvCore` holds one episode in flat arrays and advances it with one call of
-:func:`srfm.rl._kernels.env_step` per step. :class:`ObservationBuilder` builds the
-same observation from a planner's :class:`~srfm.planners.Observation`, so a policy
+:func:`srfm.rl._kernels.env_step` per step. The observation is built by the kernel
+that :class:`srfm.planners._observation.ObservationBuilder` also calls, so a policy
 sees identical inputs in training (the environment) and in evaluation (a planner in
 :func:`srfm.run_episode`).
 """
@@ -10,147 +10,26 @@ sees identical inputs in training (the environment) and in evaluation (a planner
 from __future__ import annotations
 
 import math
-from typing import Final
+from collections.abc import Callable
+from typing import Any
 
 import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._jit import specialize
 from srfm.errors import ScenarioError
+from srfm.models import _robot_kernels as _rk
 from srfm.models.params import SRFMParams
-from srfm.models.robot import RobotConfig, RobotState
-from srfm.planners._base import Observation, PlannerContext
+from srfm.models.robot import RobotState
+from srfm.planners._observation import EnvConfig, build_observation, obs_size
 from srfm.rl import _kernels as _k
-from srfm.rl._config import EnvConfig
-from srfm.scenarios import EpisodeSetup, Scenario, WorldBounds, episode_setup, next_goal
+from srfm.scenarios import EpisodeSetup, Scenario, episode_setup, next_goal
+from srfm.sim.simulator import EVENT_OUTCOMES
 
-__all__ = ["EVENT_OUTCOMES", "EnvCore", "ObservationBuilder", "make_cfg"]
+__all__ = ["EnvCore", "resolve_scenario"]
 
 FloatArray = NDArray[np.float64]
-
-# The outcome of the robot's episode for each event code.
-EVENT_OUTCOMES: Final[dict[int, str]] = {
-    _k.EV_COLLISION: "collision",
-    _k.EV_OBSTACLE: "collision",
-    _k.EV_OUT_OF_BOUNDS: "out_of_bounds",
-    _k.EV_GOAL: "goal_reached",
-    _k.EV_TIMEOUT: "timeout",
-}
-
-
-def make_cfg(
-    *,
-    robot: RobotConfig,
-    world: WorldBounds,
-    goal: FloatArray,
-    dt_s: float,
-    horizon_steps: int,
-    config: EnvConfig,
-) -> FloatArray:
-    """The kernels' configuration vector (``_kernels.C_*`` entries).
-
-    Entries that depend on the episode (goal distance at reset) or on the crowd are
-    filled in by :class:`EnvCore`.
-    """
-    cfg = np.zeros(_k.CFG_SIZE)
-    cfg[_k.C_DT] = dt_s
-    cfg[_k.C_ROBOT_RADIUS] = robot.radius_m
-    cfg[_k.C_VMAX] = robot.max_speed_mps
-    cfg[_k.C_WMAX] = robot.max_angular_speed_radps
-    cfg[_k.C_ACCEL] = robot.max_accel_mps2
-    cfg[_k.C_ANG_ACCEL] = robot.max_angular_accel_radps2
-    cfg[_k.C_GOAL_RADIUS] = robot.goal_radius_m
-    cfg[_k.C_HOLONOMIC] = 1.0 if robot.kinematics == "holonomic" else 0.0
-    cfg[_k.C_X_MIN] = world.x_min
-    cfg[_k.C_X_MAX] = world.x_max
-    cfg[_k.C_Y_MIN] = world.y_min
-    cfg[_k.C_Y_MAX] = world.y_max
-    cfg[_k.C_GOAL_X] = goal[0]
-    cfg[_k.C_GOAL_Y] = goal[1]
-    cfg[_k.C_ZONE] = config.social_zone_m
-    cfg[_k.C_K1] = config.k1
-    cfg[_k.C_K2] = config.k2
-    cfg[_k.C_SUCCESS] = config.success_reward
-    cfg[_k.C_TIMEOUT_PEN] = config.timeout_penalty
-    cfg[_k.C_COLLISION_PEN] = config.collision_penalty
-    cfg[_k.C_GOAL_DIST0] = 1.0
-    cfg[_k.C_GOAL_SCALE] = math.hypot(world.x_max - world.x_min, world.y_max - world.y_min)
-    cfg[_k.C_VEL_SCALE] = config.velocity_scale_mps
-    cfg[_k.C_TWIN] = 1.0 if config.counterfactual_twin else 0.0
-    cfg[_k.C_HORIZON] = horizon_steps
-    cfg[_k.C_MAX_PEDS] = config.max_pedestrians
-    return cfg
-
-
-class ObservationBuilder:
-    """The environment's observation, built from a planner's view of a sample.
-
-    Args:
-        context: the episode's planner context (robot limits, goal, world).
-        config: the environment configuration the policy was trained with.
-
-    The planner must observe the pedestrians within ``config.social_zone_m`` (its
-    ``detection_range_m``), or all of them; either gives the environment's vector.
-    """
-
-    def __init__(self, context: PlannerContext, config: EnvConfig) -> None:
-        self.config = config
-        self.cfg = make_cfg(
-            robot=context.robot,
-            world=context.world,
-            goal=context.robot_goal,
-            dt_s=context.dt_s,
-            horizon_steps=context.horizon_steps,
-            config=config,
-        )
-        self._robot = np.zeros(_k.ROBOT_SIZE)
-        self._dist = np.zeros(0)
-        self._idx = np.zeros(0, dtype=np.int64)
-        self.size = _k.obs_size(config.max_pedestrians)
-
-    def build(
-        self, observation: Observation, last_action: FloatArray, out: NDArray[np.float32]
-    ) -> NDArray[np.float32]:
-        """Write the observation vector into ``out`` (float32, (size,)) and return it."""
-        r = observation.robot
-        robot = self._robot
-        robot[_k.R_X] = r.x
-        robot[_k.R_Y] = r.y
-        robot[_k.R_THETA] = r.theta
-        robot[_k.R_VX] = r.vx
-        robot[_k.R_VY] = r.vy
-        robot[_k.R_V] = r.v
-        robot[_k.R_OMEGA] = r.omega
-        n = observation.ped_pos.shape[0]
-        if self._dist.shape[0] < n:
-            self._dist = np.zeros(n)
-            self._idx = np.zeros(n, dtype=np.int64)
-        _k.build_observation(
-            observation.ped_pos,
-            observation.ped_vel,
-            robot,
-            last_action,
-            False,
-            False,
-            self.cfg,
-            self._dist,
-            self._idx,
-            out,
-        )
-        return out
-
-    def command(self, action: FloatArray, theta: float) -> FloatArray:
-        """The simulator command for an action in [−1, 1]² (the environment's scaling)."""
-        cfg = self.cfg
-        c0, c1 = _k.action_to_command(
-            float(action[0]),
-            float(action[1]),
-            theta,
-            cfg[_k.C_HOLONOMIC] != 0.0,
-            cfg[_k.C_VMAX],
-            cfg[_k.C_WMAX],
-        )
-        return np.array([c0, c1])
 
 
 def resolve_scenario(scenario: Scenario, config: EnvConfig) -> Scenario:
@@ -179,8 +58,8 @@ class EnvCore:
         self.crowd = np.zeros((6, n, 2))
         self.agent = np.zeros((3, n))
         self.flags = np.zeros((4, n), dtype=np.bool_)
-        self.param_vec = params.as_array()
-        self.robot = np.zeros(_k.ROBOT_SIZE)
+        self.kernel_params = params.for_kernels()
+        self.robot = np.zeros(_rk.ROBOT_SIZE)
         self.body = np.array([0.0, 0.0, scenario.robot.radius_m])
         obstacles = scenario.obstacles
         self.segments = obstacles.segments
@@ -190,88 +69,162 @@ class EnvCore:
         self.force_buf = np.zeros((n, 2))
         self.dist_buf = np.zeros(max(n, 1))
         self.idx_buf = np.zeros(max(n, 1), dtype=np.int64)
-        self.obs = np.zeros(_k.obs_size(config.max_pedestrians), dtype=np.float32)
+        self.obs = np.zeros(obs_size(config.max_pedestrians), dtype=np.float32)
         self.out = np.zeros(_k.OUT_SIZE)
         self.action = np.zeros(2)
-        self.cfg = make_cfg(
-            robot=scenario.robot,
-            world=scenario.world,
-            goal=np.zeros(2),
-            dt_s=scenario.dt_s,
-            horizon_steps=scenario.horizon_steps,
-            config=config,
-        )
         self.regoal = scenario.random is not None and scenario.random.regoal
-        self.cfg[_k.C_REGOAL] = 1.0 if self.regoal else 0.0
-        self.cfg[_k.C_OBSTACLES] = 0.0 if obstacles.empty else 1.0
-        self.cfg[_k.C_PED_GOAL_RADIUS] = scenario.ped_goal_radius_m
+        self.limits = scenario.robot.for_kernels()
+        # The goal (task) and the goal distance at reset (reward) are set per episode.
+        self.task = _rk.robot_task(np.zeros(2), scenario.world, scenario.horizon_steps)
+        self.observation = config.observation_params(scenario.world)
+        self.reward = _k.RewardParams(
+            k1=float(config.k1),
+            k2=float(config.k2),
+            success_reward=float(config.success_reward),
+            timeout_penalty=float(config.timeout_penalty),
+            collision_penalty=float(config.collision_penalty),
+            goal_distance_m=1.0,
+        )
+        self.options = _k.StepOptions(
+            dt_s=float(scenario.dt_s),
+            ped_goal_radius_m=float(scenario.ped_goal_radius_m),
+            counterfactual_twin=config.counterfactual_twin,
+            regoal=self.regoal,
+        )
         self.goal_count = np.zeros((2, n), dtype=np.int64)
         self._goal_cache: dict[tuple[int, int], FloatArray] = {}
         self.setup: EpisodeSetup | None = None
         self.step_index = 0
-        self.event = _k.EV_NONE
+        self.event = _rk.EVENT_NONE
+        self._pack()
+        self._specialize()
+
+    def _pack(self) -> None:
+        """The kernels' arguments: the same arrays (updated in place) at every step; the
+        task (goal) and the reward (goal distance at reset) change per episode."""
+        arrays = (
+            self.crowd,
+            self.agent,
+            self.robot,
+            self.body,
+            self.action,
+            self.segments,
+            self.circles,
+        )
+        scratch = (self.dist_buf, self.idx_buf, self.obs, self.out)
+        config = (
+            self.kernel_params,
+            self.limits,
+            self.task,
+            self.observation,
+            self.reward,
+            self.options,
+        )
+        # env_step's arguments but the step index
+        self._step_args = (
+            self.flags,
+            *arrays,
+            self.pillar_xy,
+            self.pillar_r,
+            self.force_buf,
+            *scratch,
+            *config,
+        )
+        # reward_and_observation's arguments but the event
+        self._reward_args = (*arrays, *scratch, *config)
+        factual_pos = self.crowd[_k.FACTUAL_POS]
+        # robot_event's arguments but the sample index
+        self._event_args = (
+            self.robot,
+            factual_pos,
+            self.agent[_k.AGENT_RADIUS],
+            self.segments,
+            self.pillar_xy,
+            self.pillar_r,
+            self.limits,
+            self.task,
+        )
+        self._observation_args = (
+            factual_pos,
+            self.crowd[_k.FACTUAL_VEL],
+            self.robot,
+            self.action,
+            False,
+            False,
+            self.limits,
+            self.task,
+            self.observation,
+            self.dist_buf,
+            self.idx_buf,
+            self.obs,
+        )
+
+    def _specialize(self) -> None:
+        """Resolve the kernels' argument types once (see :func:`srfm._jit.specialize`)."""
+        self._env_step: Callable[..., int] = specialize(_k.env_step, *self._step_args, 0)
+        self._reward_and_observation: Callable[..., None] = specialize(
+            _k.reward_and_observation, *self._reward_args, _rk.EVENT_NONE
+        )
+        self._robot_event: Callable[..., tuple[int, int]] = specialize(
+            _rk.robot_event, *self._event_args, 0
+        )
+        self._build_observation: Callable[..., int] = specialize(
+            build_observation, *self._observation_args
+        )
+
+    def __getstate__(self) -> dict[str, Any]:
+        state = self.__dict__.copy()
+        for name in ("_env_step", "_reward_and_observation", "_robot_event", "_build_observation"):
+            del state[name]  # compiled functions do not pickle; made again on unpickling
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._pack()
+        self._specialize()
 
     def reset(self, episode_seed: int) -> None:
         """Start episode ``episode_seed`` (the scenario's set-up for that seed)."""
         setup = episode_setup(self.scenario, episode_seed)
         crowd = setup.crowd
         c = self.crowd
-        c[_k.F_POS] = crowd.pos
-        c[_k.F_VEL] = crowd.vel
-        c[_k.F_GOAL] = crowd.goal
-        c[_k.C_POS] = crowd.pos
-        c[_k.C_VEL] = crowd.vel
-        c[_k.C_GOAL] = crowd.goal
-        self.agent[_k.A_RADIUS] = crowd.radius
-        self.agent[_k.A_V0] = crowd.v0
-        self.agent[_k.A_VMAX] = crowd.vmax
+        c[_k.FACTUAL_POS] = crowd.pos
+        c[_k.FACTUAL_VEL] = crowd.vel
+        c[_k.FACTUAL_GOAL] = crowd.goal
+        c[_k.COUNTERFACTUAL_POS] = crowd.pos
+        c[_k.COUNTERFACTUAL_VEL] = crowd.vel
+        c[_k.COUNTERFACTUAL_GOAL] = crowd.goal
+        self.agent[_k.AGENT_RADIUS] = crowd.radius
+        self.agent[_k.AGENT_V0] = crowd.v0
+        self.agent[_k.AGENT_VMAX] = crowd.vmax
         self.flags[:] = False
         self.goal_count[:] = 0
         self._goal_cache.clear()
         r = self.robot
         r[:] = 0.0
-        r[_k.R_X] = setup.robot_start[0]
-        r[_k.R_Y] = setup.robot_start[1]
-        r[_k.R_THETA] = setup.robot_heading_rad
+        r[_rk.X] = setup.robot_start[0]
+        r[_rk.Y] = setup.robot_start[1]
+        r[_rk.THETA] = setup.robot_heading_rad
         goal = setup.robot_goal
-        cfg = self.cfg
-        cfg[_k.C_GOAL_X] = goal[0]
-        cfg[_k.C_GOAL_Y] = goal[1]
+        self.task = self.task._replace(goal_x=float(goal[0]), goal_y=float(goal[1]))
+        self.reward = self.reward._replace(
+            goal_distance_m=math.hypot(goal[0] - r[_rk.X], goal[1] - r[_rk.Y])
+        )
+        self._pack()  # with the episode's task and reward
         self.setup = setup
         self.step_index = 0
         self.action[:] = 0.0
-        event = _k.robot_event(
-            c[_k.F_POS],
-            self.agent[_k.A_RADIUS],
-            r,
-            cfg,
-            self.segments,
-            self.pillar_xy,
-            self.pillar_r,
-            0,
-        )
-        if event != _k.EV_NONE:
+        event, _ = self._robot_event(*self._event_args, 0)
+        if event != _rk.EVENT_NONE:
             raise ScenarioError(
                 f"{self.scenario.source}: seed {setup.seed}: the robot's episode ends at "
                 f"sample 0 ({EVENT_OUTCOMES[event]}); the environment needs a robot that "
                 "starts free, inside the world and away from its goal"
             )
-        cfg[_k.C_GOAL_DIST0] = math.hypot(goal[0] - r[_k.R_X], goal[1] - r[_k.R_Y])
-        self.event = _k.EV_NONE
-        self.body[0] = r[_k.R_X]
-        self.body[1] = r[_k.R_Y]
-        _k.build_observation(
-            c[_k.F_POS],
-            c[_k.F_VEL],
-            r,
-            self.action,
-            False,
-            False,
-            cfg,
-            self.dist_buf,
-            self.idx_buf,
-            self.obs,
-        )
+        self.event = _rk.EVENT_NONE
+        self.body[0] = r[_rk.X]
+        self.body[1] = r[_rk.Y]
+        self._build_observation(*self._observation_args)
 
     def step(self, a0: float, a1: float) -> int:
         """Advance one step under the action (a0, a1); return the event code.
@@ -281,53 +234,23 @@ class EnvCore:
         action = self.action
         action[0] = a0
         action[1] = a1
-        event: int = _k.env_step(
-            self.crowd,
-            self.agent,
-            self.flags,
-            self.param_vec,
-            self.robot,
-            self.body,
-            self.cfg,
-            self.segments,
-            self.circles,
-            self.pillar_xy,
-            self.pillar_r,
-            self.force_buf,
-            action,
-            self.step_index,
-            self.dist_buf,
-            self.idx_buf,
-            self.obs,
-            self.out,
-        )
+        event: int = self._env_step(*self._step_args, self.step_index)
         self.step_index += 1
         self.event = event
-        if self.regoal and (self.out[_k.O_N_NEW_F] or self.out[_k.O_N_NEW_C]):
+        out = self.out
+        if self.regoal and (out[_k.OUT_NEW_F] or out[_k.OUT_NEW_C]):
             self._regoal()
-            if self.out[_k.O_N_NEW_F]:
-                _k.reward_and_observation(
-                    self.crowd,
-                    self.agent,
-                    self.param_vec,
-                    self.robot,
-                    self.body,
-                    self.cfg,
-                    self.segments,
-                    self.circles,
-                    event,
-                    action,
-                    self.dist_buf,
-                    self.idx_buf,
-                    self.obs,
-                    self.out,
-                )
+            if out[_k.OUT_NEW_F]:
+                self._reward_and_observation(*self._reward_args, event)
         return event
 
     def _regoal(self) -> None:
         """New goals for the pedestrians that arrived (the simulator's draws)."""
         assert self.setup is not None
-        for twin, new_row, goal_row in ((0, 2, _k.F_GOAL), (1, 3, _k.C_GOAL)):
+        for twin, new_row, goal_row in (
+            (0, _k.NEW_F, _k.FACTUAL_GOAL),
+            (1, _k.NEW_C, _k.COUNTERFACTUAL_GOAL),
+        ):
             for idx in np.flatnonzero(self.flags[new_row]):
                 i = int(idx)
                 count = self.goal_count[twin]
@@ -342,13 +265,4 @@ class EnvCore:
 
     def robot_state(self) -> RobotState:
         """The robot as a :class:`srfm.RobotState`."""
-        r = self.robot
-        return RobotState(
-            x=float(r[_k.R_X]),
-            y=float(r[_k.R_Y]),
-            theta=float(r[_k.R_THETA]),
-            vx=float(r[_k.R_VX]),
-            vy=float(r[_k.R_VY]),
-            v=float(r[_k.R_V]),
-            omega=float(r[_k.R_OMEGA]),
-        )
+        return RobotState.from_array(self.robot)

@@ -11,18 +11,24 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm.errors import ParameterError, PlannerError, SimulationError
+from srfm.models import _robot_kernels as _rk
 from srfm.models.params import SRFMParams
 from srfm.models.robot import RobotState
+from srfm.planners._observation import EnvConfig, obs_size
 from srfm.rl import _kernels as _k
-from srfm.rl._config import EnvConfig
-from srfm.rl._core import EVENT_OUTCOMES, EnvCore, resolve_scenario
+from srfm.rl._core import EnvCore, resolve_scenario
 from srfm.scenarios import Scenario, load_scenario, validate_seed
+from srfm.sim.simulator import EVENT_OUTCOMES
 
-__all__ = ["SocialNavEnv"]
+__all__ = ["MAX_EPISODE_STEPS", "SocialNavEnv"]
 
 # Episode seeds drawn by reset() without a seed lie in [0, MAX_DRAWN_SEED).
 MAX_DRAWN_SEED: Final = 2**31 - 1
-_TERMINAL: Final = frozenset({_k.EV_COLLISION, _k.EV_OBSTACLE, _k.EV_OUT_OF_BOUNDS, _k.EV_GOAL})
+# The horizon of every built-in scenario (steps): the registered max_episode_steps.
+MAX_EPISODE_STEPS: Final = 750
+_TERMINAL: Final = frozenset(
+    {_rk.EVENT_COLLISION, _rk.EVENT_OBSTACLE, _rk.EVENT_OUT_OF_BOUNDS, _rk.EVENT_GOAL}
+)
 
 ObsType = NDArray[np.float32]
 ActType = NDArray[np.float32]
@@ -32,30 +38,114 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
     """Robot navigation among SRFM pedestrians, with the paper's observation and reward.
 
     One step advances the robot and both crowds of :class:`srfm.TwinSimulator` by one
-    simulation step (bit-identical dynamics), computes the one-step counterfactual
-    deviation and builds the observation, in one numba call.
+    simulation step of dt = 1/15 s (bit-identical dynamics: the same crowd and robot
+    kernels), computes the one-step counterfactual deviation and builds the
+    observation, in one numba call. ``reset(seed=s)`` starts episode ``s`` of the
+    scenario, the same set-up as ``srfm.run_episode(scenario, s)``.
 
-    - **Action**: Box([−1, 1]², float32). Unicycle: (v, ω) = (a0 v_max, a1 ω_max);
-      holonomic: robot-frame velocity (a0, a1) v_max. Clipped to [−1, 1], then to the
-      robot's speed and acceleration limits, as in the simulator.
-    - **Observation**: Box([−1, 1]^(9 + 6K), float32), robot frame, normalised; see
-      :func:`srfm.rl._kernels.build_observation` and ``docs/rl.md``.
-    - **Reward**: r = r_term − k1 r_dist − k2 r_div (:class:`EnvConfig`).
-    - **Episode end**: terminated on goal, collision (centre distance below the sum of
-      radii, or overlap with a wall or pillar) or leaving the world; truncated at the
-      scenario's horizon (750 steps).
+    ## Action space
 
-    ``reset(seed=s)`` starts episode ``s`` of the scenario (the same set-up as
-    ``srfm.run_episode(scenario, s)``); ``reset()`` draws the next episode seed from
-    the environment's generator, itself seeded by the last ``reset(seed=...)``;
+    ``Box(-1, 1, (2,), float32)``, clipped to [−1, 1], then scaled:
+
+    | kinematics | action (a0, a1) |
+    |---|---|
+    | unicycle | v = a0 · v_max (0.5 m/s), ω = a1 · ω_max (π rad/s) |
+    | holonomic | robot-frame velocity (a0, a1) · v_max, speed capped at v_max |
+
+    The holonomic command is that velocity rotated into the world frame by the heading.
+    The robot's acceleration limits (1 m/s², 2π rad/s²) then apply, as for every
+    planner in the simulator.
+
+    ## Observation space
+
+    ``Box(-1, 1, (9 + 6K,), float32)``, K = ``config.max_pedestrians`` (10 by default:
+    69 entries). Robot frame (x forward along the heading, y to the left), every entry
+    normalised:
+
+    | index | entry |
+    |---|---|
+    | 0 | distance to the goal / world diagonal, capped at 1 |
+    | 1 | cos of the goal's bearing |
+    | 2 | sin of the goal's bearing |
+    | 3 | unicycle: v / v_max; holonomic: robot-frame vx / v_max |
+    | 4 | unicycle: ω / ω_max; holonomic: robot-frame vy / v_max |
+    | 5 | last action a0 (0 after reset) |
+    | 6 | last action a1 (0 after reset) |
+    | 7 | success: 1 in the observation of the step that reached the goal, else 0 |
+    | 8 | terminated: 1 in the observation of the step that ended the episode, else 0 |
+    | 9 + 6m | slot m: present, 1 (0 for an empty slot) |
+    | 10 + 6m | slot m: distance / social zone (``config.social_zone_m``) |
+    | 11 + 6m | slot m: cos of the pedestrian's bearing |
+    | 12 + 6m | slot m: sin of the pedestrian's bearing |
+    | 13 + 6m | slot m: relative velocity x (pedestrian − robot) / velocity scale |
+    | 14 + 6m | slot m: relative velocity y (pedestrian − robot) / velocity scale |
+
+    for slots m = 0 … K − 1 (with K = 10: slot 0 is entries 9–14, slot 1 15–20, …,
+    slot 9 63–68). The slots hold the pedestrians whose centre is closer than the
+    social zone (3 m) to the robot centre, nearest first (ties by index); empty slots
+    are all zeros. Velocities are divided by ``config.velocity_scale_mps`` (2 m/s)
+    and clipped to [−1, 1]. Entry 8 is 1 at every ending, the horizon (a truncation)
+    included.
+
+    ## Rewards
+
+    r = r_term − k1 · r_dist − k2 · r_div (paper Eq. 7, :class:`EnvConfig`):
+
+    - r_dist = min(goal distance / goal distance at reset, 1);
+    - r_div (m): the one-step counterfactual deviation summed over the pedestrians in
+      the social zone (each pedestrian's next position predicted with and without the
+      robot force, after the robot has moved);
+    - r_term: +``success_reward`` (25) at the goal, −``timeout_penalty`` (25) at the
+      horizon, −``collision_penalty`` (2 × timeout penalty, 50) on a collision or on
+      leaving the world, else 0.
+
+    ``info`` holds ``r_dist``, ``r_div`` and ``r_term`` at every step, and at the end
+    ``outcome`` (``"goal_reached"``, ``"collision"``, ``"out_of_bounds"`` or
+    ``"timeout"``) and ``is_success``.
+
+    ## Episode end
+
+    - **terminated** when the robot reaches its goal (centre closer than 0.5 m),
+      collides with a pedestrian (centre distance below the sum of radii) or overlaps
+      a wall or pillar, or leaves the world;
+    - **truncated** at the scenario's horizon (750 steps = 50 s in every built-in
+      scenario), a timeout. ``gym.make`` registers ``max_episode_steps`` =
+      ``MAX_EPISODE_STEPS`` (750), so its ``TimeLimit`` truncates at the same step as
+      the environment itself; for a scenario file with another horizon pass
+      ``max_episode_steps=scenario.horizon_steps`` to ``gym.make``.
+
+    After the episode's end, ``step`` raises :class:`srfm.SimulationError` until the
+    next ``reset``.
+
+    ## Starting an episode
+
+    ``reset(seed=s)`` starts episode ``s``; ``reset()`` draws the next episode seed
+    from the environment's generator, itself seeded by the last ``reset(seed=...)``;
     ``reset(options={"episode_seed": s})`` picks an episode without reseeding.
+    ``info`` holds ``episode_seed``.
+
+    ## Arguments
 
     Args:
         scenario: a built-in name (``"random"`` for training, or an evaluation
             scenario), a TOML path or a :class:`srfm.Scenario`.
-        config: reward and observation options.
+        config: reward and observation options (:class:`srfm.rl.EnvConfig`).
         params: SRFM parameters (default: the ``agrawal2024`` preset).
         render_mode: only None (use ``srfm.run_episode`` and its sinks to look at runs).
+
+    ## Example
+
+    ::
+
+        import gymnasium as gym
+        import srfm.rl.env
+
+        env = gym.make("srfm/SocialNav-v0", scenario="crosswalk")
+        obs, info = env.reset(seed=3)
+        terminated = truncated = False
+        while not (terminated or truncated):
+            obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+        print(info["outcome"])
     """
 
     metadata: dict[str, Any] = {"render_modes": []}  # noqa: RUF012 (gymnasium API)
@@ -84,7 +174,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         self.config = config
         self.params = params
         self._core = EnvCore(self.scenario, config, params)
-        size = _k.obs_size(config.max_pedestrians)
+        size = obs_size(config.max_pedestrians)
         self.observation_space = gym.spaces.Box(-1.0, 1.0, shape=(size,), dtype=np.float32)
         self.action_space = gym.spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
         self._running = False
@@ -121,17 +211,17 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         event = core.step(a0, a1)
         out = core.out
         info: dict[str, Any] = {
-            "r_dist": float(out[_k.O_R_DIST]),
-            "r_div": float(out[_k.O_R_DIV]),
-            "r_term": float(out[_k.O_R_TERM]),
+            "r_dist": float(out[_k.OUT_R_DIST]),
+            "r_div": float(out[_k.OUT_R_DIV]),
+            "r_term": float(out[_k.OUT_R_TERM]),
         }
         terminated = event in _TERMINAL
-        truncated = event == _k.EV_TIMEOUT
-        if event != _k.EV_NONE:
+        truncated = event == _rk.EVENT_TIMEOUT
+        if event != _rk.EVENT_NONE:
             self._running = False
             info["outcome"] = EVENT_OUTCOMES[event]
-            info["is_success"] = event == _k.EV_GOAL
-        return core.obs.copy(), float(out[_k.O_REWARD]), terminated, truncated, info
+            info["is_success"] = event == _rk.EVENT_GOAL
+        return core.obs.copy(), float(out[_k.OUT_REWARD]), terminated, truncated, info
 
     # Read-only views for scoring and tests.
 
@@ -148,30 +238,30 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
     @property
     def robot_goal(self) -> NDArray[np.float64]:
         """(2,) the robot's goal (m)."""
-        cfg = self._core.cfg
-        return np.array([cfg[_k.C_GOAL_X], cfg[_k.C_GOAL_Y]])
+        task = self._core.task
+        return np.array([task.goal_x, task.goal_y])
 
     @property
     def factual_pos(self) -> NDArray[np.float64]:
         """(N, 2) factual pedestrian positions (m), a copy."""
-        out: NDArray[np.float64] = self._core.crowd[_k.F_POS].copy()
+        out: NDArray[np.float64] = self._core.crowd[_k.FACTUAL_POS].copy()
         return out
 
     @property
     def factual_vel(self) -> NDArray[np.float64]:
         """(N, 2) factual pedestrian velocities (m/s), a copy."""
-        out: NDArray[np.float64] = self._core.crowd[_k.F_VEL].copy()
+        out: NDArray[np.float64] = self._core.crowd[_k.FACTUAL_VEL].copy()
         return out
 
     @property
     def counterfactual_pos(self) -> NDArray[np.float64]:
         """(N, 2) counterfactual pedestrian positions (m), a copy; frozen at the start
         when ``config.counterfactual_twin`` is False."""
-        out: NDArray[np.float64] = self._core.crowd[_k.C_POS].copy()
+        out: NDArray[np.float64] = self._core.crowd[_k.COUNTERFACTUAL_POS].copy()
         return out
 
     @property
     def factual_goal(self) -> NDArray[np.float64]:
         """(N, 2) factual pedestrian goals (m), a copy."""
-        out: NDArray[np.float64] = self._core.crowd[_k.F_GOAL].copy()
+        out: NDArray[np.float64] = self._core.crowd[_k.FACTUAL_GOAL].copy()
         return out

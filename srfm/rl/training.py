@@ -1,7 +1,11 @@
-"""TD3 training on ``srfm/SocialNav-v0`` (stable-baselines3), and policy evaluation.
+"""TD3 training on ``srfm/SocialNav-v0`` (stable-baselines3 or SBX), policy evaluation
+and export.
 
-Needs the ``rl`` extra (gymnasium, stable-baselines3, torch), imported lazily. The
-command line front end is ``srfm train``; the defaults are the paper's TD3 set-up
+Needs the ``rl`` extra (gymnasium, stable-baselines3, torch), imported lazily; the
+``sbx`` backend (``backend="sbx"``: SBX, the JAX implementation of the same algorithms
+by SB3's maintainers, same API) also the ``sbx`` extra. SB3 + torch is the reference
+of the paper's set-up. The command line front ends are ``srfm train`` and
+``srfm export-policy``; the defaults are the paper's TD3 set-up
 (DESIGN §8): learning rate 1e-4, replay buffer 1e6, [256, 256] networks, batch 256,
 10,000 random warm-up steps, 5 gradient steps every 5 environment steps, τ = 0.005,
 γ = 0.99, policy delay 2, target noise 0.2 clipped at 0.5, Gaussian exploration
@@ -19,6 +23,8 @@ A run directory holds::
     monitor.csv, logs/       SB3's episode monitor and CSV (and TensorBoard) logs
 
 Policy zips are read with SB3's loader, which unpickles: trusted files only.
+:func:`export_policy` turns one into a NumPy policy file (``.npz`` + ``.json``) that
+loads with NumPy only (:mod:`srfm.planners.td3`).
 """
 
 from __future__ import annotations
@@ -26,7 +32,9 @@ from __future__ import annotations
 import importlib.util
 import json
 import operator
+import os
 import platform
+import sys
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -39,14 +47,18 @@ from srfm._validate import non_negative, positive
 from srfm.errors import ParameterError, SrfmError
 
 __all__ = [
+    "BACKENDS",
     "EvalResult",
     "TrainConfig",
     "TrainResult",
     "evaluate_planner",
+    "export_policy",
     "train",
 ]
 
 EVAL_SEED_BASE: Final = 10_000
+# Training libraries: stable-baselines3 (torch; the paper's reference) and SBX (JAX).
+BACKENDS: Final = ("sb3", "sbx")
 
 
 def _pos(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
@@ -69,6 +81,11 @@ def _count(minimum: int) -> Callable[[Any, attrs.Attribute[int], Any], None]:
             )
 
     return check
+
+
+def _backend(inst: Any, attribute: attrs.Attribute[str], value: Any) -> None:
+    if value not in BACKENDS:
+        raise ParameterError(f"train.backend must be one of {BACKENDS}, got {value!r}")
 
 
 def _unit(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
@@ -101,8 +118,10 @@ class TrainConfig:
         buffer_size: replay buffer capacity (paper: 1e6).
         batch_size: minibatch size.
         learning_starts: random-action warm-up steps before learning.
-        train_freq: environment steps between updates.
-        gradient_steps: gradient steps per update.
+        train_freq: vectorised environment steps between updates (each collects
+            ``n_envs`` transitions).
+        gradient_steps: gradient steps per update; the update-to-data ratio is
+            gradient_steps / (train_freq · n_envs) (paper: 5 / 5 = 1).
         tau: Polyak factor of the target networks.
         gamma: discount factor.
         policy_delay: critic updates per actor update.
@@ -117,7 +136,13 @@ class TrainConfig:
         counterfactual_twin: step the full counterfactual crowd during training (the
             reward does not need it).
         save_replay_buffer: keep the replay buffer beside ``latest.zip`` for resuming.
-        torch_threads: torch intra-op threads.
+        torch_threads: threads of the learner: torch intra-op threads (sb3); for
+            sbx, 1 turns XLA's multi-threaded CPU kernels off (set before JAX is
+            first imported in the process; other values leave XLA's default).
+        backend: ``"sb3"`` (stable-baselines3, torch; the reference) or ``"sbx"``
+            (SBX, JAX).
+        n_envs: environments stepped together (SB3 ``DummyVecEnv``); each gets its
+            own seed (``seed + i``).
     """
 
     total_steps: int = attrs.field(default=2_000_000, validator=_count(1))
@@ -144,6 +169,8 @@ class TrainConfig:
     counterfactual_twin: bool = False
     save_replay_buffer: bool = True
     torch_threads: int = attrs.field(default=1, validator=_count(1))
+    backend: str = attrs.field(default="sb3", validator=_backend)
+    n_envs: int = attrs.field(default=1, validator=_count(1))
 
 
 @attrs.frozen(kw_only=True)
@@ -224,13 +251,29 @@ def evaluate_planner(
 
 def _versions() -> dict[str, str]:
     out = {"python": platform.python_version()}
-    for mod in ("srfm", "numpy", "numba", "gymnasium", "stable_baselines3", "torch"):
+    for mod in ("srfm", "numpy", "numba", "gymnasium", "stable_baselines3", "torch", "sbx", "jax"):
+        if mod in ("sbx", "jax") and mod not in sys.modules:
+            continue  # not used by this run; importing JAX costs seconds
         try:
             m = importlib.import_module(mod)
             out[mod] = str(getattr(m, "__version__", "?"))
         except ImportError:
             out[mod] = "missing"
     return out
+
+
+def _require_sbx() -> Any:
+    """The sbx module, or MissingDependencyError naming the sbx extra."""
+    from srfm._deps import require
+    from srfm.errors import MissingDependencyError
+
+    try:
+        return require("sbx")
+    except MissingDependencyError:
+        raise MissingDependencyError(
+            "the sbx backend needs SBX and JAX: install the sbx extra: "
+            "pip install -c constraints.txt 'srfm[rl,sbx]'"
+        ) from None
 
 
 def _best_so_far(path: Path) -> EvalResult | None:
@@ -281,18 +324,30 @@ def train(
         MissingDependencyError: the ``rl`` extra is not installed.
         SrfmError: a bad resume file or run directory.
     """
-    from srfm.rl._deps import require
+    from srfm._deps import require
 
+    if (
+        config.backend == "sbx"
+        and config.torch_threads == 1
+        and "jax" not in sys.modules
+        and "xla_cpu_multi_thread_eigen" not in os.environ.get("XLA_FLAGS", "")
+    ):
+        # One learner thread, as for torch: XLA reads this once, when JAX starts.
+        flags = os.environ.get("XLA_FLAGS", "")
+        os.environ["XLA_FLAGS"] = (
+            flags + " --xla_cpu_multi_thread_eigen=false intra_op_parallelism_threads=1"
+        ).strip()
     require("gymnasium")
-    sb3 = require("stable_baselines3")
+    require("stable_baselines3")
     torch = require("torch")
+    lib = _require_sbx() if config.backend == "sbx" else require("stable_baselines3")
     from stable_baselines3.common.callbacks import BaseCallback
     from stable_baselines3.common.logger import configure
     from stable_baselines3.common.monitor import Monitor
     from stable_baselines3.common.noise import NormalActionNoise
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    from srfm.planners.td3 import NumpyActor, PolicyPlanner
+    from srfm.planners.td3 import NumpyActor, PolicyPlanner, checkpoint_backend
     from srfm.rl import EnvConfig, SocialNavEnv
     from srfm.scenarios import EVALUATION_SCENARIOS
 
@@ -309,11 +364,18 @@ def train(
     env_config = env_config.replace(kinematics=probe.scenario.robot.kinematics)
     saved_env_config = attrs.asdict(env_config)
 
-    def make_env() -> Any:
-        env = SocialNavEnv(config.scenario, env_config)
-        return Monitor(env, filename=str(run / "monitor.csv"), info_keywords=("outcome",))
+    def make_env(i: int) -> Callable[[], Any]:
+        # monitor.csv for the first environment (as with one), <i>.monitor.csv after.
+        name = "monitor.csv" if i == 0 else f"{i}.monitor.csv"
 
-    vec_env = DummyVecEnv([make_env])
+        def make() -> Any:
+            env = SocialNavEnv(config.scenario, env_config)
+            return Monitor(env, filename=str(run / name), info_keywords=("outcome",))
+
+        return make
+
+    # SB3 seeds environment i with seed + i.
+    vec_env = DummyVecEnv([make_env(i) for i in range(config.n_envs)])
     state_path = run / "state.json"
     state = _read_json(state_path)
     previous_wall = float(state.get("wall_time_s", 0.0)) if resume is not None else 0.0
@@ -322,7 +384,13 @@ def train(
         resume = Path(resume)
         if not resume.is_file():
             raise SrfmError(f"checkpoint {str(resume)!r} does not exist")
-        model = sb3.TD3.load(resume, env=vec_env, device="cpu")
+        written_by = checkpoint_backend(resume)
+        if written_by != config.backend:
+            raise SrfmError(
+                f"checkpoint {str(resume)!r} was written by the {written_by} backend; "
+                f"resume it with backend {written_by!r}, not {config.backend!r}"
+            )
+        model = lib.TD3.load(resume, env=vec_env, device="cpu")
         buffer = resume.with_name(resume.stem + "_replay_buffer.pkl")
         if buffer.is_file():
             model.load_replay_buffer(buffer)
@@ -336,7 +404,7 @@ def train(
         reset = False
     else:
         n_actions = 2
-        model = sb3.TD3(
+        model = lib.TD3(
             "MlpPolicy",
             vec_env,
             learning_rate=config.learning_rate,
@@ -400,8 +468,13 @@ def train(
         state_path.write_text(json.dumps({"steps": steps, "wall_time_s": wall()}, indent=2) + "\n")
         say(f"step {steps}: checkpoint saved ({wall():.0f} s of training so far)")
 
+    def current_actor() -> NumpyActor:
+        if config.backend == "sbx":
+            return NumpyActor.from_sbx(model.policy.actor_state.params)
+        return NumpyActor.from_sb3(model.actor)
+
     def evaluate(steps: int) -> None:
-        actor = NumpyActor.from_sb3(model.actor)
+        actor = current_actor()
         result = evaluate_planner(
             lambda: PolicyPlanner(actor, env_config, "policy"),
             EVALUATION_SCENARIOS,
@@ -419,14 +492,23 @@ def train(
             f"deviation {result.mean_deviation_m:.3f} m"
         )
 
+    def crossed(before: int, now: int, every: int) -> bool:
+        # With n_envs environments the step count moves by n_envs per call: act when
+        # it reaches or passes a multiple of ``every`` (with one: when it equals one).
+        return every > 0 and now // every > before // every
+
     class _Callback(BaseCallback):
+        def _on_training_start(self) -> None:
+            self._before = int(self.num_timesteps)
+
         def _on_step(self) -> bool:
             steps = int(self.num_timesteps)
-            if progress is not None and steps % 100 == 0:
+            before, self._before = self._before, steps
+            if progress is not None and crossed(before, steps, 100):
                 progress(steps)
-            if config.checkpoint_every and steps % config.checkpoint_every == 0:
+            if crossed(before, steps, config.checkpoint_every):
                 save(steps)
-            if config.eval_every and steps % config.eval_every == 0:
+            if crossed(before, steps, config.eval_every):
                 evaluate(steps)
             return True
 
@@ -453,3 +535,128 @@ def train(
         session_wall_time_s=session,
         best_eval=best[0],
     )
+
+
+# TD3 attributes copied from a checkpoint's JSON into an exported policy's metadata.
+_RECORDED: Final = (
+    "learning_rate",
+    "buffer_size",
+    "learning_starts",
+    "batch_size",
+    "tau",
+    "gamma",
+    "gradient_steps",
+    "policy_delay",
+    "target_policy_noise",
+    "target_noise_clip",
+    "policy_kwargs",
+    "n_envs",
+)
+
+
+def _run_records(checkpoint: Path, steps: int) -> tuple[dict[str, Any], dict[str, Any] | None]:
+    """What the run directory of a checkpoint records of it: its configuration files
+    and the periodic evaluation at its step (None when there is none)."""
+    training: dict[str, Any] = {}
+    evaluation: dict[str, Any] | None = None
+    for run in (checkpoint.parent, checkpoint.parent.parent):
+        found = False
+        for name, key in (("config.json", "run_config"), ("config_resume.json", "resume_config")):
+            data = _read_json(run / name)
+            if data:
+                training[key] = data
+                found = True
+        log = run / "eval.jsonl"
+        if log.is_file():
+            for line in log.read_text().splitlines():
+                row = json.loads(line) if line.strip() else None
+                if isinstance(row, dict) and row.get("steps") == steps:
+                    evaluation = {
+                        "periodic": row,
+                        "note": f"srfm train's evaluation at step {steps} (eval.jsonl)",
+                    }
+            found = True
+        if found:
+            break
+    return training, evaluation
+
+
+def export_policy(
+    checkpoint: str | Path,
+    out: str | Path,
+    *,
+    eval_seeds: int = 0,
+    note: str | None = None,
+    log: Callable[[str], None] | None = None,
+) -> tuple[Path, Path]:
+    """Export an SB3 or SBX TD3 checkpoint to a NumPy policy file (``.json`` + ``.npz``).
+
+    The metadata records the checkpoint's EnvConfig, backend, steps and seed, its
+    SHA-256, what its run directory holds (``config.json`` / ``config_resume.json``:
+    the training configuration and command; the line of ``eval.jsonl`` at its step),
+    and, with ``eval_seeds`` > 0, an evaluation of the exported actor on the evaluation
+    scenarios with seeds ``EVAL_SEED_BASE`` … (disjoint from the benchmark's 0-99).
+
+    The checkpoint is read with its library's loader, which unpickles: trusted files
+    only. The written files load with NumPy only (:func:`srfm.planners.td3.load_numpy_policy`).
+
+    Args:
+        checkpoint: the checkpoint zip.
+        out: the output name (its suffix is replaced by ``.json`` and ``.npz``).
+        eval_seeds: seeds per evaluation scenario for the evaluation at export (0: none).
+        note: free text recorded as ``training.note`` (e.g. how the run was made).
+        log: called with one-line messages.
+
+    Returns:
+        The paths of the JSON and the NPZ written.
+
+    Raises:
+        PlannerError: an unreadable checkpoint or one without srfm configuration.
+        MissingDependencyError: SB3 (or SBX) is not installed.
+    """
+    import hashlib
+    import zipfile
+
+    from srfm.planners.td3 import PolicyPlanner, load_checkpoint, save_numpy_policy
+    from srfm.scenarios import EVALUATION_SCENARIOS
+
+    say = log or (lambda message: None)
+    checkpoint = Path(checkpoint)
+    actor, config, info = load_checkpoint(checkpoint)
+    records, evaluation = _run_records(checkpoint, info["steps"])
+    training: dict[str, Any] = {
+        **info,
+        "source_checkpoint": checkpoint.name,
+        "source_sha256": hashlib.sha256(checkpoint.read_bytes()).hexdigest(),
+        **records,
+    }
+    # The hyperparameters SB3 records as plain JSON in the zip (the pickled ones skipped).
+    with zipfile.ZipFile(checkpoint) as archive:
+        data = json.loads(archive.read("data"))
+    training["checkpoint_hyperparameters"] = {
+        key: data[key]
+        for key in _RECORDED
+        if key in data and ":serialized:" not in json.dumps(data[key])
+    }
+    if note:
+        training["note"] = note
+    if eval_seeds > 0:
+        seeds = list(range(EVAL_SEED_BASE, EVAL_SEED_BASE + eval_seeds))
+        result = evaluate_planner(
+            lambda: PolicyPlanner(actor, config, "policy"),
+            EVALUATION_SCENARIOS,
+            seeds,
+            info["steps"],
+        )
+        evaluation = {
+            **(evaluation or {}),
+            "at_export": {**attrs.asdict(result), "seeds": [seeds[0], seeds[-1]]},
+        }
+        say(
+            f"evaluation ({result.episodes} episodes, seeds {seeds[0]}-{seeds[-1]}): "
+            f"success {result.success_rate:.2f}, collisions {result.collision_rate:.2f}, "
+            f"timeouts {result.timeout_rate:.2f}, mean deviation {result.mean_deviation_m:.3f} m"
+        )
+    paths = save_numpy_policy(actor, config, out, training=training, evaluation=evaluation)
+    say(f"exported {checkpoint} to {paths[0]} and {paths[1]}")
+    return paths

@@ -1,17 +1,39 @@
-"""Run one twin episode with a planner and collect its :class:`EpisodeRecord`."""
+"""Run one twin episode with a planner and collect its :class:`EpisodeRecord`.
+
+Also the checks made before an episode starts: the planner's name (it becomes a folder
+name), the memory the episode needs (:func:`check_episode_memory`), and the guard that
+turns an exception raised inside a user's planner into one
+:class:`~srfm.errors.UserCodeError`.
+"""
 
 from __future__ import annotations
 
+import os
+import re
+from pathlib import Path
+from typing import Final
+
 import numpy as np
 
-from srfm.errors import PlannerError, SimulationError
+from srfm._user_code import call_user_code, is_user_code, user_code_error
+from srfm._validate import path_name, planner_name
+from srfm.errors import PlannerError, ResourceError, SimulationError, SrfmError
 from srfm.models.params import SRFMParams
-from srfm.planners import Planner, make_planner
+from srfm.planners import Planner, check_planner, make_planner
 from srfm.scenarios import Scenario, episode_setup, load_scenario
 from srfm.sim.record import EpisodeRecord, Event
 from srfm.sim.simulator import TwinSimulator
 
-__all__ = ["PLANNER_STREAM", "planner_rng", "run_episode"]
+__all__ = [
+    "MEMORY_LIMIT_ENV",
+    "PLANNER_STREAM",
+    "build_planner",
+    "check_episode_memory",
+    "estimate_episode_memory",
+    "memory_limit",
+    "planner_rng",
+    "run_episode",
+]
 
 # The planner's random stream is SeedSequence(seed, spawn_key=(PLANNER_STREAM,)); the
 # scenario's set-up uses default_rng(seed) and re-goaling stream 2.
@@ -23,13 +45,142 @@ def planner_rng(seed: int) -> np.random.Generator:
     return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(PLANNER_STREAM,)))
 
 
+def build_planner(name: str) -> Planner:
+    """A fresh planner by registry name or ``module:attribute``, the name checked first
+    (:func:`srfm._validate.planner_name`) and anything the user's import or factory
+    raises (also ``sys.exit``) turned into a :class:`~srfm.errors.UserCodeError`.
+
+    Raises:
+        PlannerError: a malformed or unknown name, or a result that is no planner.
+        UserCodeError: the user's module or factory raised.
+    """
+    planner_name(name, PlannerError)
+    return call_user_code(name, "its factory", lambda: make_planner(name))
+
+
+# Memory of one episode, per pedestrian and recorded sample (bytes): the record's six
+# (T + 1, N, 2) float64 arrays (96), the metrics' working arrays (~48), and the logs
+# when written (measured with tracemalloc on the full profile: MCAP ~100, Rerun ~130,
+# force arrows ~400). Per sample without pedestrians: the robot arrays (~64).
+_BYTES_PER_PED_SAMPLE: Final = 144
+_LOG_BYTES_PER_PED_SAMPLE: Final = {"mcap": 100, "rrd": 130, "forces": 400}
+_BYTES_PER_SAMPLE: Final = 64
+_BASE_BYTES: Final = 64 * 2**20  # the process itself (numba, numpy) is not counted
+
+MEMORY_LIMIT_ENV: Final = "SRFM_MEMORY_LIMIT"
+"""Environment variable that sets the memory limit (bytes, or with a unit: 500M, 8G)."""
+_UNITS: Final = {"": 1, "K": 2**10, "M": 2**20, "G": 2**30, "T": 2**40}
+
+
+def estimate_episode_memory(
+    scenario: Scenario, *, mcap: bool = False, rrd: bool = False, forces: bool = False
+) -> int:
+    """An estimate (bytes) of the memory one episode of ``scenario`` needs: its record,
+    its metrics and, when asked, its logs (MCAP, Rerun, force arrows)."""
+    samples = scenario.horizon_steps + 1
+    per_ped = _BYTES_PER_PED_SAMPLE
+    wanted = {"mcap": mcap, "rrd": rrd, "forces": rrd and forces}
+    per_ped += sum(cost for kind, cost in _LOG_BYTES_PER_PED_SAMPLE.items() if wanted[kind])
+    return samples * (scenario.n_pedestrians * per_ped + _BYTES_PER_SAMPLE)
+
+
+def _read_int(path: str) -> int | None:
+    try:
+        text = Path(path).read_text(encoding="ascii").strip()
+    except (OSError, UnicodeDecodeError):
+        return None
+    return int(text) if text.isdigit() else None
+
+
+def memory_limit() -> tuple[int, str] | None:
+    """The memory an episode may use (bytes) and where that number comes from.
+
+    ``SRFM_MEMORY_LIMIT`` when set; otherwise the memory available now (``MemAvailable``
+    of ``/proc/meminfo``), lowered to what the cgroup still allows when the process
+    runs in a container with a limit. None where neither can be read (no check).
+
+    Raises:
+        ResourceError: ``SRFM_MEMORY_LIMIT`` is malformed.
+    """
+    text = os.environ.get(MEMORY_LIMIT_ENV, "").strip()
+    if text:
+        match = re.fullmatch(r"(\d+(?:\.\d+)?)\s*([KMGT]?)i?B?", text, re.IGNORECASE)
+        if match is None:
+            raise ResourceError(
+                f"{MEMORY_LIMIT_ENV}={text!r} is not a size such as 8G, 500M or 1000000"
+            )
+        value = float(match.group(1)) * _UNITS[match.group(2).upper()]
+        return int(value), f"{MEMORY_LIMIT_ENV}={text}"
+    limit: tuple[int, str] | None = None
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    limit = (int(line.split()[1]) * 1024, "available memory (MemAvailable)")
+                    break
+    except (OSError, ValueError, IndexError):
+        limit = None
+    cg_max = _read_int("/sys/fs/cgroup/memory.max")
+    cg_now = _read_int("/sys/fs/cgroup/memory.current")
+    if cg_max is not None and cg_now is not None:
+        room = max(cg_max - cg_now, 0)
+        if limit is None or room < limit[0]:
+            limit = (room, "the container's memory limit (cgroup memory.max)")
+    return limit
+
+
+def _gb(n: float) -> str:
+    return f"{n / 1e9:.2f} GB" if n >= 1e8 else f"{n / 1e6:.1f} MB"
+
+
+def check_episode_memory(
+    scenario: Scenario,
+    *,
+    jobs: int = 1,
+    mcap: bool = False,
+    rrd: bool = False,
+    forces: bool = False,
+) -> int:
+    """Refuse an episode that cannot fit in memory, before anything is allocated.
+
+    Args:
+        scenario: the scenario.
+        jobs: episodes run at the same time (benchmark workers).
+        mcap, rrd, forces: the logs written for each episode.
+
+    Returns:
+        How many of ``jobs`` episodes fit side by side (at least 1; ``jobs`` when no
+        limit is known).
+
+    Raises:
+        ResourceError: one episode alone needs more than the limit; the message names
+            the estimate, the limit and what to shorten.
+    """
+    need = estimate_episode_memory(scenario, mcap=mcap, rrd=rrd, forces=forces)
+    found = memory_limit()
+    if found is None:
+        return jobs
+    limit, source = found
+    room = limit - _BASE_BYTES
+    if need > room:
+        raise ResourceError(
+            f"scenario {scenario.name!r} ({scenario.source}): an episode of "
+            f"{scenario.n_pedestrians} pedestrians x {scenario.horizon_steps + 1} samples "
+            f"needs about {_gb(need)} of memory (record, metrics"
+            + (", logs" if mcap or rrd else "")
+            + f"), more than the {_gb(max(room, 0))} of {source}; shorten "
+            "simulation.horizon_steps or use fewer pedestrians"
+        )
+    return max(1, min(jobs, room // max(need, 1)))
+
+
 def _detection_range(planner: Planner) -> float | None:
     value = getattr(planner, "detection_range_m", None)
     if value is None:
         return None
     if isinstance(value, bool) or not isinstance(value, int | float) or not value >= 0.0:
         raise PlannerError(
-            f"planner {getattr(planner, 'name', planner)!r}: detection_range_m must be None "
+            f"planner {planner.name!r}: detection_range_m must be None "
             f"or a number >= 0, got {value!r}"
         )
     return float(value)
@@ -52,18 +203,39 @@ def run_episode(
     Args:
         scenario: a :class:`Scenario`, a built-in name or a TOML path.
         seed: episode seed (non-negative integer).
-        planner: a planner instance or a registry name.
+        planner: a planner instance, a registry name or ``"module:attribute"`` (see
+            :func:`srfm.planners.make_planner`).
         params: SRFM parameters; the ``agrawal2024`` preset when omitted.
         parallel: force kernel choice, see :class:`TwinSimulator`.
+
+    Raises:
+        PlannerError: the planner lacks the :class:`Planner` protocol (checked before
+            the first step), its name cannot name a folder (it names the episode's
+            logs and results), or it returned an unusable command.
+        UserCodeError: a user's planner raised in its factory, ``reset`` or ``act``;
+            one line naming the planner, the method, the step and the exception.
+        ResourceError: the episode would not fit in memory
+            (:func:`check_episode_memory`).
     """
     if not isinstance(scenario, Scenario):
         scenario = load_scenario(scenario)
     if isinstance(planner, str):
-        planner = make_planner(planner)
+        planner = build_planner(planner)
+    else:
+        check_planner(planner)
+    name = path_name(planner.name, "planner name", PlannerError)
     detection = _detection_range(planner)
     setup = episode_setup(scenario, seed)
+    check_episode_memory(scenario)
     sim = TwinSimulator(setup, params, parallel=parallel)
-    planner.reset(sim.planner_context(), planner_rng(setup.seed))
+    user = is_user_code(planner)
+    where = f" (scenario {scenario.name}, seed {setup.seed})"
+    context = sim.planner_context()
+    rng = planner_rng(setup.seed)
+    if user:
+        call_user_code(name, "reset()", lambda: planner.reset(context, rng), where)
+    else:
+        planner.reset(context, rng)
 
     T = scenario.horizon_steps
     n = sim.factual.n
@@ -103,7 +275,15 @@ def run_episode(
     sample(0)
     for k in range(T):
         if sim.robot_active:
-            command = planner.act(sim.observe(detection))
+            observation = sim.observe(detection)
+            try:
+                command = planner.act(observation)
+            except (KeyboardInterrupt, SrfmError):
+                raise
+            except BaseException as exc:
+                if not user:
+                    raise
+                raise user_code_error(name, "act()", exc, f" at step {k}{where}") from None
             events.extend(sim.step(command))  # validates the command
             cmd[k, 0] = command[0]
             cmd[k, 1] = command[1]
@@ -115,7 +295,7 @@ def run_episode(
     return EpisodeRecord(
         scenario=scenario.name,
         seed=setup.seed,
-        planner=planner.name,
+        planner=name,
         params=sim.params,
         dt_s=scenario.dt_s,
         horizon_steps=T,

@@ -17,29 +17,51 @@ One step, from sample k to k + 1:
 3. events are detected at sample k + 1: pedestrian arrivals (and new goals in
    re-goaling scenarios), then robot collision, out of bounds, goal reached, and a
    timeout when k + 1 is the horizon.
+
+The robot's motion and checks are the robot kernels of
+:mod:`srfm.models._robot_kernels` (the ones :func:`srfm.apply_command` and the RL
+environment call), the crowd step the SRFM kernels; each is called through
+:func:`srfm._jit.specialize` so that a step pays no per-call type resolution.
 """
 
 from __future__ import annotations
 
-import math
-from typing import Any
+from typing import Any, Final
 
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._jit import specialize
 from srfm.errors import PlannerError, SimulationError
 from srfm.models import _kernels
+from srfm.models import _robot_kernels as _rk
 from srfm.models.forces import PARALLEL_MIN_AGENTS
 from srfm.models.params import SRFMParams
-from srfm.models.robot import RobotState, apply_command, stopped
+from srfm.models.robot import RobotState, command_pair, stopped
 from srfm.models.state import CrowdState
 from srfm.planners._base import Observation, PlannerContext
 from srfm.scenarios import EpisodeSetup, next_goal
-from srfm.sim.record import Event, RobotOutcome
+from srfm.sim.record import Event, EventKind, RobotOutcome
 
 __all__ = ["TwinSimulator"]
 
 FloatArray = NDArray[np.float64]
+
+# The outcome of the robot's episode for each robot event code (also the environment's).
+EVENT_OUTCOMES: Final[dict[int, RobotOutcome]] = {
+    _rk.EVENT_COLLISION: "collision",
+    _rk.EVENT_OBSTACLE: "collision",
+    _rk.EVENT_OUT_OF_BOUNDS: "out_of_bounds",
+    _rk.EVENT_GOAL: "goal_reached",
+    _rk.EVENT_TIMEOUT: "timeout",
+}
+_EVENT_KINDS: Final[dict[int, EventKind]] = {
+    _rk.EVENT_COLLISION: "robot_collision",
+    _rk.EVENT_OBSTACLE: "robot_collision",
+    _rk.EVENT_OUT_OF_BOUNDS: "robot_out_of_bounds",
+    _rk.EVENT_GOAL: "robot_goal_reached",
+    _rk.EVENT_TIMEOUT: "robot_timeout",
+}
 
 
 class TwinSimulator:
@@ -62,18 +84,23 @@ class TwinSimulator:
         self.setup = setup
         self.scenario = setup.scenario
         self.params = params if params is not None else SRFMParams()
-        self._param_vec = self.params.as_array()
+        self._kernel_params = self.params.for_kernels()
         self.factual: CrowdState = setup.crowd.copy()
         self.counterfactual: CrowdState = setup.crowd.copy()
         n = self.factual.n
         use_parallel = n >= PARALLEL_MIN_AGENTS if parallel is None else parallel
-        self._twin_step = _kernels.twin_step_parallel if use_parallel else _kernels.twin_step_serial
         self._force_buf = np.empty((n, 2))
         self._robot_body = np.array([0.0, 0.0, self.scenario.robot.radius_m])
         self.robot = RobotState(
             x=float(setup.robot_start[0]),
             y=float(setup.robot_start[1]),
             theta=float(setup.robot_heading_rad),
+        )
+        # The robot in the kernels' layout (self.robot is its RobotState view).
+        self._robot = self.robot.as_array()
+        self._limits = self.scenario.robot.for_kernels()
+        self._task = _rk.robot_task(
+            setup.robot_goal, self.scenario.world, self.scenario.horizon_steps
         )
         self.robot_active = True
         self.outcome: RobotOutcome | None = None
@@ -92,6 +119,50 @@ class TwinSimulator:
         self._pillar_xy = np.ascontiguousarray(self._obstacles.circles[:, :2])
         self._pillar_r = np.ascontiguousarray(self._obstacles.circles[:, 2])
         self._ped_radius = self.factual.radius
+        # The per-step kernels, their argument types resolved once (srfm._jit.specialize),
+        # and their arguments, the same arrays (updated in place) at every step.
+        dt = float(self.scenario.dt_s)
+        f = self.factual
+        c = self.counterfactual
+        self._twin_step_args = (
+            f.pos,
+            f.vel,
+            f.goal,
+            c.pos,
+            c.vel,
+            c.goal,
+            f.radius,
+            f.v0,
+            f.vmax,
+            self._kernel_params,
+            self._robot_body,
+            self._obstacles.segments,
+            self._obstacles.circles,
+            dt,
+            self._force_buf,
+            float(self.scenario.ped_goal_radius_m),
+            self._arrived["factual"],
+            self._arrived["counterfactual"],
+            self._new_arrivals["factual"],
+            self._new_arrivals["counterfactual"],
+        )
+        self._twin_step = specialize(
+            _kernels.twin_step_parallel if use_parallel else _kernels.twin_step_serial,
+            *self._twin_step_args,
+        )
+        self._move_robot = specialize(_rk.move_robot, self._robot, 0.0, 0.0, self._limits, dt)
+        # robot_event's arguments but the sample index
+        self._event_args = (
+            self._robot,
+            f.pos,
+            self._ped_radius,
+            self._obstacles.segments,
+            self._pillar_xy,
+            self._pillar_r,
+            self._limits,
+            self._task,
+        )
+        self._robot_event = specialize(_rk.robot_event, *self._event_args, 0)
         # A robot that starts in collision, out of bounds or at its goal ends at sample 0.
         self.initial_events: list[Event] = self._robot_events()
 
@@ -160,47 +231,26 @@ class TwinSimulator:
             raise PlannerError("the robot is active and needs a command")
         dt = self.scenario.dt_s
         robot = self.robot
-        if self.robot_active:  # validate before anything moves
-            next_robot = apply_command(robot, command, self.scenario.robot, dt)
-        elif robot.vx or robot.vy or robot.v or robot.omega:
-            next_robot = stopped(robot)  # once, in the step after the episode ended
-        else:
-            next_robot = robot
+        if self.robot_active:
+            c0, c1 = command_pair(command)  # validate before anything moves
         body = self._robot_body
         body[0] = robot.x
         body[1] = robot.y
-        f = self.factual
-        c = self.counterfactual
-        arrived = self._arrived
-        new = self._new_arrivals
-        n_new = self._twin_step(
-            f.pos,
-            f.vel,
-            f.goal,
-            c.pos,
-            c.vel,
-            c.goal,
-            f.radius,
-            f.v0,
-            f.vmax,
-            self._param_vec,
-            body,
-            self._obstacles.segments,
-            self._obstacles.circles,
-            dt,
-            self._force_buf,
-            self.scenario.ped_goal_radius_m,
-            arrived["factual"],
-            arrived["counterfactual"],
-            new["factual"],
-            new["counterfactual"],
-        )
+        if self.robot_active:
+            self._move_robot(self._robot, c0, c1, self._limits, dt)
+            next_robot = RobotState.from_array(self._robot)
+        elif robot.vx or robot.vy or robot.v or robot.omega:
+            next_robot = stopped(robot)  # once, in the step after the episode ended
+            self._robot[_rk.VX :] = 0.0
+        else:
+            next_robot = robot
+        n_new = self._twin_step(*self._twin_step_args)  # body at sample k
         self.robot = next_robot
         self.step_index += 1
         events: list[Event] = []
         if n_new:
-            events += self._pedestrian_events("factual", f)
-            events += self._pedestrian_events("counterfactual", c)
+            events += self._pedestrian_events("factual", self.factual)
+            events += self._pedestrian_events("counterfactual", self.counterfactual)
         if self.robot_active:
             events += self._robot_events()
         return events
@@ -223,46 +273,14 @@ class TwinSimulator:
         return events
 
     def _robot_events(self) -> list[Event]:
-        robot = self.robot
-        cfg = self.scenario.robot
-        t = self.time_s
+        """The robot event at the current sample (robot kernel), as records; ends the
+        robot's episode when there is one."""
+        code, nearest = self._robot_event(*self._event_args, self.step_index)
+        if code == _rk.EVENT_NONE:
+            return []
         k = self.step_index
-        clearance, nearest = _kernels.nearest_clearance(
-            self.factual.pos, self._ped_radius, robot.x, robot.y
-        )
-        events: list[Event] = []
-        if clearance < cfg.radius_m:
-            events.append(Event(step=k, time_s=t, kind="robot_collision", agent=int(nearest)))
-            outcome: RobotOutcome | None = "collision"
-        elif self._hits_obstacle(robot.x, robot.y, cfg.radius_m):
-            events.append(Event(step=k, time_s=t, kind="robot_collision", agent=-1))
-            outcome = "collision"
-        elif not self.scenario.world.contains(robot.x, robot.y):
-            events.append(Event(step=k, time_s=t, kind="robot_out_of_bounds"))
-            outcome = "out_of_bounds"
-        elif (
-            math.hypot(robot.x - self.setup.robot_goal[0], robot.y - self.setup.robot_goal[1])
-            < cfg.goal_radius_m
-        ):
-            events.append(Event(step=k, time_s=t, kind="robot_goal_reached"))
-            outcome = "goal_reached"
-        elif self.done:
-            events.append(Event(step=k, time_s=t, kind="robot_timeout"))
-            outcome = "timeout"
-        else:
-            outcome = None
-        if outcome is not None:
-            self.robot_active = False
-            self.outcome = outcome
-            self.end_step = k
-        return events
-
-    def _hits_obstacle(self, x: float, y: float, radius: float) -> bool:
-        """True when a disc of ``radius`` at (x, y) overlaps a wall or a pillar."""
-        obs = self._obstacles
-        if obs.empty:
-            return False
-        clearance, _ = _kernels.nearest_clearance(self._pillar_xy, self._pillar_r, x, y)
-        if clearance < radius:
-            return True
-        return bool(_kernels.segment_distance(obs.segments, x, y) < radius)
+        event = Event(step=k, time_s=self.time_s, kind=_EVENT_KINDS[code], agent=int(nearest))
+        self.robot_active = False
+        self.outcome = EVENT_OUTCOMES[code]
+        self.end_step = k
+        return [event]

@@ -283,3 +283,46 @@ def test_path_figures_come_from_the_workers_episodes(
         assert (out / "figures" / name).read_bytes() == (
             reference_run / "figures" / name
         ).read_bytes()
+
+
+_THREADS_SCRIPT = """
+import json, multiprocessing
+import numba, numpy
+from threadpoolctl import threadpool_info
+from srfm.benchmark._runner import _init_worker
+
+def counts():
+    numba.get_num_threads()  # launch numba's threading layer
+    return {"numba": numba.get_num_threads(),
+            "pools": {p["internal_api"]: p["num_threads"] for p in threadpool_info()}}
+
+parent = counts()
+with multiprocessing.get_context("fork").Pool(1, initializer=_init_worker) as pool:
+    worker = pool.apply(counts)
+print(json.dumps({"parent": parent, "worker": worker}))
+"""
+
+
+def test_workers_run_with_one_thread() -> None:
+    """The libraries are loaded (two threads each) before the fork; the worker
+    initialiser still brings numba and every BLAS/OpenMP pool down to one thread."""
+    env = dict(os.environ)
+    for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+        env[var] = "2"
+    out = subprocess.run(
+        [sys.executable, "-c", _THREADS_SCRIPT],
+        env=env,
+        cwd=REPO,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=True,
+    ).stdout
+    counts = json.loads(out.splitlines()[-1])
+    parent, worker = counts["parent"], counts["worker"]
+    assert parent["numba"] == 2
+    assert parent["pools"], "no BLAS/OpenMP pool found: numpy should bring OpenBLAS"
+    assert set(parent["pools"].values()) == {2}
+    assert worker["numba"] == 1
+    assert worker["pools"].keys() >= parent["pools"].keys()
+    assert set(worker["pools"].values()) == {1}

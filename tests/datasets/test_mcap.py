@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import json
 from pathlib import Path
 
@@ -10,7 +11,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from mcap.reader import make_reader
-from mcap.records import Chunk
+from mcap.records import Chunk, DataEnd, Footer, MessageIndex
 from mcap.stream_reader import StreamReader
 from mcap.writer import Writer
 
@@ -165,10 +166,19 @@ def test_read_missing_and_non_mcap_files(tmp_path: Path) -> None:
         read_mcap(bad)
 
 
-def _handmade(path: Path, schema_name: str, messages: list[tuple[int, bytes]]) -> None:
+def _handmade(
+    path: Path,
+    schema_name: str,
+    messages: list[tuple[int, bytes]],
+    *,
+    library: str = "test",
+    srfm_version: str | None = None,
+) -> None:
     with path.open("wb") as fh:
         w = Writer(fh)
-        w.start()
+        w.start(library=library)
+        if srfm_version is not None:
+            w.add_metadata("srfm.datasets", {"srfm_version": srfm_version})
         sid = w.register_schema(name=schema_name, encoding="jsonschema", data=b"{}")
         cid = w.register_channel("/trajectories/x", "json", sid, {"scene": "x"})
         for t, data in messages:
@@ -195,9 +205,41 @@ def test_read_foreign_mcap_and_newer_schema(tmp_path: Path) -> None:
     with pytest.raises(DatasetError, match="not an srfm dataset file"):
         read_mcap(other)
     newer = tmp_path / "newer.mcap"
-    _handmade(newer, "srfm.datasets.AgentFrame.v2", [(100, _msg())])
-    with pytest.raises(DatasetError, match="schema version 2 is not supported"):
+    _handmade(newer, "srfm.datasets.AgentFrame.v2", [(100, _msg())], srfm_version="9.1.0")
+    with pytest.raises(
+        DatasetError,
+        match=r"newer\.mcap: dataset schema version 2, written by srfm 9\.1\.0; this srfm "
+        r"\(.*\) reads version 1 only",
+    ):
         read_mcap(newer)
+    # Without the metadata record, the MCAP header names the writer; or nothing does.
+    _handmade(newer, "srfm.datasets.AgentFrame.v0", [(100, _msg())], library="srfm 0.0.1")
+    with pytest.raises(DatasetError, match=r"version 0, written by srfm 0\.0\.1;"):
+        read_mcap(newer)
+    _handmade(newer, "srfm.datasets.AgentFrame.v2", [(100, _msg())])
+    with pytest.raises(DatasetError, match="written by an unknown srfm version;"):
+        read_mcap(newer)
+
+
+def test_every_crc_is_written_and_a_damaged_chunk_is_refused(
+    written: tuple[Path, list[Trajectories]], tmp_path: Path
+) -> None:
+    path, _ = written
+    data = path.read_bytes()
+    records = list(StreamReader(io.BytesIO(data), emit_chunks=True, validate_crcs=True).records)
+    chunks = [r for r in records if isinstance(r, Chunk)]
+    (end,) = [r for r in records if isinstance(r, DataEnd)]
+    (footer,) = [r for r in records if isinstance(r, Footer)]
+    assert all(c.uncompressed_crc != 0 for c in chunks)
+    assert end.data_section_crc != 0
+    assert footer.summary_crc != 0
+    assert any(isinstance(r, MessageIndex) for r in records)  # the library's default indexes
+    flipped = bytearray(data)
+    flipped[data.index(chunks[0].data) + len(chunks[0].data) // 2] ^= 0x10
+    bad = tmp_path / "flipped.mcap"
+    bad.write_bytes(bytes(flipped))
+    with pytest.raises(DatasetError, match=r"flipped\.mcap: not a readable MCAP file"):
+        read_mcap(bad)
 
 
 @pytest.mark.parametrize(
@@ -229,3 +271,19 @@ def test_messages_without_scene_metadata_still_read(tmp_path: Path) -> None:
     assert scene.agent_ids == ("p",)
     assert scene.frame.tolist() == [3, 4]
     assert scene.t_ns.tolist() == [100, 200]
+
+
+def test_mcap_core_reads_dataset_files(written: tuple[Path, list[Trajectories]]) -> None:
+    """The official TypeScript reader (@mcap/core, under Node.js) opens a dataset file
+    and finds one message per frame on each scene's channel."""
+    from tests.logs.node_reader import prefix_or_skip, read_mcap
+
+    path, scenes = written
+    (result,) = read_mcap(prefix_or_skip(), [path])
+    assert result["ok"], result.get("error")
+    expected = {f"/trajectories/{s.scene}": int(s.frames()[0].size) for s in scenes}
+    assert result["counts"] == expected
+    assert result["statistics"]["channelMessageCounts"] == expected
+    assert result["metadata"]["srfm.datasets"]["schema"] == SCHEMA_NAME
+    assert all(c["compression"] == "zstd" and c["messageIndexes"] > 0 for c in result["chunks"])
+    assert result["ordered"]

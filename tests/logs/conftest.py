@@ -14,6 +14,7 @@ from srfm.scenarios import Scenario, load_scenario
 from srfm.sim.episode import run_episode
 from srfm.sim.record import EpisodeRecord
 from tests.conftest import REPO, write_scenario
+from tests.logs.node_reader import prefix_or_skip, read_mcap
 
 # A short user scenario with a wall and a pillar, re-goaling off: fast, and it exercises
 # obstacles and scenarios that are not built in.
@@ -104,3 +105,18 @@ def files_state(root: Path) -> dict[str, tuple[bytes, int]]:
         for p in sorted(root.rglob("*"))
         if p.is_file()
     }
+
+
+@pytest.fixture(scope="session")
+def mcap_core() -> Callable[[list[Path]], list[dict[str, Any]]]:
+    """``mcap_core(paths)``: what the official ``@mcap/core`` indexed reader (under
+    Node.js) finds in each file; every file must open. Skips only without Node.js."""
+    prefix = prefix_or_skip()
+
+    def read(paths: list[Path]) -> list[dict[str, Any]]:
+        results = read_mcap(prefix, paths)
+        for r in results:
+            assert r["ok"], f"@mcap/core refused {r['file']}: {r['error']}"
+        return results
+
+    return read

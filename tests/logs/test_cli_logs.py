@@ -137,3 +137,11 @@ def test_view_rejects_missing_and_foreign_files(
     assert match in res.output
     assert "x.rrd" in res.output
     assert "Traceback" not in res.output
+
+
+def test_score_names_the_schema_version_and_writer_of_an_old_file() -> None:
+    old = Path(__file__).with_name("data") / "schema-v2-episode.mcap"
+    res = CliRunner().invoke(main, ["score", str(old)])
+    assert res.exit_code == 2
+    assert "log schema version 2, written by srfm 0.1.0" in res.output
+    assert "Traceback" not in res.output

@@ -1,7 +1,9 @@
-"""The MCAP sink and reader: channels, schemas, exact rebuilds, Foxglove scene, errors."""
+"""The MCAP sink and reader: channels, schemas, exact rebuilds, the Foxglove scene, the
+official @mcap/core reader, CRCs, old schema versions and damaged files."""
 
 from __future__ import annotations
 
+import base64
 import io
 import json
 import math
@@ -13,11 +15,15 @@ import attrs
 import numpy as np
 import pytest
 from mcap.reader import make_reader
+from mcap.records import Chunk, DataEnd, Footer, MessageIndex
+from mcap.stream_reader import StreamReader
 from mcap.writer import Writer
 
 from srfm.errors import LogError
 from srfm.logs import (
     CHANNELS,
+    SCHEMA_VERSION,
+    _mcap,
     load_episode,
     read_log,
     write_counterfactual_mcap,
@@ -26,6 +32,8 @@ from srfm.logs import (
 from srfm.metrics import episode_metrics
 from srfm.sim.record import EpisodeRecord
 from tests.logs.conftest import check_json_schema, same_bits
+
+DATA = Path(__file__).with_name("data")
 
 
 def _messages(path: Path) -> tuple[Any, list[tuple[Any, Any, Any]]]:
@@ -38,10 +46,46 @@ def _messages(path: Path) -> tuple[Any, list[tuple[Any, Any, Any]]]:
 
 
 def _by_topic(msgs: list[tuple[Any, Any, Any]]) -> dict[str, list[tuple[int, dict[str, Any]]]]:
+    """The JSON messages by topic (the protobuf scene is decoded by @mcap/core)."""
     out: dict[str, list[tuple[int, dict[str, Any]]]] = defaultdict(list)
     for _, channel, message in msgs:
-        out[channel.topic].append((message.log_time, json.loads(message.data)))
+        if channel.message_encoding == "json":
+            out[channel.topic].append((message.log_time, json.loads(message.data)))
     return out
+
+
+def _frames(record: EpisodeRecord, stride: int) -> list[int]:
+    n = record.time_s.shape[0]
+    return sorted({*range(0, n, stride), n - 1})
+
+
+def _goal_steps(record: EpisodeRecord) -> set[int]:
+    changed = np.flatnonzero(np.any(record.factual_goal[1:] != record.factual_goal[:-1], (1, 2)))
+    return {0, *(int(k) + 1 for k in changed)}
+
+
+def expected_counts(record: EpisodeRecord, profile: str, *, shared: bool) -> dict[str, int]:
+    """Messages per topic of an episode file."""
+    n = record.time_s.shape[0]
+    stride = 1 if profile == "full" else 15
+    robot_steps = list(range(n)) if profile == "full" else _frames(record, stride)
+    commands = [
+        k
+        for k in robot_steps
+        if k < n - 1 and record.robot_active[k] and not math.isnan(record.robot_cmd[k, 0])
+    ]
+    counts = {
+        "/srfm/episode": 1,
+        "/srfm/robot/state": len(robot_steps),
+        "/srfm/robot/command": len(commands),
+        "/foxglove/scene": 1 + len(_goal_steps(record)) + len(_frames(record, stride)),
+        "/srfm/events": len(record.events),
+        "/srfm/metrics": 1,
+        "/srfm/trajectories": 2 if shared else 3,
+    }
+    if profile == "full":
+        counts["/srfm/pedestrians/factual"] = counts["/srfm/pedestrians/counterfactual"] = n
+    return {k: v for k, v in counts.items() if v}
 
 
 def _assert_same_record(a: EpisodeRecord, b: EpisodeRecord, *, velocities: bool = True) -> None:
@@ -96,13 +140,22 @@ def test_channels_schemas_and_every_message_follow_the_schemas(full_log) -> None
     schemas = {}
     for channel in summary.channels.values():
         schema = summary.schemas[channel.schema_id]
+        if channel.topic == "/foxglove/scene":
+            from foxglove.messages import SceneUpdate
+
+            # Foxglove's official schema, as the Foxglove SDK ships it.
+            official = SceneUpdate.get_schema()
+            assert (schema.name, schema.encoding) == ("foxglove.SceneUpdate", "protobuf")
+            assert schema.data == official.data
+            assert channel.message_encoding == "protobuf"
+            continue
         assert channel.message_encoding == "json"
         assert schema.encoding == "jsonschema"
         schemas[channel.topic] = json.loads(schema.data)
-    assert schemas["/foxglove/scene"]["title"] == "foxglove.SceneUpdate"
-    assert all(s["title"].endswith(".v2") for t, s in schemas.items() if t.startswith("/srfm"))
+    assert all(s["title"].endswith(f".v{SCHEMA_VERSION}") for s in schemas.values())
     for _, channel, message in msgs:
-        check_json_schema(json.loads(message.data), schemas[channel.topic], channel.topic)
+        if channel.topic in schemas:
+            check_json_schema(json.loads(message.data), schemas[channel.topic], channel.topic)
     by = _by_topic(msgs)
     n = record.time_s.shape[0]
     dt_ns = [round(k * record.dt_s * 1e9) for k in range(n)]
@@ -128,48 +181,88 @@ def test_channels_schemas_and_every_message_follow_the_schemas(full_log) -> None
     assert {c.compression for c in summary.chunk_indexes} == {"zstd"}
 
 
-def test_foxglove_scene_draws_the_run(full_log) -> None:  # type: ignore[no-untyped-def]
-    path, scenario, record, _ = full_log
-    _, msgs = _messages(path)
-    scene = _by_topic(msgs)["/foxglove/scene"]
+def _scene(decoded: dict[str, Any]) -> dict[str, list[tuple[int, dict[str, Any]]]]:
+    """The scene's entities by id as (log time, entity), from @mcap/core's decoding."""
     entities: dict[str, list[tuple[int, dict[str, Any]]]] = defaultdict(list)
-    for t, update in scene:
-        for e in update["entities"]:
-            assert e["frame_id"] == "world"
-            assert e["timestamp"]["sec"] * 10**9 + e["timestamp"]["nsec"] == t
-            entities[e["id"]].append((t, e))
+    for message in decoded["scene"]:
+        for e in message["entities"]:
+            assert e["frameId"] == "world"
+            sec, nsec = e["timestamp"]
+            assert sec * 10**9 + nsec == message["logTime"]
+            entities[e["id"]].append((message["logTime"], e))
+    return entities
+
+
+def test_foxglove_scene_draws_the_run(full_log, mcap_core) -> None:  # type: ignore[no-untyped-def]
+    """Decoded by @mcap/core and protobufjs from the schema in the file: the world, the
+    crowd, the ghosts, the robot with its path and goal, the pedestrians' goals."""
+    path, scenario, record, _ = full_log
+    (decoded,) = mcap_core([path])
+    entities = _scene(decoded)
+    assert set(entities) == {
+        "world",
+        "robot_goal",
+        "robot_path",
+        "goals",
+        "pedestrians",
+        "counterfactual",
+        "robot",
+    }
     world = entities["world"][0][1]
-    loop = world["lines"][0]
-    assert loop["type"] == 1
+    loop, wall = world["lines"]
+    assert loop["type"] == 1  # LINE_LOOP
     w = scenario.world
-    assert [(p["x"], p["y"]) for p in loop["points"]] == [
-        (w.x_min, w.y_min),
-        (w.x_max, w.y_min),
-        (w.x_max, w.y_max),
-        (w.x_min, w.y_max),
+    assert loop["points"] == [
+        [w.x_min, w.y_min],
+        [w.x_max, w.y_min],
+        [w.x_max, w.y_max],
+        [w.x_min, w.y_max],
     ]
-    assert len(world["lines"][1]["points"]) == 2  # the wall
-    assert len(world["cylinders"]) == 1  # the pillar
+    assert wall["type"] == 2  # LINE_LIST: the wall
+    assert wall["points"] == [[0.5, 14.5], [14.5, 14.5]]
+    assert world["cylinders"] == [[2.0, 2.0, 0.8, 1.0]]  # the pillar: centre, diameter
+    goal = entities["robot_goal"][0][1]
+    assert goal["texts"] == ["robot goal"]
+    assert np.allclose(goal["cylinders"][0][:2], record.robot_goal, atol=0.005)
+    (path_line,) = entities["robot_path"][0][1]["lines"]
+    assert path_line["type"] == 0  # LINE_STRIP
+    # The path: exact positions of the robot, one every 10 cm of travel, first and last.
+    pts = np.array(path_line["points"])
+    full = record.robot_pose[: record.end_step + 1, :2]
+    assert np.array_equal(pts[[0, -1]], full[[0, -1]])
+    at = [int(np.flatnonzero((full == p).all(axis=1))[0]) for p in pts]
+    assert at == sorted(set(at))
+    assert np.linalg.norm(np.diff(pts[:-1], axis=0), axis=1).max() <= 0.1 + 0.04
+    goals = entities["goals"][0][1]["cylinders"]
+    assert np.abs(np.array(goals)[:, :2] - record.factual_goal[0]).max() <= 0.005
     n = record.time_s.shape[0]
-    assert len(entities["pedestrians"]) == n  # full profile: every sample
+    assert len(entities["pedestrians"]) == len(entities["counterfactual"]) == n  # every sample
+    # The ghosts: the counterfactual twins that are apart from their factual twin (by
+    # 1 cm or more, as drawn); where the twins coincide the factual disc covers them.
+    drawn = 0
+    for k, (_, ghosts) in enumerate(entities["counterfactual"]):
+        apart = np.any(
+            np.rint(record.factual_pos[k] * 100) != np.rint(record.counterfactual_pos[k] * 100),
+            axis=1,
+        )
+        gxy = np.array(ghosts["cylinders"]).reshape(-1, 4)[:, :2]
+        assert len(gxy) == np.count_nonzero(apart)
+        assert np.abs(gxy - record.counterfactual_pos[k][apart]).max(initial=0) <= 0.005
+        assert all(c[3] < 1 for c in ghosts["cylinders"])  # translucent
+        drawn += len(gxy)
+    assert drawn > 0  # the robot moved someone in this episode
     for k in (0, n // 3, n - 1):
         _, peds = entities["pedestrians"][k]
-        xy = np.array(
-            [[c["pose"]["position"]["x"], c["pose"]["position"]["y"]] for c in peds["cylinders"]]
-        )
-        assert np.abs(xy - record.factual_pos[k]).max() <= 0.0051
-        _, ghosts = entities["counterfactual"][k]
-        gxy = np.array(
-            [[c["pose"]["position"]["x"], c["pose"]["position"]["y"]] for c in ghosts["cylinders"]]
-        )
-        assert np.abs(gxy - record.counterfactual_pos[k]).max() <= 0.0051
+        xy = np.array(peds["cylinders"])[:, :2]
+        assert np.abs(xy - record.factual_pos[k]).max() <= 0.005
         _, robot = entities["robot"][k]
-        q = robot["arrows"][0]["pose"]["orientation"]
-        yaw = 2 * math.atan2(q["z"], q["w"])
+        assert np.abs(np.array(robot["cylinders"][0][:2]) - record.robot_pose[k, :2]).max() <= 0.005
+        _, _, qz, qw, _ = robot["arrows"][0]
+        yaw = 2 * math.atan2(qz, qw)
         err = (yaw - record.robot_pose[k, 2] + math.pi) % (2 * math.pi) - math.pi
         assert abs(err) <= math.radians(2.6)
         for arrow in peds["arrows"]:  # velocity arrows: 1 s of motion, 5 cm steps
-            assert 0.025 <= arrow["shaft_length"] <= 1.25 + 0.05
+            assert 0.05 - 1e-9 <= arrow[4] <= 1.25 + 0.05
 
 
 def test_compact_log_with_a_shared_counterfactual(tmp_path: Path, episode) -> None:  # type: ignore[no-untyped-def]
@@ -187,7 +280,7 @@ def test_compact_log_with_a_shared_counterfactual(tmp_path: Path, episode) -> No
     )
     # The budget of a 100-seed benchmark (docs/logging.md): a 750-step episode.
     assert size < 175_000
-    assert cf_size < 95_000
+    assert cf_size < 135_000
     logged = load_episode(path)
     assert not logged.exact_velocities
     assert logged.counterfactual_path == cf.resolve()
@@ -202,10 +295,13 @@ def test_compact_log_with_a_shared_counterfactual(tmp_path: Path, episode) -> No
     summary, msgs = _messages(path)
     counts = Counter(c.topic for _, c, _ in msgs)
     schemas = {
-        c.topic: json.loads(summary.schemas[c.schema_id].data) for c in summary.channels.values()
+        c.topic: json.loads(summary.schemas[c.schema_id].data)
+        for c in summary.channels.values()
+        if c.message_encoding == "json"
     }
     for _, channel, message in msgs:
-        check_json_schema(json.loads(message.data), schemas[channel.topic], channel.topic)
+        if channel.topic in schemas:
+            check_json_schema(json.loads(message.data), schemas[channel.topic], channel.topic)
     cf_summary, cf_msgs = _messages(cf)
     for _, channel, message in cf_msgs:
         schema = json.loads(cf_summary.schemas[channel.schema_id].data)
@@ -302,24 +398,46 @@ def test_foreign_mcap_is_a_log_error(tmp_path: Path) -> None:
         load_episode(path)
 
 
-@pytest.mark.parametrize("version", [1, 3])
-def test_other_schema_versions_are_named(tmp_path: Path, version: int) -> None:
-    """Version 1 files (robot only as per-sample messages) and future ones are refused."""
+def test_a_file_of_the_previous_schema_version_is_refused_naming_it() -> None:
+    """A real file written by srfm before this schema (version 2: own container writer,
+    own array codec) is refused with its version and the srfm that wrote it."""
+    path = DATA / "schema-v2-episode.mcap"
+    with pytest.raises(
+        LogError,
+        match=rf"schema-v2-episode\.mcap: log schema version 2, written by srfm 0\.1\.0; "
+        rf"this srfm \(.+\) reads version {SCHEMA_VERSION} only",
+    ):
+        load_episode(path)
+
+
+@pytest.mark.parametrize(
+    ("version", "library", "metadata", "writer"),
+    [
+        (1, "mcap-python", None, "an unknown srfm version"),
+        (SCHEMA_VERSION + 1, "srfm 7.0.0", None, r"srfm 7\.0\.0"),
+        (SCHEMA_VERSION + 1, "srfm 7.0.0", "8.1.0", r"srfm 8\.1\.0"),
+    ],
+)
+def test_other_schema_versions_are_named(
+    tmp_path: Path, version: int, library: str, metadata: str | None, writer: str
+) -> None:
+    """Older and newer files: refused before any message is decoded, naming the
+    version and the srfm that wrote the file (metadata first, else the MCAP header)."""
     buf = io.BytesIO()
     w = Writer(buf)
-    w.start()
+    w.start(library=library)
+    if metadata is not None:
+        w.add_metadata("srfm", {"schema_version": str(version), "srfm_version": metadata})
     name = f"srfm.logs.Episode.v{version}"
     sid = w.register_schema(name=name, encoding="jsonschema", data=b"{}")
     cid = w.register_channel(topic="/srfm/episode", message_encoding="json", schema_id=sid)
-    data = b'{"schema_version":%d}' % version
-    w.add_message(channel_id=cid, log_time=0, publish_time=0, data=data)
+    w.add_message(channel_id=cid, log_time=0, publish_time=0, data=b"not even json")
     w.finish()
     path = tmp_path / "other.mcap"
     path.write_bytes(buf.getvalue())
     with pytest.raises(
         LogError,
-        match=rf"other\.mcap: /srfm/episode uses schema {name}, this srfm reads "
-        r"srfm\.logs\.Episode\.v2",
+        match=rf"other\.mcap: log schema version {version}, written by {writer}; this srfm",
     ):
         load_episode(path)
 
@@ -407,3 +525,218 @@ def test_rerun_mcap_check_accepts_every_kind_of_file(tmp_path: Path, episode) ->
     )
     assert done.returncode == 0, done.stderr
     assert (tmp_path / "converted.rrd").stat().st_size > 0
+
+
+# --- every profile, every reader ------------------------------------------------------
+
+
+@pytest.fixture
+def every_kind(tmp_path: Path, episode, short_scenario):  # type: ignore[no-untyped-def]
+    """Full, compact (own counterfactual), compact with a shared counterfactual file, and
+    that file, of one short episode with a wall and a pillar."""
+    scenario, record, metrics = episode(short_scenario, 5, "orca")
+    files = {
+        "full": tmp_path / "full.mcap",
+        "compact": tmp_path / "compact.mcap",
+        "compact-shared": tmp_path / "planner" / "shared.mcap",
+        "counterfactual": tmp_path / "_counterfactual" / "cf.mcap",
+    }
+    write_episode_mcap(files["full"], record, scenario=scenario, metrics=metrics)
+    write_episode_mcap(
+        files["compact"], record, scenario=scenario, metrics=metrics, profile="compact"
+    )
+    write_counterfactual_mcap(files["counterfactual"], record, scenario=scenario)
+    write_episode_mcap(
+        files["compact-shared"],
+        record,
+        scenario=scenario,
+        metrics=metrics,
+        profile="compact",
+        counterfactual_file="../_counterfactual/cf.mcap",
+    )
+    return files, record, metrics
+
+
+def test_mcap_core_reads_every_kind_of_file(every_kind, mcap_core) -> None:  # type: ignore[no-untyped-def]
+    """The official TypeScript reader (@mcap/core's McapIndexedReader) opens every file
+    (summary CRC, chunk CRCs, zstd chunks) and finds the expected messages per channel."""
+    files, record, _ = every_kind
+    results = {Path(r["file"]).name: r for r in mcap_core(list(files.values()))}
+    expected = {
+        "full": expected_counts(record, "full", shared=False),
+        "compact": expected_counts(record, "compact", shared=False),
+        "compact-shared": expected_counts(record, "compact", shared=True),
+        "counterfactual": {"/srfm/episode": 1, "/srfm/trajectories": 1},
+    }
+    for kind, path in files.items():
+        r = results[path.name]
+        assert r["counts"] == expected[kind], kind
+        assert r["statistics"]["channelMessageCounts"] == expected[kind], kind
+        assert r["statistics"]["messageCount"] == sum(expected[kind].values())
+        assert r["ordered"]
+        assert r["library"].startswith("srfm ")
+        assert r["metadata"]["srfm"]["schema_version"] == str(SCHEMA_VERSION)
+        assert r["chunks"]
+        assert all(c["compression"] == "zstd" and c["messageIndexes"] > 0 for c in r["chunks"])
+        for topic, channel in r["channels"].items():
+            encoding = "protobuf" if topic == "/foxglove/scene" else "json"
+            assert channel["messageEncoding"] == encoding
+        # The arrays are .npy files that a reader in another language parses.
+        for group, arrays in r["arrays"].items():
+            for name, header in arrays.items():
+                assert header["descr"] in ("<f8", "|b1"), (group, name)
+                assert header["dataBytes"] == header["expectedBytes"], (group, name)
+    compact = results[files["compact"].name]
+    assert compact["arrays"]["factual"]["pos"]["shape"] == list(record.factual_pos.shape)
+    # Compact scenes leave the velocity arrows out.
+    peds = [e for m in compact["scene"] for e in m["entities"] if e["id"] == "pedestrians"]
+    assert len(peds) == len(_frames(record, 15))
+    assert not any(e["arrows"] for e in peds)
+
+
+@pytest.mark.parametrize("kind", ["full", "compact", "compact-shared"])
+def test_round_trip_of_every_profile(every_kind, kind: str) -> None:  # type: ignore[no-untyped-def]
+    files, record, metrics = every_kind
+    logged = load_episode(files[kind])
+    assert logged.exact_velocities is (kind == "full")
+    _assert_same_record(record, logged.record, velocities=kind == "full")
+    again = episode_metrics(logged.record)
+    assert logged.online_metrics is not None
+    for name, value in metrics.values.items():
+        assert np.float64(again.values[name]).tobytes() == np.float64(value).tobytes(), name
+        assert (
+            np.float64(logged.online_metrics.values[name]).tobytes() == np.float64(value).tobytes()
+        )
+    assert (logged.counterfactual_path is not None) is (kind == "compact-shared")
+
+
+def test_arrays_read_without_srfm(every_kind) -> None:  # type: ignore[no-untyped-def]
+    """The exact arrays with the mcap library, json, base64 and numpy alone."""
+    files, record, _ = every_kind
+    with files["full"].open("rb") as fh:
+        found = {}
+        for _, _, message in make_reader(fh).iter_messages(topics=["/srfm/trajectories"]):
+            doc = json.loads(message.data)
+            for name, text in doc["arrays"].items():
+                found[f"{doc['group']}.{name}"] = np.load(io.BytesIO(base64.b64decode(text)))
+    assert same_bits(found["factual.pos"], record.factual_pos)
+    assert same_bits(found["counterfactual.vel"], record.counterfactual_vel)
+    assert same_bits(found["robot.pose"], record.robot_pose)
+    assert same_bits(found["robot.active"], record.robot_active)
+    assert same_bits(found["robot.cmd"], record.robot_cmd)  # NaN payloads included
+
+
+def test_every_crc_is_written_and_checked(every_kind, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    """The mcap library's default indexes and CRCs plus the data section's CRC; the
+    reader checks chunks, data section and summary."""
+    files, _, _ = every_kind
+    data = files["compact"].read_bytes()
+    records = list(StreamReader(io.BytesIO(data), emit_chunks=True, validate_crcs=True).records)
+    chunks = [r for r in records if isinstance(r, Chunk)]
+    (end,) = [r for r in records if isinstance(r, DataEnd)]
+    (footer,) = [r for r in records if isinstance(r, Footer)]
+    assert chunks
+    assert all(c.uncompressed_crc != 0 for c in chunks)
+    assert end.data_section_crc != 0
+    assert footer.summary_crc != 0
+    assert any(isinstance(r, MessageIndex) for r in records)
+    damaged = {
+        # A bit in a chunk's compressed data: zstd or the chunk CRC notices.
+        "chunk": data.index(chunks[0].data) + len(chunks[0].data) // 2,
+        # The library string of the header: only the data section CRC covers it.
+        "header": data.index(b"srfm "),
+        # A byte of a summary record: only the summary CRC covers it.
+        "summary": footer.summary_start + 20,
+    }
+    for where, at in damaged.items():
+        flipped = bytearray(data)
+        flipped[at] ^= 0x04
+        path = tmp_path / f"{where}.mcap"
+        path.write_bytes(bytes(flipped))
+        with pytest.raises(LogError, match=rf"{where}\.mcap: not a readable MCAP file"):
+            read_log(path)
+    extra = tmp_path / "extra.mcap"
+    extra.write_bytes(data + b"more")
+    with pytest.raises(LogError, match=r"extra\.mcap: not a readable"):
+        read_log(extra)
+
+
+def test_the_robot_arrays_are_required_and_checked(
+    tmp_path: Path, episode, monkeypatch: pytest.MonkeyPatch
+) -> None:  # type: ignore[no-untyped-def]
+    scenario, record, metrics = episode("concert", 0, "straight")
+
+    def short_pose(r):  # type: ignore[no-untyped-def]
+        arrays = {
+            "pose": r.robot_pose[:-1],
+            "vel": r.robot_vel,
+            "active": r.robot_active,
+            "cmd": r.robot_cmd,
+        }
+        return _mcap._trajectories("robot", r.time_s.shape[0], arrays)
+
+    monkeypatch.setattr(_mcap, "_robot_arrays", short_pose)
+    write_episode_mcap(tmp_path / "short.mcap", record, scenario=scenario, metrics=metrics)
+    with pytest.raises(LogError, match=r"short\.mcap: robot\.pose has shape"):
+        load_episode(tmp_path / "short.mcap")
+
+    def as_ints(r):  # type: ignore[no-untyped-def]
+        arrays = {"pose": r.robot_pose.astype(np.int64)}
+        return _mcap._trajectories("robot", r.time_s.shape[0], arrays)
+
+    monkeypatch.setattr(_mcap, "_robot_arrays", as_ints)
+    write_episode_mcap(tmp_path / "ints.mcap", record, scenario=scenario, metrics=metrics)
+    with pytest.raises(LogError, match=r"ints\.mcap: robot\.pose: a \.npy array of int64"):
+        load_episode(tmp_path / "ints.mcap")
+
+    monkeypatch.setattr(_mcap, "_robot_arrays", lambda r: b"")
+    original = _mcap._Writer.add
+
+    def no_robot(self, key: str, t_ns: int, data: bytes) -> None:  # type: ignore[no-untyped-def]
+        if data:
+            original(self, key, t_ns, data)
+
+    monkeypatch.setattr(_mcap._Writer, "add", no_robot)
+    write_episode_mcap(tmp_path / "none.mcap", record, scenario=scenario, metrics=metrics)
+    with pytest.raises(LogError, match=r"none\.mcap: the robot's trajectory block is missing"):
+        load_episode(tmp_path / "none.mcap")
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ("not base64!", "not a base64 .npy array"),
+        (base64.b64encode(b"\x93NUMPY garbage").decode(), "not a base64 .npy array"),
+        (12, "expected the base64 text of a .npy file"),
+    ],
+)
+def test_malformed_arrays_are_named(text: Any, match: str) -> None:
+    with pytest.raises(LogError, match=rf"^f\.mcap: factual\.pos: {match}"):
+        _mcap.array_from_npy(text, "f.mcap: factual.pos")
+
+
+def test_the_foxglove_layout_shows_srfm_topics() -> None:
+    """docs/foxglove_layout.json: Foxglove's exported-layout format, every panel placed,
+    every topic one that srfm writes."""
+    from tests.conftest import REPO
+
+    layout = json.loads((REPO / "docs" / "foxglove_layout.json").read_text(encoding="utf-8"))
+    assert set(layout) >= {"configById", "layout", "globalVariables", "playbackConfig"}
+
+    def leaves(node: Any) -> list[str]:
+        if isinstance(node, str):
+            return [node]
+        assert node["direction"] in ("row", "column")
+        return leaves(node["first"]) + leaves(node["second"])
+
+    panels = layout["configById"]
+    assert sorted(leaves(layout["layout"])) == sorted(panels)
+    topics = {c.topic for c in CHANNELS.values()}
+    three_d = panels["3D!srfm-scene"]
+    assert set(three_d["topics"]) == {"/foxglove/scene"}
+    assert three_d["followTf"] == "world"
+    assert three_d["cameraState"]["perspective"] is False  # top-down
+    for panel_id, config in panels.items():
+        paths = [config.get("topicPath")] + [p["value"] for p in config.get("paths", [])]
+        for path in filter(None, paths):
+            assert path.split(".")[0] in topics, (panel_id, path)

@@ -66,6 +66,23 @@ def test_logs_layout(bench) -> None:  # type: ignore[no-untyped-def]
     assert not list(logs.rglob(".*.tmp"))
 
 
+def test_mcap_core_reads_every_benchmark_log(bench, mcap_core) -> None:  # type: ignore[no-untyped-def]
+    """Every file a benchmark writes opens in the official @mcap/core reader, with the
+    messages per channel its statistics record announces."""
+    out, request = bench
+    files = sorted((out / "logs").rglob("*.mcap"))
+    assert len(files) == 2 * len(request.seeds) * (len(request.planners) + 1)
+    for r in mcap_core(files):
+        counts = r["counts"]
+        assert counts == r["statistics"]["channelMessageCounts"], r["file"]
+        if "/_counterfactual/" in r["file"]:
+            assert counts == {"/srfm/episode": 1, "/srfm/trajectories": 1}
+        else:
+            assert counts["/srfm/trajectories"] == 2  # robot, factual
+            assert counts["/srfm/metrics"] == counts["/srfm/episode"] == 1
+            assert counts["/foxglove/scene"] >= 3
+
+
 def test_rescored_metrics_equal_the_online_ones_bit_for_bit(bench) -> None:  # type: ignore[no-untyped-def]
     out, _request = bench
     result = score_logs([out])

@@ -131,7 +131,7 @@ def _kernel_args(scene: ref.Scene) -> tuple:
         c.goal,
         c.radius,
         c.v0,
-        scene.params.as_array(),
+        scene.params.for_kernels(),
         robot,
         scene.robot is not None,
         scene.obstacles.segments,

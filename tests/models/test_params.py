@@ -13,6 +13,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 
 import srfm
+from srfm.models import _kernels
 from srfm.models import params as params_module
 from tests.models import _reference as ref
 
@@ -131,18 +132,60 @@ def test_as_array_follows_the_kernel_layout() -> None:
         b_obs=9.0,
     )
     arr = p.as_array()
+    index = params_module.SRFMKernelParams._fields.index
     assert arr.dtype == np.float64
-    assert arr.shape == (params_module.N_PARAMS,)
-    assert arr[params_module.IDX_A_PED] == 1.0
-    assert arr[params_module.IDX_B_PED] == 2.0
-    assert arr[params_module.IDX_LAMBDA_PED] == 0.3
-    assert arr[params_module.IDX_TAU] == 4.0
-    assert arr[params_module.IDX_A_ROBOT] == 5.0
-    assert arr[params_module.IDX_B_ROBOT] == 6.0
-    assert arr[params_module.IDX_LAMBDA_ROBOT] == 0.7
-    assert arr[params_module.IDX_A_OBS] == 8.0
-    assert arr[params_module.IDX_B_OBS] == 9.0
+    assert arr.shape == (len(params_module.SRFMKernelParams._fields),)
+    assert arr[index("a_ped")] == 1.0
+    assert arr[index("b_ped")] == 2.0
+    assert arr[index("lambda_ped")] == 0.3
+    assert arr[index("tau")] == 4.0
+    assert arr[index("a_robot")] == 5.0
+    assert arr[index("b_robot")] == 6.0
+    assert arr[index("lambda_robot")] == 0.7
+    assert arr[index("a_obs")] == 8.0
+    assert arr[index("b_obs")] == 9.0
     assert list(p.as_dict()) == list(FIELDS)
+
+
+def test_kernel_tuple_array_and_attributes_share_one_layout() -> None:
+    # Distinct values, so that any two fields swapped would show.
+    p = srfm.SRFMParams(**{name: 0.1 * (k + 1) for k, name in enumerate(FIELDS)})
+    kp = p.for_kernels()
+    assert isinstance(kp, params_module.SRFMKernelParams)
+    assert kp._fields == FIELDS
+    assert tuple(attrs.fields_dict(srfm.SRFMParams)) == FIELDS
+    assert kp == tuple(getattr(p, name) for name in FIELDS)
+    assert all(type(v) is float for v in kp)
+    np.testing.assert_array_equal(p.as_array(), np.array([getattr(p, n) for n in FIELDS]))
+    assert p.for_kernels() is kp  # built once per instance
+    assert p.replace(tau=2.0).for_kernels().tau == 2.0
+
+
+def test_kernel_reads_the_tuple_by_name_like_its_python_body() -> None:
+    # Every parameter changes the forces of this scene; jitted and pure-Python kernels
+    # (attribute access on the NamedTuple in both) give the same components.
+    values = (1.5, 0.7, 0.2, 0.8, 4.0, 0.6, 0.5, 10.0, 0.2)
+    p = srfm.SRFMParams(**dict(zip(FIELDS, values, strict=True)))
+    pos = np.array([[0.0, 0.0], [0.6, 0.2], [1.0, -0.5]])
+    vel = np.array([[0.5, 0.0], [0.0, 0.3], [-0.2, 0.1]])
+    goal = np.array([[5.0, 0.0], [0.0, 5.0], [-5.0, 0.0]])
+    radius = np.full(3, 0.25)
+    v0 = np.full(3, 1.2)
+    robot = np.array([0.3, -0.4, 0.3])
+    segments = np.array([[-2.0, -0.8, 2.0, -0.8]])
+    circles = np.array([[0.5, 0.6, 0.1]])
+    args = (pos, vel, goal, radius, v0, p.for_kernels(), robot, True, segments, circles)
+    jit_out = np.zeros((4, 3, 2))
+    py_out = np.zeros((4, 3, 2))
+    _kernels.force_components_kernel(*args, jit_out)
+    _kernels.force_components_kernel.py_func(*args, py_out)
+    np.testing.assert_allclose(py_out, jit_out, rtol=1e-13, atol=0.0)
+    assert np.all(np.linalg.norm(jit_out, axis=2) > 0.0)  # every component on every agent
+    for name in FIELDS:  # each field is read (a change of it changes the forces)
+        other = np.zeros((4, 3, 2))
+        changed = p.replace(**{name: getattr(p, name) * 0.9})
+        _kernels.force_components_kernel(*args[:5], changed.for_kernels(), *args[6:], other)
+        assert not np.array_equal(other, jit_out), name
 
 
 # --------------------------------------------------------------------------------------

@@ -216,7 +216,7 @@ def test_serial_and_parallel_are_bit_identical_for_large_crowds(n: int) -> None:
 def test_jitted_and_python_step_kernels_agree() -> None:
     c = random_crowd(15, seed=5)
     robot = srfm.RobotBody(x=3.0, y=3.0).as_array()
-    p = srfm.SRFMParams().as_array()
+    p = srfm.SRFMParams().for_kernels()
     results = []
     for kernel in (_kernels.step_serial, _kernels.step_serial.py_func):
         s = c.copy()

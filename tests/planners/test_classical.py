@@ -4,7 +4,9 @@ configuration errors."""
 from __future__ import annotations
 
 import math
+import typing
 from pathlib import Path
+from typing import Any
 
 import attrs
 import numpy as np
@@ -195,6 +197,21 @@ def test_dwa_min_speed_must_fit_the_robot() -> None:
     planner = DWAPlanner(DWAConfig(min_speed_mps=0.4))
     with pytest.raises(srfm.PlannerError, match=r"\[-0.3, 0.3\], got 0.4"):
         srfm.run_episode(slow, 0, planner)
+
+
+@pytest.mark.parametrize("kinematics", ["unicycle", "holonomic"])
+@pytest.mark.parametrize("planner", CLASSICAL)
+def test_kernel_parameters_have_their_declared_types(planner: str, kinematics: str) -> None:
+    """The NamedTuples a planner builds at reset hold every field in its declared type
+    (floats as float, flags as bool, counts as int): numba compiles a kernel per
+    argument type, and the kernels get the same fields as plain tuples."""
+    p: Any = make_planner(planner)
+    srfm.run_episode(with_kinematics("footpath", kinematics), 0, p)
+    for params, fields in ((p.common, p._common_fields), (p.params, p._params_fields)):
+        declared = typing.get_type_hints(type(params))
+        assert [type(v) for v in params] == [declared[f] for f in params._fields]
+        assert fields == tuple(params)
+    assert p.common.unicycle is (kinematics == "unicycle")
 
 
 def test_configs_are_frozen_and_keyword_only() -> None:

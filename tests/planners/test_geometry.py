@@ -19,8 +19,10 @@ from srfm.planners import (
     ORCAPlanner,
     SocialForcePlanner,
     VelocityObstaclePlanner,
+    _dwa_kernels,
+    _geometry,
+    _orca_kernels,
 )
-from srfm.planners import _kernels as kern
 from srfm.planners._base import Observation, PlannerContext
 from srfm.planners.orca import orca_halfplane
 from srfm.planners.velocity_obstacles import in_velocity_obstacle
@@ -103,22 +105,30 @@ def test_vo_cone_membership_hand_cases(
 
 
 def test_time_to_collision_hand_cases() -> None:
-    assert kern.time_to_collision(3.0, 4.0, 0.6, 0.8, 1.0) == pytest.approx(4.0)
-    assert kern.time_to_collision(3.0, 4.0, -0.6, -0.8, 1.0) == math.inf
-    assert kern.time_to_collision(0.1, 0.0, 1.0, 0.0, 1.0) == 0.0
+    assert _geometry.time_to_collision(3.0, 4.0, 0.6, 0.8, 1.0) == pytest.approx(4.0)
+    assert _geometry.time_to_collision(3.0, 4.0, -0.6, -0.8, 1.0) == math.inf
+    assert _geometry.time_to_collision(0.1, 0.0, 1.0, 0.0, 1.0) == 0.0
     # A static capsule: the wall y = 2 for x in [-1, 1], radius 0.5.
-    assert kern.time_to_segment(0.0, 0.0, 0.0, 1.0, -1.0, 2.0, 1.0, 2.0, 0.5) == pytest.approx(1.5)
-    assert kern.time_to_segment(0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 3.0, 2.0, 0.5) == math.inf
+    assert _geometry.time_to_segment(0.0, 0.0, 0.0, 1.0, -1.0, 2.0, 1.0, 2.0, 0.5) == pytest.approx(
+        1.5
+    )
+    assert _geometry.time_to_segment(0.0, 0.0, 0.0, 1.0, 1.0, 2.0, 3.0, 2.0, 0.5) == math.inf
     # Past the end of the wall: the rounded end cap, a disc of 0.5 around (1, 2).
-    t = kern.time_to_segment(1.3, 0.0, 0.0, 1.0, -1.0, 2.0, 1.0, 2.0, 0.5)
+    t = _geometry.time_to_segment(1.3, 0.0, 0.0, 1.0, -1.0, 2.0, 1.0, 2.0, 0.5)
     assert t == pytest.approx(2.0 - math.sqrt(0.25 - 0.09))
-    assert kern.time_to_segment(0.0, 1.7, 0.0, 1.0, -1.0, 2.0, 1.0, 2.0, 0.5) == 0.0
+    assert _geometry.time_to_segment(0.0, 1.7, 0.0, 1.0, -1.0, 2.0, 1.0, 2.0, 0.5) == 0.0
     # The world's edges: the box [0, 10] × [0, 5], from (2, 4) with radius 0.5.
-    assert kern.time_to_edges(2.0, 4.0, 0.0, 1.0, 0.5, 0.0, 10.0, 0.0, 5.0) == pytest.approx(0.5)
-    assert kern.time_to_edges(2.0, 4.0, -1.0, 1.0, 0.5, 0.0, 10.0, 0.0, 5.0) == pytest.approx(0.5)
-    assert kern.time_to_edges(2.0, 4.0, -3.0, 0.0, 0.5, 0.0, 10.0, 0.0, 5.0) == pytest.approx(0.5)
-    assert kern.time_to_edges(2.0, 4.0, 0.0, 0.0, 0.5, 0.0, 10.0, 0.0, 5.0) == math.inf
-    assert kern.time_to_edges(2.0, 4.7, 0.1, 0.1, 0.5, 0.0, 10.0, 0.0, 5.0) == 0.0
+    assert _geometry.time_to_edges(2.0, 4.0, 0.0, 1.0, 0.5, 0.0, 10.0, 0.0, 5.0) == pytest.approx(
+        0.5
+    )
+    assert _geometry.time_to_edges(2.0, 4.0, -1.0, 1.0, 0.5, 0.0, 10.0, 0.0, 5.0) == pytest.approx(
+        0.5
+    )
+    assert _geometry.time_to_edges(2.0, 4.0, -3.0, 0.0, 0.5, 0.0, 10.0, 0.0, 5.0) == pytest.approx(
+        0.5
+    )
+    assert _geometry.time_to_edges(2.0, 4.0, 0.0, 0.0, 0.5, 0.0, 10.0, 0.0, 5.0) == math.inf
+    assert _geometry.time_to_edges(2.0, 4.7, 0.1, 0.1, 0.5, 0.0, 10.0, 0.0, 5.0) == 0.0
 
 
 def closest_approach(px: float, py: float, wx: float, wy: float, horizon: float) -> float:
@@ -136,9 +146,9 @@ def test_vo_membership_matches_the_closest_approach(
     assume(math.hypot(px, py) > r + 1e-6)
     d = closest_approach(px, py, wx, wy, horizon)
     assume(abs(d - r) > 1e-7)
-    t = kern.time_to_collision(px, py, wx, wy, r)
+    t = _geometry.time_to_collision(px, py, wx, wy, r)
     assert (t <= horizon) == (d < r)
-    assert kern.time_to_collision.py_func(px, py, wx, wy, r) == t
+    assert _geometry.time_to_collision.py_func(px, py, wx, wy, r) == t
 
 
 def test_vo_planner_keeps_its_choice_out_of_every_cone() -> None:
@@ -223,22 +233,22 @@ def test_orca_u_reaches_the_truncated_cone_boundary(
 def test_orca_linear_programs() -> None:
     lines = np.zeros((4, 4))
     lines[0] = (0.2, 0.0, 1.0, 0.0)  # x >= 0.2
-    fail, x, y = kern.orca_lp2(lines, 1, 1.0, -0.3, 0.1, False)
+    fail, x, y = _orca_kernels.orca_lp2(lines, 1, 1.0, -0.3, 0.1, False)
     assert (fail, x, y) == (1, pytest.approx(0.2), pytest.approx(0.1))
     lines[1] = (0.0, 0.5, 0.0, -1.0)  # y <= 0.5
-    fail, x, y = kern.orca_lp2(lines, 2, 1.0, 2.0, 2.0, False)  # beyond the speed limit
+    fail, x, y = _orca_kernels.orca_lp2(lines, 2, 1.0, 2.0, 2.0, False)  # beyond the speed limit
     assert fail == 2
     assert (x, y) == (pytest.approx(math.sqrt(0.75)), pytest.approx(0.5))
     # x >= 0.5 and x <= -0.5 cannot both hold: the largest violation is minimised at x = 0.
     lines[0] = (0.5, 0.0, 1.0, 0.0)
     lines[1] = (-0.5, 0.0, -1.0, 0.0)
-    fail, x, y = kern.orca_lp2(lines, 2, 1.0, 0.3, 0.0, False)
+    fail, x, y = _orca_kernels.orca_lp2(lines, 2, 1.0, 0.3, 0.0, False)
     assert fail == 1
-    x, y = kern.orca_lp3(lines, 2, 0, fail, 1.0, x, y, np.zeros((4, 4)))
+    x, y = _orca_kernels.orca_lp3(lines, 2, 0, fail, 1.0, x, y, np.zeros((4, 4)))
     assert x == pytest.approx(0.0, abs=1e-12)
     assert math.hypot(x, y) <= 1.0 + 1e-12
     # A hard half-plane (the first) is kept: only the soft ones give way.
-    x, y = kern.orca_lp3(lines, 2, 1, 1, 1.0, 0.5, 0.0, np.zeros((4, 4)))
+    x, y = _orca_kernels.orca_lp3(lines, 2, 1, 1, 1.0, 0.5, 0.0, np.zeros((4, 4)))
     assert x == pytest.approx(0.5)
 
 
@@ -337,18 +347,18 @@ def test_dwa_command_lies_in_the_window_and_is_admissible_when_possible(
         assert chosen[3] == table[:, 3].max()
     # The rollout really clears the pedestrian: replay the chosen sample by hand.
     if chosen[3] == math.inf:
-        p = planner._params
-        h = p[kern.DWA_SIM_STEP]
+        h = planner.params.rollout_step_s
         state = RobotState(x=0.0, y=0.0, theta=0.0, v=v, omega=w)
         drive = RobotConfig(max_accel_mps2=1.0, max_angular_accel_radps2=2.0 * math.pi)
-        for k in range(1, int(p[kern.DWA_STEPS]) + 1):
+        for k in range(1, planner.params.steps + 1):
             state = apply_command(state, (cv, cw), drive, h)
             ped = np.array([px - 0.5 * k * h, py])
             gap = math.hypot(state.x - ped[0], state.y - ped[1]) - 0.6
             assert gap >= -1e-9  # the robot's own update is the same up to rounding
-    assert kern.dwa_unicycle.py_func(
-        0.0, 0.0, 0.0, v, w, 10.0, 0.0, obs.ped_pos, obs.ped_vel, obs.ped_radius,
-        np.zeros((0, 4)), np.zeros((0, 3)), planner._params, np.zeros(0), table.copy(),
+    assert _dwa_kernels.dwa_unicycle.py_func(
+        0.0, 0.0, 0.0, v, w, obs.robot_goal, obs.ped_pos, obs.ped_vel, obs.ped_radius,
+        np.zeros((0, 4)), np.zeros((0, 3)), planner.common, planner.params, np.zeros(0),
+        table.copy(),
     ) == (cv, cw)  # fmt: skip
 
 
@@ -357,14 +367,14 @@ def test_dwa_heading_term() -> None:
     planner.reset(context(), np.random.default_rng(0))
     lim = (1.0, 2.0 * math.pi, 0.25)  # accelerations and window time
     # At rest, facing the goal, staying at rest: perfectly aligned.
-    assert kern.dwa_heading(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 5.0, 0.0, *lim) == 1.0
+    assert _dwa_kernels.dwa_heading(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 5.0, 0.0, *lim) == 1.0
     # Facing away from the goal: 0.
-    assert kern.dwa_heading(0.0, 0.0, math.pi, 0.0, 0.0, 0.0, 0.0, 5.0, 0.0, *lim) == pytest.approx(
-        0.0
-    )
+    assert _dwa_kernels.dwa_heading(
+        0.0, 0.0, math.pi, 0.0, 0.0, 0.0, 0.0, 5.0, 0.0, *lim
+    ) == pytest.approx(0.0)
     # Goal to the left: turning left scores higher than turning right.
-    left = kern.dwa_heading(0.0, 0.0, 0.0, 0.5, 0.0, 0.5, 1.0, 0.0, 5.0, *lim)
-    right = kern.dwa_heading(0.0, 0.0, 0.0, 0.5, 0.0, 0.5, -1.0, 0.0, 5.0, *lim)
+    left = _dwa_kernels.dwa_heading(0.0, 0.0, 0.0, 0.5, 0.0, 0.5, 1.0, 0.0, 5.0, *lim)
+    right = _dwa_kernels.dwa_heading(0.0, 0.0, 0.0, 0.5, 0.0, 0.5, -1.0, 0.0, 5.0, *lim)
     assert left > right
 
 
@@ -382,24 +392,24 @@ def test_dwa_swerves_around_a_person_ahead() -> None:
 
 
 def test_velocity_to_unicycle_command() -> None:
-    p = np.zeros(kern.N_COMMON)
-    p[kern.P_VMAX] = 0.5
-    p[kern.P_WMAX] = math.pi
-    p[kern.P_HEADING_GAIN] = 4.0
-    p[kern.P_UNICYCLE] = 1.0
-    assert kern.velocity_to_command(0.4, 0.0, 0.0, p) == (pytest.approx(0.4), 0.0)
-    v, w = kern.velocity_to_command(0.0, 0.5, 0.0, p)  # 90° to the left: turn on the spot
+    p = _geometry.CommonParams(
+        radius_m=0.0, max_speed_mps=0.5, max_angular_speed_radps=math.pi,
+        heading_gain_per_s=4.0, unicycle=True, margin_m=0.0, dt_s=0.0, goal_radius_m=0.0,
+        avoid_edges=False, x_min=0.0, x_max=0.0, y_min=0.0, y_max=0.0,
+    )  # fmt: skip
+    assert _geometry.velocity_to_command(0.4, 0.0, 0.0, p) == (pytest.approx(0.4), 0.0)
+    v, w = _geometry.velocity_to_command(0.0, 0.5, 0.0, p)  # 90° to the left: turn on the spot
     assert v == pytest.approx(0.0, abs=1e-15)
     assert w == math.pi
-    v, w = kern.velocity_to_command(0.3, -0.3, 0.0, p)  # 45° to the right
+    v, w = _geometry.velocity_to_command(0.3, -0.3, 0.0, p)  # 45° to the right
     assert v == pytest.approx(0.3 * math.sqrt(2.0) * math.cos(math.pi / 4))
     assert w == -math.pi
-    v, w = kern.velocity_to_command(0.5, 0.05, 0.0, p)
+    v, w = _geometry.velocity_to_command(0.5, 0.05, 0.0, p)
     assert w == pytest.approx(4.0 * math.atan2(0.05, 0.5))
-    assert kern.velocity_to_command(-0.5, 0.0, 0.0, p) == (0.0, pytest.approx(math.pi))
-    assert kern.velocity_to_command(0.0, 0.0, 1.0, p) == (0.0, 0.0)
-    p[kern.P_UNICYCLE] = 0.0
-    assert kern.velocity_to_command(0.1, -0.2, 1.0, p) == (0.1, -0.2)
+    assert _geometry.velocity_to_command(-0.5, 0.0, 0.0, p) == (0.0, pytest.approx(math.pi))
+    assert _geometry.velocity_to_command(0.0, 0.0, 1.0, p) == (0.0, 0.0)
+    p = p._replace(unicycle=False)
+    assert _geometry.velocity_to_command(0.1, -0.2, 1.0, p) == (0.1, -0.2)
 
 
 # --------------------------------------------------------------------------- social force

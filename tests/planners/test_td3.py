@@ -20,6 +20,8 @@ from srfm.planners.td3 import (
     shipped_policy_path,
 )
 
+pytestmark = pytest.mark.filterwarnings("ignore:.*unpickles:UserWarning")
+
 sb3 = pytest.importorskip("stable_baselines3")
 torch = pytest.importorskip("torch")
 
@@ -79,6 +81,24 @@ def test_planner_loads_lazily_and_completes_an_episode(policy_file: Path) -> Non
     assert np.array_equal(again.robot_pose, record.robot_pose)
 
 
+def test_detection_range_is_valid_from_construction(policy_file: Path, tmp_path: Path) -> None:
+    # run_episode reads detection_range_m before the first reset.
+    planner = TD3Planner(policy_file)
+    assert planner._inner is None
+    assert planner.detection_range_m == 3.0
+    model = sb3.TD3.load(policy_file, device="cpu")
+    model.srfm_env_config = attrs.asdict(EnvConfig(kinematics="unicycle", social_zone_m=2.5))
+    narrow = tmp_path / "narrow.zip"
+    model.save(narrow)
+    planner = TD3Planner(narrow)
+    assert planner.detection_range_m == 2.5
+    assert planner._inner is None  # read without loading the policy
+    srfm.run_episode("crosswalk", 0, planner)
+    assert planner.detection_range_m == 2.5
+    with pytest.raises(PlannerError, match="does not exist"):
+        TD3Planner(tmp_path / "nope.zip")
+
+
 def test_planner_refuses_other_kinematics(policy_file: Path, tmp_path: Path) -> None:
     from srfm.scenarios import load_scenario
 
@@ -126,3 +146,68 @@ def test_shipped_planners_complete_an_episode(name: str) -> None:
     assert record.outcome in {"goal_reached", "collision", "out_of_bounds", "timeout"}
     _, config = load_policy(shipped_policy_path(name))
     assert (config.k2 > 0.0) == (name == "td3-srfm")
+
+
+def test_loading_a_checkpoint_warns_about_pickle(policy_file: Path) -> None:
+    from srfm.planners.td3 import load_checkpoint
+
+    with pytest.warns(UserWarning, match="unpickles"):
+        _, _, info = load_checkpoint(policy_file)
+    assert info["backend"] == "sb3"
+    assert info["seed"] == 0
+
+
+def test_export_round_trip_and_same_episodes(policy_file: Path, tmp_path: Path) -> None:
+    from click.testing import CliRunner
+
+    from srfm.cli import main
+    from srfm.planners.td3 import load_numpy_policy
+
+    result = CliRunner().invoke(
+        main, ["export-policy", str(policy_file), str(tmp_path / "out"), "--note", "test"]
+    )
+    assert result.exit_code == 0, result.output
+    policy = load_numpy_policy(tmp_path / "out.json")
+    assert policy.config == EnvConfig(kinematics="unicycle")
+    training = policy.metadata["training"]
+    assert training["backend"] == "sb3"
+    assert training["note"] == "test"
+    assert training["checkpoint_hyperparameters"]["policy_kwargs"] == {"net_arch": [32, 16]}
+    from_zip = srfm.run_episode("crosswalk", 2, TD3Planner(policy_file, "p"))
+    from_npz = srfm.run_episode("crosswalk", 2, TD3Planner(tmp_path / "out.json", "p"))
+    assert np.array_equal(from_zip.robot_pose, from_npz.robot_pose)
+    assert from_zip.outcome == from_npz.outcome
+    bad = CliRunner().invoke(main, ["export-policy", str(tmp_path / "out.json"), "x"])
+    assert bad.exit_code == 2
+    assert "cannot load a TD3 policy" in bad.output
+
+
+def _observations(n_random: int) -> np.ndarray:
+    """Random observations in [−1, 1] and observations met in episodes."""
+    rng = np.random.default_rng(5)
+    obs = [rng.uniform(-1, 1, (n_random, 69)).astype(np.float32)]
+    sparse = obs[0].copy()
+    sparse[rng.random(sparse.shape) < 0.5] = 0.0
+    obs.append(sparse)
+    for scenario in ("crosswalk", "concert", "random"):
+        env = SocialNavEnv(scenario, EnvConfig(kinematics="unicycle"))
+        o, _ = env.reset(seed=1)
+        for _ in range(300):
+            obs.append(o[None])
+            o, _, terminated, truncated, _ = env.step(env.action_space.sample())
+            if terminated or truncated:
+                o, _ = env.reset()
+    return np.concatenate(obs)
+
+
+@pytest.mark.parametrize("name", sorted(SHIPPED_POLICIES))
+def test_shipped_numpy_actor_matches_sb3_predict(name: str) -> None:
+    from srfm.planners.td3 import load_numpy_policy
+
+    numpy_policy = load_numpy_policy(shipped_policy_path(name))
+    model = sb3.TD3.load(shipped_policy_path(name).with_suffix(".zip"), device="cpu")
+    assert attrs.asdict(numpy_policy.config) == model.srfm_env_config
+    obs = _observations(2000)
+    predicted, _ = model.predict(obs, deterministic=True)
+    got = np.stack([numpy_policy.actor.forward(o) for o in obs])
+    assert np.abs(got - predicted).max() <= 1e-5

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from srfm.models.robot import RobotState
-from srfm.rl import _kernels as kern
+from srfm.models.robot import RobotConfig, RobotState
+from srfm.planners._observation import action_to_command
 
 
 def fixed_scenario(
@@ -62,5 +62,6 @@ def seek_action(robot: RobotState, goal: np.ndarray, holonomic: bool) -> np.ndar
 def command_for(action: np.ndarray, robot: RobotState, holonomic: bool) -> np.ndarray:
     """The simulator command the environment applies for ``action`` (default limits)."""
     a = np.clip(np.asarray(action, dtype=np.float64), -1.0, 1.0)
-    c0, c1 = kern.action_to_command(float(a[0]), float(a[1]), robot.theta, holonomic, 0.5, math.pi)
+    limits = RobotConfig(kinematics="holonomic" if holonomic else "unicycle").for_kernels()
+    c0, c1 = action_to_command(float(a[0]), float(a[1]), robot.theta, limits)
     return np.array([c0, c1])

@@ -14,10 +14,11 @@ import pytest
 
 import srfm
 import srfm.rl
+from srfm._deps import MissingDependencyError, require
 from srfm.errors import ParameterError, PlannerError, ScenarioError, SimulationError
+from srfm.models._robot_kernels import robot_task
+from srfm.planners import _observation as kern
 from srfm.rl import EnvConfig, SocialNavEnv
-from srfm.rl import _kernels as kern
-from srfm.rl._deps import MissingDependencyError, require
 from tests.rl._helpers import fixed_scenario
 
 
@@ -38,8 +39,41 @@ def test_registered_with_gymnasium() -> None:
     env.close()
 
 
+@pytest.mark.parametrize("name", srfm.BUILTIN_SCENARIOS)
+def test_registered_max_episode_steps_is_the_horizon(name: str) -> None:
+    env = gym.make("srfm/SocialNav-v0", scenario=name)
+    assert env.spec is not None
+    assert env.spec.max_episode_steps == srfm.rl.MAX_EPISODE_STEPS
+    assert env.spec.max_episode_steps == env.unwrapped.scenario.horizon_steps  # type: ignore[attr-defined]
+    env.close()
+
+
+def test_time_limit_truncates_where_the_environment_does(tmp_path: Path) -> None:
+    # The robot stands still far from everyone: a timeout at the horizon (750 steps).
+    path = fixed_scenario(
+        tmp_path / "s.toml",
+        robot_start=(2.0, 5.0),
+        robot_goal=(10.0, 5.0),
+        starts=[(12.0, 12.0)],
+        goals=[(12.0, 1.0)],
+    )
+    made = gym.make("srfm/SocialNav-v0", scenario=path)
+    plain = SocialNavEnv(path)
+    runs = []
+    for env in (made, plain):
+        env.reset(seed=0)
+        steps = []
+        for _ in range(750):
+            obs, reward, terminated, truncated, info = env.step(np.zeros(2, np.float32))
+            steps.append((obs.tobytes(), reward, terminated, truncated))
+        assert info["outcome"] == "timeout"
+        runs.append(steps)
+    assert runs[0] == runs[1]
+    assert [s[2:] for s in runs[0]] == [(False, False)] * 749 + [(False, True)]
+
+
 def test_module_path_form_of_make() -> None:
-    env = gym.make("srfm.rl:srfm/SocialNav-v0")
+    env = gym.make("srfm.rl.env:srfm/SocialNav-v0")
     assert isinstance(env.unwrapped, SocialNavEnv)
 
 
@@ -326,16 +360,7 @@ def _observe(
     last_action: tuple[float, float] = (0.0, 0.0),
 ) -> np.ndarray:
     world = srfm.scenarios.WorldBounds()
-    from srfm.rl._core import make_cfg
-
-    cfg = make_cfg(
-        robot=srfm.RobotConfig(kinematics="holonomic" if holonomic else "unicycle"),
-        world=world,
-        goal=np.array(goal),
-        dt_s=1 / 15,
-        horizon_steps=750,
-        config=EnvConfig(max_pedestrians=3),
-    )
+    limits = srfm.RobotConfig(kinematics="holonomic" if holonomic else "unicycle").for_kernels()
     arr = np.array(peds, dtype=np.float64).reshape(-1, 4)
     out = np.zeros(kern.obs_size(3), dtype=np.float32)
     kern.build_observation(
@@ -345,7 +370,9 @@ def _observe(
         np.array(last_action),
         False,
         False,
-        cfg,
+        limits,
+        robot_task(np.array(goal), world, 750),
+        EnvConfig(max_pedestrians=3).observation_params(world),
         np.zeros(max(len(peds), 1)),
         np.zeros(max(len(peds), 1), dtype=np.int64),
         out,
@@ -397,9 +424,11 @@ def test_observation_keeps_the_k_closest() -> None:
 
 
 def test_holonomic_action_is_robot_frame() -> None:
-    c0, c1 = kern.action_to_command(1.0, 0.0, math.pi / 2, True, 0.5, math.pi)
+    holonomic = srfm.RobotConfig(kinematics="holonomic").for_kernels()
+    unicycle = srfm.RobotConfig(kinematics="unicycle").for_kernels()
+    c0, c1 = kern.action_to_command(1.0, 0.0, math.pi / 2, holonomic)
     assert (c0, c1) == pytest.approx((0.0, 0.5), abs=1e-12)
-    c0, c1 = kern.action_to_command(3.0, -3.0, 0.0, False, 0.5, math.pi)
+    c0, c1 = kern.action_to_command(3.0, -3.0, 0.0, unicycle)
     assert (c0, c1) == (0.5, -math.pi)
 
 
@@ -441,3 +470,15 @@ def test_missing_dependency_names_the_extra() -> None:
     with pytest.raises(ImportError) as info:
         require("surely_not_an_installed_module_xyz")
     assert srfm.rl.INSTALL_HINT in str(info.value)
+
+
+def test_gym_make_by_package_path_registers_in_a_fresh_process() -> None:
+    """``srfm.rl`` is light, yet ``gym.make("srfm.rl:...")`` still finds the environment."""
+    code = (
+        "import sys, gymnasium as gym; "
+        "env = gym.make('srfm.rl:srfm/SocialNav-v0', scenario='crosswalk'); "
+        "assert env.spec.max_episode_steps == 750; print('ok')"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert result.stdout.strip() == "ok"

@@ -177,3 +177,80 @@ def test_evaluate_planner_counts_outcomes() -> None:
     )
     assert better.better_than(result) or result.success_rate == 1.0
     assert better.better_than(None)
+
+
+def test_train_options_and_vectorised_envs(tmp_path: Path) -> None:
+    run = tmp_path / "vec"
+    args = ["train", "--run-dir", str(run), "--steps", "210", "--no-progress", *TINY]
+    args += ["--net-arch", "16,8", "--n-envs", "3", "--train-freq", "2", "--gradient-steps", "3"]
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    meta = json.loads((run / "config.json").read_text())
+    train_config = meta["train_config"]
+    assert train_config["net_arch"] == [16, 8]
+    assert (train_config["n_envs"], train_config["train_freq"]) == (3, 2)
+    assert (train_config["gradient_steps"], train_config["backend"]) == (3, "sb3")
+    assert "--net-arch 16,8" in meta["command"]
+    assert "--n-envs 3" in meta["command"]
+    # 3 steps per call: checkpoints when the count passes a multiple of 100
+    assert (run / "checkpoints" / "step_000000102.zip").is_file()
+    assert (run / "checkpoints" / "step_000000201.zip").is_file()
+    assert (run / "1.monitor.csv").is_file()
+    evals = [json.loads(line) for line in (run / "eval.jsonl").read_text().splitlines()]
+    assert [e["steps"] for e in evals] == [102, 201]
+    bad = CliRunner().invoke(main, ["train", "--run-dir", str(run), "--net-arch", "16,x"])
+    assert bad.exit_code == 2
+    assert "comma-separated list of positive integers" in bad.output
+    with pytest.raises(ParameterError, match="backend"):
+        TrainConfig(backend="jax")
+
+
+def test_sbx_backend_trains_resumes_and_exports(tmp_path: Path) -> None:
+    pytest.importorskip("sbx")
+    import warnings
+
+    import numpy as np
+
+    from srfm.planners.td3 import load_numpy_policy
+    from srfm.rl.training import export_policy, train
+
+    run = tmp_path / "sbx"
+    config = TrainConfig(
+        total_steps=150,
+        learning_starts=50,
+        buffer_size=500,
+        batch_size=16,
+        net_arch=(16,),
+        eval_every=100,
+        eval_seeds=1,
+        checkpoint_every=100,
+        backend="sbx",
+    )
+    result = train(config, run)
+    assert result.steps == 150
+    assert result.best_eval is not None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        json_path, _ = export_policy(run / "checkpoints" / "step_000000100.zip", tmp_path / "e")
+    policy = load_numpy_policy(json_path)
+    assert policy.metadata["training"]["backend"] == "sbx"
+    assert policy.metadata["training"]["steps"] == 100
+    assert policy.metadata["training"]["run_config"]["train_config"]["backend"] == "sbx"
+    assert policy.metadata["evaluation"]["periodic"]["steps"] == 100
+    import sbx
+
+    model = sbx.TD3.load(run / "checkpoints" / "step_000000100.zip", device="cpu")
+    obs = np.random.default_rng(0).uniform(-1, 1, (256, policy.actor.obs_size))
+    predicted, _ = model.predict(obs.astype(np.float32), deterministic=True)
+    got = np.stack([policy.actor.forward(o) for o in obs.astype(np.float32)])
+    assert np.abs(got - predicted).max() <= 1e-5
+    more = train(attrs_evolve(config, total_steps=200), run, resume=run / "latest.zip")
+    assert more.steps == 200
+    with pytest.raises(srfm.SrfmError, match="written by the sbx backend"):
+        train(attrs_evolve(config, backend="sb3"), run, resume=run / "latest.zip")
+
+
+def attrs_evolve(config: TrainConfig, **changes: object) -> TrainConfig:
+    import attrs
+
+    return attrs.evolve(config, **changes)

@@ -323,14 +323,14 @@ def test_detection_range_is_validated(bad: object) -> None:
 
 
 def test_planner_from_module_and_attribute() -> None:
-    record = srfm.run_episode("footpath", 0, planner="tests.test_simulator:StandStill")
+    record = srfm.run_episode("footpath", 0, planner="tests.sim.test_simulator:StandStill")
     assert record.outcome == "timeout"
     with pytest.raises(srfm.PlannerError, match="cannot import 'no_such_module'"):
         srfm.run_episode("footpath", 0, planner="no_such_module:X")
     with pytest.raises(srfm.PlannerError, match="has no callable 'Nope'"):
-        srfm.run_episode("footpath", 0, planner="tests.test_simulator:Nope")
+        srfm.run_episode("footpath", 0, planner="tests.sim.test_simulator:Nope")
     with pytest.raises(srfm.PlannerError, match="lacks the Planner protocol"):
-        srfm.run_episode("footpath", 0, planner="tests.test_simulator:NotAPlanner")
+        srfm.run_episode("footpath", 0, planner="tests.sim.test_simulator:NotAPlanner")
 
 
 class NotAPlanner:

@@ -1,4 +1,11 @@
-"""Optional dependencies of the RL parts (the ``rl`` extra), imported lazily."""
+"""Optional dependencies (the ``rl`` extra: gymnasium, stable-baselines3, torch),
+imported lazily.
+
+Outside :mod:`srfm.rl` so that the policy planners (:mod:`srfm.planners.td3`) can load
+stable-baselines3 without importing the environment. :class:`~srfm.errors.MissingDependencyError`
+lives in :mod:`srfm.errors` (re-exported here and from ``srfm``), so it can be caught
+without the extra installed.
+"""
 
 from __future__ import annotations
 
@@ -6,15 +13,11 @@ import importlib
 from types import ModuleType
 from typing import Final
 
-from srfm.errors import SrfmError
+from srfm.errors import MissingDependencyError
 
 __all__ = ["INSTALL_HINT", "MissingDependencyError", "require"]
 
 INSTALL_HINT: Final = "pip install 'srfm[rl]' -c constraints.txt"
-
-
-class MissingDependencyError(SrfmError, ImportError):
-    """An optional dependency (gymnasium, stable-baselines3, torch) is not installed."""
 
 
 def require(module: str) -> ModuleType:

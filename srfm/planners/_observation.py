@@ -1,0 +1,432 @@
+"""The RL policy's observation and action: one definition for training and evaluation.
+
+A policy sees the same 9 + 6K numbers whether it is trained in the environment
+``srfm/SocialNav-v0`` (:mod:`srfm.rl`, which builds the vector inside its fused step
+kernel) or runs as a planner in :func:`srfm.run_episode` (:class:`ObservationBuilder`,
+used by :mod:`srfm.planners.td3`): both call :func:`build_observation`, and both turn
+actions into commands with :func:`action_to_command`.
+
+:class:`EnvConfig`, the environment's configuration, lives here because a policy file
+records it (``srfm train`` writes it) and the policy planner reads it back to build
+the observation the policy was trained on. This module needs neither gymnasium nor
+anything of :mod:`srfm.rl` or :mod:`srfm.sim`.
+
+Observation layout (float32, every entry in [−1, 1]; robot frame: x forward along the
+heading, y to the left):
+
+==============  ==========================================================
+index           entry
+==============  ==========================================================
+0               goal distance / goal scale (the world diagonal), capped at 1
+1, 2            cos, sin of the goal bearing
+3, 4            unicycle: v / v_max, ω / ω_max; holonomic: robot-frame
+                (vx, vy) / v_max; clipped to [−1, 1]
+5, 6            the last action (clipped to [−1, 1]; zeros after reset)
+7               success flag (1.0 when the goal was reached at this step)
+8               terminated flag (1.0 when the episode ended at this step)
+9 + 6m … 14+6m  slot m = 0 … K−1, closest pedestrian first: present (1.0),
+                distance / social zone, cos and sin of the bearing, relative
+                velocity (pedestrian − robot) / velocity scale (x, y), clipped
+==============  ==========================================================
+
+Slots hold the pedestrians whose centre is closer than the social zone to the robot
+centre, nearest first (ties by index); empty slots are zeros.
+"""
+
+from __future__ import annotations
+
+import math
+import operator
+from collections.abc import Callable
+from typing import Any, Final, NamedTuple
+
+import attrs
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+from srfm._jit import specialize
+from srfm._validate import non_negative, positive
+from srfm.errors import ParameterError
+from srfm.models._primitives import EPS
+from srfm.models._robot_kernels import (
+    OMEGA,
+    ROBOT_SIZE,
+    THETA,
+    VX,
+    VY,
+    RobotLimits,
+    RobotTask,
+    V,
+    X,
+    Y,
+    robot_task,
+)
+from srfm.models.robot import KINEMATICS, Kinematics
+from srfm.planners._base import Observation, PlannerContext
+
+__all__ = [
+    "DEFAULT_K_DIV",
+    "OBS_ACTION",
+    "OBS_FLAGS",
+    "OBS_GOAL",
+    "OBS_PEDS",
+    "OBS_VEL",
+    "PED_FEATURES",
+    "EnvConfig",
+    "ObservationBuilder",
+    "ObservationParams",
+    "action_to_command",
+    "build_observation",
+    "obs_size",
+]
+
+FloatArray = NDArray[np.float64]
+
+# Default weight of the one-step deviation penalty (per metre of summed deviation).
+DEFAULT_K_DIV: Final = 2.0
+
+# Offsets in the observation vector (see the table in the module docstring).
+OBS_GOAL: Final = 0  # goal distance / goal scale, cos, sin of the goal bearing
+OBS_VEL: Final = 3  # the robot's velocity, normalised
+OBS_ACTION: Final = 5  # the last action, in [-1, 1]
+OBS_FLAGS: Final = 7  # success, terminated
+OBS_PEDS: Final = 9  # K slots of PED_FEATURES
+PED_FEATURES: Final = 6  # present, distance / zone, cos, sin, relative vx, vy
+
+
+def obs_size(max_peds: int) -> int:
+    """Length of the observation vector with ``max_peds`` pedestrian slots (9 + 6K)."""
+    return OBS_PEDS + PED_FEATURES * max_peds
+
+
+def _non_negative(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    non_negative(value, f"env.{attribute.name}", ParameterError)
+
+
+def _positive(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    positive(value, f"env.{attribute.name}", ParameterError)
+
+
+def _max_peds(inst: Any, attribute: attrs.Attribute[int], value: Any) -> None:
+    try:
+        count = operator.index(value)
+    except TypeError:
+        count = -1
+    if isinstance(value, bool) or not 0 <= count <= 1000:
+        raise ParameterError(f"env.max_pedestrians must be an integer in [0, 1000], got {value!r}")
+
+
+def _kinematics(inst: Any, attribute: attrs.Attribute[str | None], value: Any) -> None:
+    if value is not None and value not in KINEMATICS:
+        raise ParameterError(f"env.kinematics must be None or one of {KINEMATICS}, got {value!r}")
+
+
+def _flag(inst: Any, attribute: attrs.Attribute[bool], value: Any) -> None:
+    if not isinstance(value, bool):
+        raise ParameterError(f"env.{attribute.name} must be True or False, got {value!r}")
+
+
+class ObservationParams(NamedTuple):
+    """The observation options as :func:`build_observation` takes them.
+
+    Built by :meth:`EnvConfig.observation_params`.
+
+    Attributes:
+        goal_scale_m: the goal distance is divided by this (m): the world diagonal.
+        social_zone_m: pedestrians closer than this to the robot centre are observed,
+            and their distance is divided by it (m).
+        velocity_scale_mps: relative velocities are divided by this (m/s).
+        max_pedestrians: K, the number of pedestrian slots.
+    """
+
+    goal_scale_m: float
+    social_zone_m: float
+    velocity_scale_mps: float
+    max_pedestrians: int
+
+
+@attrs.frozen(kw_only=True)
+class EnvConfig:
+    """Reward, observation and simulation options of ``srfm/SocialNav-v0``.
+
+    Reward per step (paper Eq. 7): r = r_term − k1 · r_dist − k2 · r_div.
+
+    Attributes:
+        k1: weight of r_dist, the goal distance divided by the goal distance at reset,
+            capped at 1 (dimensionless, 1 at the start, 0 at the goal).
+        k2: weight of r_div (1/m), the summed one-step counterfactual deviation (m) of
+            the pedestrians inside the social zone. 0 gives the paper's RL_base
+            reward, > 0 the SRFM-aware one.
+        social_zone_m: social zone radius (m): the pedestrians observed and the
+            pedestrians whose deviation counts in r_div are those whose centre is
+            closer than this to the robot centre (paper: 3 m).
+        max_pedestrians: K, the number of observed pedestrian slots (paper: 10).
+        success_reward: r_term when the robot reaches its goal.
+        timeout_penalty: −r_term when the horizon is reached (a truncation). The
+            defaults (25, and 50 for a collision) exceed the largest discounted sum of
+            per-step penalties over TD3's horizon (about (k1 + k2 · 0.05 m) / (1 − γ)
+            ≈ 35), so that ending an episode by a collision or by leaving the world
+            never pays.
+        velocity_scale_mps: relative pedestrian velocities in the observation are
+            divided by this (m/s) and clipped to [−1, 1].
+        kinematics: ``"unicycle"`` (v, ω), ``"holonomic"`` (robot-frame vx, vy), or
+            None for the scenario's robot.
+        counterfactual_twin: step the full counterfactual crowd as well (so an
+            episode can be scored for deviation). The reward does not need it (it
+            uses the one-step counterfactual); False skips it for faster training.
+    """
+
+    k1: float = attrs.field(default=0.1, validator=_non_negative)
+    k2: float = attrs.field(default=DEFAULT_K_DIV, validator=_non_negative)
+    social_zone_m: float = attrs.field(default=3.0, validator=_positive)
+    max_pedestrians: int = attrs.field(default=10, validator=_max_peds)
+    success_reward: float = attrs.field(default=25.0, validator=_non_negative)
+    timeout_penalty: float = attrs.field(default=25.0, validator=_non_negative)
+    velocity_scale_mps: float = attrs.field(default=2.0, validator=_positive)
+    kinematics: Kinematics | None = attrs.field(default=None, validator=_kinematics)
+    counterfactual_twin: bool = attrs.field(default=True, validator=_flag)
+
+    @property
+    def collision_penalty(self) -> float:
+        """−r_term on a collision (pedestrian, wall or pillar) or on leaving the world:
+        twice the timeout penalty (paper §IV-B)."""
+        return 2.0 * self.timeout_penalty
+
+    def replace(self, **changes: Any) -> EnvConfig:
+        """A copy with some fields changed (validated)."""
+        return attrs.evolve(self, **changes)
+
+    def observation_params(self, world: Any) -> ObservationParams:
+        """The observation options for the kernels, in a world of the given bounds.
+
+        Args:
+            world: the world rectangle (a :class:`srfm.scenarios.WorldBounds`); its
+                diagonal (m) is the goal-distance scale.
+        """
+        return ObservationParams(
+            goal_scale_m=math.hypot(world.x_max - world.x_min, world.y_max - world.y_min),
+            social_zone_m=float(self.social_zone_m),
+            velocity_scale_mps=float(self.velocity_scale_mps),
+            max_pedestrians=int(self.max_pedestrians),
+        )
+
+
+@njit(cache=True)
+def action_to_command(
+    a0: float, a1: float, theta: float, limits: RobotLimits
+) -> tuple[float, float]:
+    """Scale an action in [−1, 1]² (clipped; NaN-free input assumed) to a command.
+
+    Unicycle: (v, ω) = (a0 v_max, a1 ω_max). Holonomic: the action is a velocity in
+    the robot frame, (a0, a1) v_max, rotated into the world frame by the heading
+    ``theta`` (rad).
+    """
+    a0 = min(1.0, max(-1.0, a0))
+    a1 = min(1.0, max(-1.0, a1))
+    vmax = limits.max_speed_mps
+    if not limits.holonomic:
+        return a0 * vmax, a1 * limits.max_angular_speed_radps
+    cx = a0 * vmax
+    cy = a1 * vmax
+    c = math.cos(theta)
+    s = math.sin(theta)
+    return cx * c - cy * s, cx * s + cy * c
+
+
+@njit(cache=True, inline="always")
+def _unit_clip(x: float) -> float:
+    return min(1.0, max(-1.0, x))
+
+
+@njit(cache=True, inline="always")
+def _bearing(c: float, s: float, dx: float, dy: float, d: float) -> tuple[float, float]:
+    """cos and sin of the bearing of the offset (dx, dy) (m) at distance d (m), in the
+    robot frame of heading (cos, sin) = (c, s); (1, 0) when d is below ``EPS``."""
+    if d > EPS:
+        return (c * dx + s * dy) / d, (-s * dx + c * dy) / d
+    return 1.0, 0.0
+
+
+@njit(cache=True)
+def build_observation(
+    ped_pos: np.ndarray,
+    ped_vel: np.ndarray,
+    robot: np.ndarray,
+    last_action: np.ndarray,
+    success: bool,
+    terminated: bool,
+    limits: RobotLimits,
+    task: RobotTask,
+    params: ObservationParams,
+    dist_buf: np.ndarray,
+    idx_buf: np.ndarray,
+    obs: np.ndarray,
+) -> int:
+    """Write the observation (float32, every entry in [−1, 1]) into ``obs``.
+
+    The layout is the table of this module's docstring. Pedestrians count as in the
+    zone when their centre is closer than ``params.social_zone_m`` (strictly, the same
+    test as :func:`srfm.models._kernels.within_range`); they are insertion-sorted by
+    squared distance (stable, so ties keep index order).
+
+    Args:
+        ped_pos: (N, 2) pedestrian positions (m): every pedestrian, or only those a
+            planner observes within the zone (the result is the same).
+        ped_vel: (N, 2) their velocities (m/s).
+        robot: (7,) the robot state (kernel layout of :class:`srfm.RobotState`).
+        last_action: (2,) the last action.
+        success: the goal was reached at this step.
+        terminated: the episode ended at this step.
+        limits: the robot's limits (v_max, ω_max, kinematics).
+        task: the robot's goal.
+        params: the observation options.
+        dist_buf: (≥ N,) scratch, float64.
+        idx_buf: (≥ N,) scratch, int64.
+        obs: (9 + 6K,) float32, overwritten.
+
+    Returns:
+        The number of pedestrians in the zone (which may exceed K).
+    """
+    x = robot[X]
+    y = robot[Y]
+    c = math.cos(robot[THETA])
+    s = math.sin(robot[THETA])
+    gdx = task.goal_x - x
+    gdy = task.goal_y - y
+    gd = math.sqrt(gdx * gdx + gdy * gdy)
+    obs[OBS_GOAL] = min(1.0, gd / params.goal_scale_m)
+    obs[OBS_GOAL + 1], obs[OBS_GOAL + 2] = _bearing(c, s, gdx, gdy, gd)
+    rvx = robot[VX]
+    rvy = robot[VY]
+    vmax = limits.max_speed_mps
+    if not limits.holonomic:
+        obs[OBS_VEL] = _unit_clip(robot[V] / vmax)
+        obs[OBS_VEL + 1] = _unit_clip(robot[OMEGA] / limits.max_angular_speed_radps)
+    else:
+        obs[OBS_VEL] = _unit_clip((c * rvx + s * rvy) / vmax)
+        obs[OBS_VEL + 1] = _unit_clip((-s * rvx + c * rvy) / vmax)
+    obs[OBS_ACTION] = _unit_clip(last_action[0])
+    obs[OBS_ACTION + 1] = _unit_clip(last_action[1])
+    obs[OBS_FLAGS] = 1.0 if success else 0.0
+    obs[OBS_FLAGS + 1] = 1.0 if terminated else 0.0
+
+    # Pedestrians in the zone, insertion-sorted by squared distance (stable).
+    zone = params.social_zone_m
+    z2 = zone * zone
+    k = 0
+    for i in range(ped_pos.shape[0]):
+        dx = ped_pos[i, 0] - x
+        dy = ped_pos[i, 1] - y
+        d2 = dx * dx + dy * dy
+        if not d2 < z2:
+            continue
+        j = k
+        while j > 0 and dist_buf[j - 1] > d2:
+            dist_buf[j] = dist_buf[j - 1]
+            idx_buf[j] = idx_buf[j - 1]
+            j -= 1
+        dist_buf[j] = d2
+        idx_buf[j] = i
+        k += 1
+    vscale = params.velocity_scale_mps
+    for m in range(params.max_pedestrians):
+        base = OBS_PEDS + PED_FEATURES * m
+        if m >= k:
+            for f in range(PED_FEATURES):
+                obs[base + f] = 0.0
+            continue
+        i = idx_buf[m]
+        dx = ped_pos[i, 0] - x
+        dy = ped_pos[i, 1] - y
+        d = math.sqrt(dist_buf[m])
+        obs[base] = 1.0
+        obs[base + 1] = min(1.0, d / zone)
+        obs[base + 2], obs[base + 3] = _bearing(c, s, dx, dy, d)
+        wx = ped_vel[i, 0] - rvx
+        wy = ped_vel[i, 1] - rvy
+        obs[base + 4] = _unit_clip((c * wx + s * wy) / vscale)
+        obs[base + 5] = _unit_clip((-s * wx + c * wy) / vscale)
+    return k
+
+
+class ObservationBuilder:
+    """The environment's observation, built from a planner's view of a sample.
+
+    Args:
+        context: the episode's planner context (robot limits, goal, world).
+        config: the environment configuration the policy was trained with.
+
+    The planner must observe the pedestrians within ``config.social_zone_m`` (its
+    ``detection_range_m``), or all of them; either gives the environment's vector.
+    """
+
+    def __init__(self, context: PlannerContext, config: EnvConfig) -> None:
+        self.config = config
+        self.limits = context.robot.for_kernels()
+        self.task = robot_task(context.robot_goal, context.world, context.horizon_steps)
+        self.params = config.observation_params(context.world)
+        self.size = obs_size(config.max_pedestrians)
+        self._robot = np.zeros(ROBOT_SIZE)
+        self._dist = np.zeros(0)
+        self._idx = np.zeros(0, dtype=np.int64)
+        # The kernels, specialised for their argument types (srfm._jit.specialize).
+        self._build: Callable[..., int] | None = None
+        self._command = specialize(action_to_command, 0.0, 0.0, 0.0, self.limits)
+
+    def build(
+        self, observation: Observation, last_action: FloatArray, out: NDArray[np.float32]
+    ) -> NDArray[np.float32]:
+        """Write the observation vector into ``out`` and return it.
+
+        Args:
+            observation: the planner's view of the sample.
+            last_action: (2,) the policy's last action (zeros at the first step).
+            out: (size,) float32, C-contiguous, overwritten.
+
+        Raises:
+            ParameterError: ``out`` is not a C-contiguous float32 vector of ``size``.
+        """
+        if out.dtype != np.float32 or out.shape != (self.size,) or not out.flags.c_contiguous:
+            raise ParameterError(
+                f"out must be a C-contiguous float32 array of shape ({self.size},), "
+                f"got {out.dtype} {out.shape}"
+            )
+        r = observation.robot
+        robot = self._robot
+        robot[X] = r.x
+        robot[Y] = r.y
+        robot[THETA] = r.theta
+        robot[VX] = r.vx
+        robot[VY] = r.vy
+        robot[V] = r.v
+        robot[OMEGA] = r.omega
+        ped_pos = np.ascontiguousarray(observation.ped_pos, dtype=np.float64)
+        ped_vel = np.ascontiguousarray(observation.ped_vel, dtype=np.float64)
+        n = ped_pos.shape[0]
+        if self._dist.shape[0] < n:
+            self._dist = np.zeros(n)
+            self._idx = np.zeros(n, dtype=np.int64)
+        args = (
+            ped_pos,
+            ped_vel,
+            robot,
+            np.ascontiguousarray(last_action, dtype=np.float64),
+            False,
+            False,
+            self.limits,
+            self.task,
+            self.params,
+            self._dist,
+            self._idx,
+            out,
+        )
+        if self._build is None:
+            self._build = specialize(build_observation, *args)
+        self._build(*args)
+        return out
+
+    def command(self, action: FloatArray, theta: float) -> FloatArray:
+        """The simulator command for an action in [−1, 1]² (the environment's scaling)."""
+        c0, c1 = self._command(float(action[0]), float(action[1]), float(theta), self.limits)
+        return np.array([c0, c1])

@@ -49,7 +49,7 @@ register_planner(
 
 
 def _td3_srfm() -> Planner:
-    from srfm.planners.td3 import td3_srfm  # lazy: loading a policy needs torch and SB3
+    from srfm.planners.td3 import td3_srfm  # lazy: the policy file is read when used
 
     return td3_srfm()
 

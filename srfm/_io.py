@@ -390,6 +390,7 @@ def claim_output_folder(
     force: bool = False,
     accept: Iterable[str] = (),
     legacy_markers: Iterable[str] = (),
+    mark: bool = True,
 ) -> Path:
     """Make ``folder`` srfm's output folder for ``kind`` (e.g. ``"benchmark"``), or refuse.
 
@@ -399,6 +400,9 @@ def claim_output_folder(
     folder srfm did not create is refused unless ``force``: its files may be the
     user's own and would be overwritten. A folder made by another srfm command is
     refused too (its reports would be mixed), unless ``force``.
+
+    ``mark=False`` leaves no marker (``srfm simulate --out``, whose folder holds only
+    ``logs/``, recognised through ``legacy_markers``).
 
     Returns:
         The folder, created, with its marker.
@@ -434,8 +438,9 @@ def claim_output_folder(
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise write_error(folder, exc) from None
-    marker = {"schema": "srfm.output_folder/1", "kind": kind}
-    atomic_write_text(folder / OUTPUT_MARKER, json.dumps(marker) + "\n")
+    if mark:
+        marker = {"schema": "srfm.output_folder/1", "kind": kind}
+        atomic_write_text(folder / OUTPUT_MARKER, json.dumps(marker) + "\n")
     return folder
 
 

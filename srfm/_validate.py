@@ -169,7 +169,9 @@ def seed(value: Any, error: type[SrfmError]) -> int:
     except TypeError:
         out = -1
     if isinstance(value, bool) or not 0 <= out <= MAX_SEED:
-        raise error(f"seed must be an integer in [0, {MAX_SEED}] (2^32 - 1), got {value!r}")
+        raise error(
+            f"seed must be a non-negative integer at most {MAX_SEED} (2^32 - 1), got {value!r}"
+        )
     return out
 
 

@@ -105,7 +105,12 @@ class OutputError(SrfmError, ValueError):
 
 class WriteError(SrfmError, OSError):
     """Writing an output failed (disk full, permission denied, read-only file system);
-    the message names the file and the reason. What was there before is left intact."""
+    the message names the file and the reason. What was there before is left intact.
+
+    ``errno``, ``strerror`` and ``filename`` are those of the failed operation."""
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else super().__str__()
 
 
 class FolderInUseError(SrfmError, RuntimeError):

@@ -3,6 +3,7 @@
 from srfm.benchmark._results import episode_path, read_episode
 from srfm.benchmark._runner import (
     MANIFEST,
+    MAX_SEEDS,
     QUICK_SEEDS,
     BenchmarkRequest,
     BenchmarkSummary,
@@ -16,6 +17,7 @@ from srfm.benchmark._runner import (
 
 __all__ = [
     "MANIFEST",
+    "MAX_SEEDS",
     "QUICK_SEEDS",
     "BenchmarkRequest",
     "BenchmarkSummary",

@@ -1,9 +1,16 @@
-"""The results folder: per-episode metric files, CSV exports and the manifest."""
+"""The results folder: per-episode metric files and the scenario fingerprints.
+
+An episode file is JSON ending with the CRC-32 of its text; :func:`read_episode`
+validates every file against its schema and checksum, so a hand-edited, truncated or
+bit-flipped file is an error naming it, never a silently different table.
+"""
 
 from __future__ import annotations
 
 import hashlib
 import json
+import math
+import zlib
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -11,10 +18,14 @@ from typing import Any
 import attrs
 import numpy as np
 
-from srfm._io import atomic_write_text
-from srfm.errors import BenchmarkError
+from srfm import _validate
+from srfm._io import MAX_DOCUMENT_BYTES, atomic_write_text, read_input_bytes
+from srfm._validate import path_name
+from srfm.errors import BenchmarkError, SrfmError
 from srfm.metrics import EpisodeMetrics
+from srfm.metrics.episode import EPISODE_METRICS, PEDESTRIAN_METRICS
 from srfm.scenarios import Scenario
+from srfm.sim.record import ROBOT_OUTCOMES
 
 __all__ = [
     "EPISODES_DIR",
@@ -26,16 +37,32 @@ __all__ = [
 
 EPISODES_DIR = "episodes"
 EPISODE_SCHEMA = "srfm.episode_metrics/1"
+_CHECKSUM = "crc32"
 
 
 def episode_path(out: Path, scenario: str, planner: str, seed: int) -> Path:
-    """Where the metrics of one episode live inside a results folder."""
+    """Where the metrics of one episode live inside a results folder.
+
+    Raises:
+        BenchmarkError: a name that cannot be a folder name, or a seed out of range
+            (nothing can land outside ``out``).
+    """
+    path_name(scenario, "scenario name", BenchmarkError)
+    path_name(planner, "planner name", BenchmarkError)
+    seed = _validate.seed(seed, BenchmarkError)
     return out / EPISODES_DIR / scenario / planner / f"seed-{seed:06d}.json"
 
 
+def _text(doc: Mapping[str, Any]) -> str:
+    return json.dumps(doc, indent=1)
+
+
 def episode_json(metrics: EpisodeMetrics) -> str:
-    """The JSON text of one episode's metrics (floats round-trip exactly; NaN is null)."""
-    return json.dumps({"schema": EPISODE_SCHEMA, **metrics.to_document()}, indent=1) + "\n"
+    """The JSON text of one episode's metrics (floats round-trip exactly; NaN is null),
+    ending with the CRC-32 of the text before it, so that any change is seen on read."""
+    doc = {"schema": EPISODE_SCHEMA, **metrics.to_document()}
+    crc = zlib.crc32(_text(doc).encode("utf-8"))
+    return _text({**doc, _CHECKSUM: f"{crc:08x}"}) + "\n"
 
 
 def write_episode(out: Path, metrics: EpisodeMetrics) -> Path:
@@ -45,19 +72,85 @@ def write_episode(out: Path, metrics: EpisodeMetrics) -> Path:
     return path
 
 
-def read_episode(path: Path) -> EpisodeMetrics:
-    """Read a file written by :func:`write_episode`."""
+def _number_or_null(value: Any) -> bool:
+    return value is None or (
+        not isinstance(value, bool) and isinstance(value, int | float) and math.isfinite(value)
+    )
+
+
+def _check_document(doc: Any) -> str | None:
+    """What is wrong with an episode document (None when nothing): its schema, the
+    types of every entry, one value per pedestrian in every per-pedestrian list."""
+    if not isinstance(doc, dict):
+        return "not a JSON object"
+    if doc.get("schema") != EPISODE_SCHEMA:
+        return f"schema {doc.get('schema')!r}, expected {EPISODE_SCHEMA!r}"
+    if _CHECKSUM in doc:
+        stored = doc.pop(_CHECKSUM)
+        crc = f"{zlib.crc32(_text(doc).encode('utf-8')):08x}"
+        if stored != crc:
+            return f"checksum mismatch (stored {stored!r}, content {crc!r}): the file was changed"
+    for key in ("scenario", "planner", "outcome"):
+        if not isinstance(doc.get(key), str):
+            return f"{key!r} must be a string, got {doc.get(key)!r}"
+    if doc["outcome"] not in ROBOT_OUTCOMES:
+        return f"unknown outcome {doc['outcome']!r}"
+    for key in ("seed", "end_step"):
+        value = doc.get(key)
+        if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+            return f"{key!r} must be a non-negative integer, got {value!r}"
+    metrics, peds = doc.get("metrics"), doc.get("pedestrians")
+    if not isinstance(metrics, dict) or not isinstance(peds, dict):
+        return "'metrics' and 'pedestrians' must be objects"
+    for m in EPISODE_METRICS:
+        if m.name not in metrics:
+            return f"metrics: {m.name!r} is missing"
+        if not _number_or_null(metrics[m.name]):
+            return f"metrics: {m.name!r} must be a finite number or null, got {metrics[m.name]!r}"
+    lengths = set()
+    for m in PEDESTRIAN_METRICS:
+        values = peds.get(m.name)
+        if not isinstance(values, list):
+            return f"pedestrians: {m.name!r} must be a list, got {values!r}"
+        bad = next((v for v in values if not _number_or_null(v)), "ok")
+        if bad != "ok":
+            return f"pedestrians: {m.name!r} must hold finite numbers or null, got {bad!r}"
+        lengths.add(len(values))
+    if len(lengths) > 1:
+        return f"pedestrians: lists of different lengths {sorted(lengths)} (cut short?)"
+    return None
+
+
+def read_episode(path: Path, *, expect: tuple[str, str, int] | None = None) -> EpisodeMetrics:
+    """Read and validate a file written by :func:`write_episode`.
+
+    The document is checked against its schema (types, one value per pedestrian in
+    every list, its CRC-32), and, with ``expect`` = (scenario, planner, seed), that it
+    is the episode its path says.
+
+    Raises:
+        BenchmarkError: unreadable, damaged or misplaced; the message names the file and
+            says to delete it (a benchmark run re-simulates damaged episodes itself).
+    """
+    hint = "delete it and run the benchmark again to re-simulate it"
+    data = read_input_bytes(
+        path, max_bytes=MAX_DOCUMENT_BYTES, error=BenchmarkError, what="episode metrics file"
+    )
     try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-        if doc.get("schema") != EPISODE_SCHEMA:
-            raise BenchmarkError(
-                f"{path}: schema {doc.get('schema')!r}, expected {EPISODE_SCHEMA!r}"
-            )
+        doc = json.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, ValueError, RecursionError) as exc:
+        raise BenchmarkError(f"{path}: damaged episode metrics file ({exc}); {hint}") from None
+    problem = _check_document(doc)
+    if problem is None and expect is not None:
+        got = (doc["scenario"], doc["planner"], doc["seed"])
+        if got != tuple(expect):
+            problem = f"holds episode {got}, not {tuple(expect)}"
+    if problem is not None:
+        raise BenchmarkError(f"{path}: damaged episode metrics file: {problem}; {hint}")
+    try:
         return EpisodeMetrics.from_document(doc)
-    except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
-        if isinstance(exc, BenchmarkError):
-            raise
-        raise BenchmarkError(f"{path}: not a readable episode metrics file: {exc}") from None
+    except (SrfmError, KeyError, TypeError, ValueError) as exc:
+        raise BenchmarkError(f"{path}: damaged episode metrics file: {exc}; {hint}") from None
 
 
 def _plain(value: Any) -> Any:

@@ -2,13 +2,22 @@
 
 Every finished episode is one small JSON file in ``OUT/episodes/`` written atomically
 (temporary file, then rename), so an interrupted run loses at most the episodes that
-were being simulated, and a re-run on the same folder skips every file that exists.
-Tables, CSV files and figures are rebuilt from those files at the end of each run, in
-a fixed order, so the same request gives byte-identical tables.
+were being simulated, and a re-run on the same folder skips every valid file that
+exists (a damaged one is simulated again). Tables, CSV files and figures are rebuilt
+from those files at the end of each run, in a fixed order, so the same request gives
+byte-identical tables; they are replaced as a whole (:func:`srfm._io.write_file_set`).
+
+A run holds the folder's lock (:func:`srfm._io.folder_lock`) from before it touches
+anything until its reports are written, so a second run on the same folder is refused
+instead of deleting the first one's temporaries. It writes only into a new or empty
+folder, or one srfm made for a benchmark (unless ``force``).
 """
 
 from __future__ import annotations
 
+import collections
+import ctypes
+import ctypes.util
 import json
 import multiprocessing
 import os
@@ -23,9 +32,19 @@ from typing import Any, Final
 
 import attrs
 
-from srfm._io import atomic_write_text
+from srfm import _validate
+from srfm._io import (
+    MAX_DOCUMENT_BYTES,
+    atomic_write_text,
+    claim_output_folder,
+    folder_lock,
+    read_input_bytes,
+    recover_file_set,
+    remove_stale_temporaries,
+    write_file_set,
+)
+from srfm._validate import path_name, planner_name
 from srfm.benchmark._results import (
-    EPISODES_DIR,
     episode_path,
     fingerprint,
     read_episode,
@@ -36,14 +55,16 @@ from srfm.metrics import (
     EpisodeMetrics,
     episode_metrics,
 )
-from srfm.metrics.report import MANIFEST, write_tables
+from srfm.metrics.report import MANIFEST, render_tables, write_tables
 from srfm.models.params import SRFMParams
-from srfm.planners import available_planners, make_planner
+from srfm.planners import available_planners
 from srfm.scenarios import EVALUATION_SCENARIOS, Scenario, load_scenario
+from srfm.sim.episode import build_planner, check_episode_memory
 from srfm.sim.record import EpisodeRecord
 
 __all__ = [
     "MANIFEST",
+    "MAX_SEEDS",
     "QUICK_SEEDS",
     "BenchmarkRequest",
     "BenchmarkSummary",
@@ -57,6 +78,8 @@ __all__ = [
 
 QUICK_SEEDS: Final = (0, 1, 2)
 """Seeds of ``--quick``: enough for a mean, a standard deviation and the tests."""
+MAX_SEEDS: Final = 100_000
+"""Most seeds in one request (each is a file per scenario and planner)."""
 _CHUNK: Final = 5  # seeds per worker task: small enough for a smooth progress bar
 
 
@@ -86,6 +109,16 @@ class BenchmarkRequest:
     figure_seed: int | None = None
 
     def __attrs_post_init__(self) -> None:
+        if len(self.seeds) > MAX_SEEDS:
+            raise BenchmarkError(
+                f"{len(self.seeds)} seeds requested; at most {MAX_SEEDS} in one benchmark"
+            )
+        for s in self.seeds:
+            _validate.seed(s, BenchmarkError)
+        for scenario in self.scenarios:
+            path_name(scenario.name, "scenario name", BenchmarkError)
+        for name in self.planners:
+            planner_name(name, BenchmarkError)
         for label, items in (
             ("scenario", [s.name for s in self.scenarios]),
             ("planner", list(self.planners)),
@@ -93,15 +126,11 @@ class BenchmarkRequest:
         ):
             if not items:
                 raise BenchmarkError(f"the benchmark needs at least one {label}")
-            dupes = sorted({x for x in items if items.count(x) > 1})
+            counts = collections.Counter(items)  # linear: 100,000 seeds check at once
+            dupes = sorted(x for x, k in counts.items() if k > 1)
             if dupes:
-                raise BenchmarkError(f"{label}s given twice: {', '.join(dupes)}")
-        bad = [s for s in self.seeds if not isinstance(s, int) or s < 0]
-        if bad:
-            raise BenchmarkError(f"seeds must be non-negative integers, got {bad[:5]}")
-        for name in self.planners:
-            if "/" in name or name.startswith("."):
-                raise BenchmarkError(f"planner name {name!r} cannot name a results folder")
+                shown = ", ".join(dupes[:10]) + (", ..." if len(dupes) > 10 else "")
+                raise BenchmarkError(f"{label}s given twice: {shown}")
         if self.reference is not None and self.reference not in self.planners:
             raise BenchmarkError(
                 f"reference planner {self.reference!r} is not among the planners "
@@ -132,7 +161,7 @@ class BenchmarkRequest:
         scenario_objs = tuple(load_scenario(s) for s in (scenarios or EVALUATION_SCENARIOS))
         planner_names = tuple(planners) if planners else default_planners()
         for name in planner_names:
-            make_planner(name)  # an unknown name fails here, before any work
+            build_planner(name)  # an unknown name or a failing factory: here, before any work
         if seeds is None:
             seeds = QUICK_SEEDS if quick else tuple(range(100))
         if reference is None and "td3-srfm" in planner_names:
@@ -156,6 +185,8 @@ class BenchmarkSummary:
         simulated: episodes simulated by this run (the rest were already there).
         wall_time_s: wall time of the simulation part (s).
         files: the report files written, relative to ``out``.
+        resimulated: damaged episode files found and simulated again.
+        jobs: worker processes used at most (fewer than asked when memory is short).
     """
 
     out: Path
@@ -163,6 +194,8 @@ class BenchmarkSummary:
     simulated: int
     wall_time_s: float
     files: tuple[str, ...]
+    resimulated: tuple[str, ...] = ()
+    jobs: int = 1
 
 
 def _versions() -> dict[str, str]:
@@ -195,10 +228,18 @@ def _check_manifest(out: Path, request: BenchmarkRequest) -> dict[str, Any]:
     new = _manifest(request)
     if not path.exists():
         return new
+    data = read_input_bytes(
+        path, max_bytes=MAX_DOCUMENT_BYTES, error=BenchmarkError, what="benchmark manifest"
+    )
     try:
-        old = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as exc:
-        raise BenchmarkError(f"{path}: unreadable manifest ({exc}); use a new --out") from None
+        old = json.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, ValueError, RecursionError) as exc:
+        raise BenchmarkError(
+            f"{path}: damaged manifest ({exc}); the folder's episodes cannot be trusted to "
+            "match the request: use a new --out"
+        ) from None
+    if not isinstance(old, dict) or not isinstance(old.get("scenarios", {}), dict):
+        raise BenchmarkError(f"{path}: damaged manifest (not srfm's layout); use a new --out")
     if old.get("schema") != new["schema"]:
         raise BenchmarkError(f"{path}: not an srfm benchmark folder (schema {old.get('schema')})")
     for key in ("versions", "params"):
@@ -245,7 +286,7 @@ def _run_task(task: _Task) -> int:
         # make_planner names the planner task.planner (also a module:attribute spec),
         # so the record and its metrics file carry the requested name.
         record = run_episode(
-            task.scenario, seed, make_planner(task.planner), task.params, parallel=False
+            task.scenario, seed, build_planner(task.planner), task.params, parallel=False
         )
         metrics = episode_metrics(record)
         if task.writer is not None:
@@ -277,10 +318,47 @@ def _init_worker() -> None:
     # Ctrl-C reaches the whole process group: the parent stops the pool, the workers
     # should not each print a traceback.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _die_with_parent()
+
+
+def _die_with_parent() -> None:
+    """End this worker quietly when the parent dies, instead of a BrokenPipeError
+    traceback per worker: SIGPIPE back to its default (a write to the closed result
+    pipe ends the process silently) and, on Linux, a SIGTERM when the parent dies."""
+    if hasattr(signal, "SIGPIPE"):
+        signal.signal(signal.SIGPIPE, signal.SIG_DFL)
+    if not sys.platform.startswith("linux"):
+        return
+    parent = os.getppid()
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        pr_set_pdeathsig = 1
+        libc.prctl(pr_set_pdeathsig, int(signal.SIGTERM), 0, 0, 0)
+    except (OSError, AttributeError):
+        return
+    if os.getppid() != parent:  # the parent died before prctl took effect
+        os._exit(1)
+
+
+def _is_done(path: Path, expect: tuple[str, str, int], damaged: list[str]) -> bool:
+    """Whether ``path`` holds the finished episode ``expect``; a damaged file (truncated,
+    edited, of another episode) is listed in ``damaged`` and simulated again."""
+    if not path.exists():
+        return False
+    try:
+        read_episode(path, expect=expect)
+    except BenchmarkError:
+        damaged.append(str(path))
+        return False
+    return True
 
 
 def _pending_tasks(
-    out: Path, request: BenchmarkRequest, writer: EpisodeWriter | None, figures: bool
+    out: Path,
+    request: BenchmarkRequest,
+    writer: EpisodeWriter | None,
+    figures: bool,
+    damaged: list[str],
 ) -> list[_Task]:
     figure_seed = request.drawn_seed if figures else None
     tasks = []
@@ -289,7 +367,11 @@ def _pending_tasks(
             todo = [
                 s
                 for s in request.seeds
-                if not episode_path(out, scenario.name, planner, s).exists()
+                if not _is_done(
+                    episode_path(out, scenario.name, planner, s),
+                    (scenario.name, planner, s),
+                    damaged,
+                )
             ]
             for k in range(0, len(todo), _CHUNK):
                 tasks.append(
@@ -306,12 +388,18 @@ def _pending_tasks(
     return tasks
 
 
-def _remove_stale_temporaries(out: Path) -> None:
-    """Temporary files left by a killed run (never renamed into place)."""
-    root = out / EPISODES_DIR
-    if root.exists():
-        for tmp in root.rglob(".*.tmp"):
-            tmp.unlink(missing_ok=True)
+def _log_options(writer: EpisodeWriter | None) -> dict[str, bool]:
+    """Which logs ``writer`` writes (an :class:`srfm.logs.EpisodeLogger` says so in its
+    ``options``), for the memory estimate."""
+    options = getattr(writer, "options", None)
+    if options is None:
+        return {}
+    rrd = bool(getattr(options, "rrd", False))
+    return {
+        "mcap": bool(getattr(options, "mcap", False)),
+        "rrd": rrd,
+        "forces": rrd and bool(getattr(options, "forces", False)),
+    }
 
 
 def run_benchmark(
@@ -322,8 +410,15 @@ def run_benchmark(
     on_progress: Callable[[int], None] | None = None,
     figures: bool = True,
     writer: EpisodeWriter | None = None,
+    force: bool = False,
 ) -> BenchmarkSummary:
     """Run (or finish) a benchmark into ``out`` and write its reports.
+
+    Before any simulation: the folder is claimed (new, empty, or srfm's benchmark
+    folder; any other non-empty folder only with ``force``) and locked, a report set
+    cut short by a kill is completed, stale temporaries are removed, the manifest is
+    checked, and the episodes' memory is estimated (the pool is made smaller when
+    ``jobs`` episodes would not fit side by side).
 
     Args:
         request: scenarios, planners, seeds and parameters.
@@ -333,9 +428,19 @@ def run_benchmark(
             (first with the number already present).
         figures: also draw the PNG figures.
         writer: optional per-episode hook (see :data:`EpisodeWriter`), e.g. log files.
+        force: write into a non-empty folder srfm did not create.
 
     Returns:
         A :class:`BenchmarkSummary`.
+
+    Raises:
+        BenchmarkError: a folder of another run (parameters, versions, scenario content)
+            or a damaged manifest.
+        OutputError: a non-empty folder srfm did not create (without ``force``).
+        FolderInUseError: another srfm process is running on ``out``.
+        ResourceError: one episode would not fit in memory.
+        WriteError: the folder cannot be written.
+        UserCodeError: a user's planner raised.
     """
     out = Path(out)
     if out.exists() and not out.is_dir():
@@ -344,36 +449,52 @@ def run_benchmark(
         jobs = os.cpu_count() or 1
     if jobs < 1:
         raise BenchmarkError(f"jobs must be at least 1, got {jobs}")
-    manifest = _check_manifest(out, request)
-    out.mkdir(parents=True, exist_ok=True)
-    atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
-    _remove_stale_temporaries(out)
-    tasks = _pending_tasks(out, request, writer, figures)
-    total = len(request.scenarios) * len(request.planners) * len(request.seeds)
-    pending = sum(len(t.seeds) for t in tasks)
-    if on_progress is not None:
-        on_progress(total - pending)
-    start = time.perf_counter()
-    if tasks and jobs == 1:
-        for task in tasks:
-            done = _run_task(task)
-            if on_progress is not None:
-                on_progress(done)
-    elif tasks:
-        context = multiprocessing.get_context("fork" if sys.platform != "win32" else "spawn")
-        with context.Pool(min(jobs, len(tasks)), initializer=_init_worker) as pool:
-            for done in pool.imap_unordered(_run_task, tasks):
+    logs = _log_options(writer)
+    for scenario in request.scenarios:
+        jobs = check_episode_memory(scenario, jobs=jobs, **logs)
+    claim_output_folder(out, kind="benchmark", force=force, legacy_markers=(MANIFEST,))
+    with folder_lock(out):
+        recover_file_set(out)  # a report set cut short by a kill: finish it first
+        remove_stale_temporaries(out)
+        manifest = _check_manifest(out, request)
+        atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
+        damaged: list[str] = []
+        tasks = _pending_tasks(out, request, writer, figures, damaged)
+        total = len(request.scenarios) * len(request.planners) * len(request.seeds)
+        pending = sum(len(t.seeds) for t in tasks)
+        if on_progress is not None:
+            on_progress(total - pending)
+        start = time.perf_counter()
+        if tasks and jobs == 1:
+            for task in tasks:
+                done = _run_task(task)
                 if on_progress is not None:
                     on_progress(done)
-    wall = time.perf_counter() - start
-    files = write_reports(out, request, figures=figures)
+        elif tasks:
+            context = multiprocessing.get_context("fork" if sys.platform != "win32" else "spawn")
+            with context.Pool(min(jobs, len(tasks)), initializer=_init_worker) as pool:
+                for done in pool.imap_unordered(_run_task, tasks):
+                    if on_progress is not None:
+                        on_progress(done)
+        wall = time.perf_counter() - start
+        files = _write_reports(out, request, figures=figures)
     return BenchmarkSummary(
-        out=out, episodes=total, simulated=pending, wall_time_s=wall, files=files
+        out=out,
+        episodes=total,
+        simulated=pending,
+        wall_time_s=wall,
+        files=files,
+        resimulated=tuple(damaged),
+        jobs=jobs,
     )
 
 
 def load_results(out: Path, request: BenchmarkRequest) -> list[EpisodeMetrics]:
-    """The request's episode metrics from ``out``, in (scenario, planner, seed) order."""
+    """The request's episode metrics from ``out``, in (scenario, planner, seed) order.
+
+    Raises:
+        BenchmarkError: a missing or damaged episode file (the message names it).
+    """
     results = []
     for scenario in request.scenarios:
         for planner in request.planners:
@@ -381,15 +502,24 @@ def load_results(out: Path, request: BenchmarkRequest) -> list[EpisodeMetrics]:
                 path = episode_path(out, scenario.name, planner, seed)
                 if not path.exists():
                     raise BenchmarkError(f"{path} is missing: run the benchmark to finish it")
-                results.append(read_episode(path))
+                results.append(read_episode(path, expect=(scenario.name, planner, seed)))
     return results
 
 
 def write_reports(out: Path, request: BenchmarkRequest, *, figures: bool = True) -> tuple[str, ...]:
-    """Write the tables, CSV files, JSON summary and figures from the episode files."""
+    """Write the tables, CSV files, JSON summary and figures from the episode files, as
+    a whole, holding the folder's lock."""
+    out = Path(out)
+    with folder_lock(out):
+        recover_file_set(out)
+        return _write_reports(out, request, figures=figures)
+
+
+def _write_reports(out: Path, request: BenchmarkRequest, *, figures: bool) -> tuple[str, ...]:
+    """Every report rendered in memory first, then replaced as one set: a full disk or
+    a kill never leaves tables of one run beside CSV files of another."""
     results = load_results(out, request)
-    files, table = write_tables(
-        out,
+    files, table = render_tables(
         results,
         scenarios=[s.name for s in request.scenarios],
         planners=request.planners,
@@ -398,7 +528,8 @@ def write_reports(out: Path, request: BenchmarkRequest, *, figures: bool = True)
         reference=request.reference,
     )
     if figures:
-        from srfm.benchmark.figures import write_figures
+        from srfm.benchmark.figures import render_figures
 
-        files += write_figures(out, request, table)
+        files.update(render_figures(out, request, table))
+    write_file_set(out, files)
     return tuple(files)

@@ -11,7 +11,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm._io import atomic_write_bytes
+from srfm._io import atomic_write_bytes, write_file_set
 from srfm.metrics import BenchmarkTable
 from srfm.sim.record import EpisodeRecord
 
@@ -36,13 +36,13 @@ _DPI = 110
 FloatArray = NDArray[np.float64]
 
 
-def _save(fig: Figure, path: Path) -> None:
+def _png(fig: Figure) -> bytes:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     FigureCanvasAgg(fig)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=_DPI, metadata={"Software": None})
-    atomic_write_bytes(path, buf.getvalue())
+    return buf.getvalue()
 
 
 @attrs.frozen(kw_only=True, eq=False)
@@ -100,21 +100,36 @@ def save_figure_episode(out: Path, record: EpisodeRecord) -> None:
 
 
 def load_figure_episode(out: Path, scenario: str, planner: str, seed: int) -> FigureEpisode | None:
-    """The saved figure episode of (scenario, planner), or None if absent or of another seed."""
+    """The saved figure episode of (scenario, planner), or None if absent, of another
+    seed, or damaged (then the figure's episode is simulated again: same figure)."""
     path = figure_episode_path(out, scenario, planner)
-    if not path.exists():
+    if not path.is_file():
         return None
-    with np.load(path) as data:
-        if int(data["seed"]) != seed:
-            return None
-        return FigureEpisode(
-            scenario=scenario,
-            seed=seed,
-            planner=planner,
-            outcome=str(data["outcome"]),
-            end_step=int(data["end_step"]),
-            **{name: data[name] for name in _SAVED_ARRAYS},
-        )
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            if int(data["seed"]) != seed:
+                return None
+            episode = FigureEpisode(
+                scenario=scenario,
+                seed=seed,
+                planner=planner,
+                outcome=str(data["outcome"]),
+                end_step=int(data["end_step"]),
+                **{name: np.array(data[name], dtype=np.float64) for name in _SAVED_ARRAYS},
+            )
+    except Exception:  # any damage (zip, zlib, format, missing key): simulate again
+        return None
+    n_steps = episode.robot_pose.shape[0]
+    shapes_ok = (
+        episode.factual_pos.ndim == 3
+        and episode.factual_pos.shape == episode.counterfactual_pos.shape
+        and episode.factual_pos.shape[0] == n_steps
+        and episode.factual_pos.shape[2] == 2
+        and episode.robot_pose.shape == (n_steps, 3)
+        and episode.robot_goal.shape == (2,)
+        and 0 <= episode.end_step < n_steps
+    )
+    return episode if shapes_ok else None
 
 
 def _draw_episode(ax: Axes, record: FigureEpisode, world: Sequence[float]) -> None:
@@ -184,27 +199,30 @@ def deviation_figure(table: BenchmarkTable) -> Figure:
 
 def write_figures(out: Path, request: BenchmarkRequest, table: BenchmarkTable) -> list[str]:
     """Draw ``figures/paths_<scenario>.png`` (one seed, every planner) and
-    ``figures/deviation.png``; return their paths relative to ``out``."""
-    from srfm.planners import make_planner
-    from srfm.sim.episode import run_episode
+    ``figures/deviation.png`` as a whole; return their paths relative to ``out``."""
+    files = render_figures(out, request, table)
+    write_file_set(out, files)
+    return list(files)
+
+
+def render_figures(out: Path, request: BenchmarkRequest, table: BenchmarkTable) -> dict[str, bytes]:
+    """The PNG bytes of every figure by path relative to ``out`` (nothing written)."""
+    from srfm.sim.episode import build_planner, run_episode
 
     seed = request.drawn_seed
-    written = []
+    written: dict[str, bytes] = {}
     for scenario in request.scenarios:
         records = []
         for p in request.planners:
             saved = load_figure_episode(out, scenario.name, p, seed)
             if saved is None:  # a folder from before figures were kept: simulate again
                 record = run_episode(
-                    scenario, seed, make_planner(p), request.params, parallel=False
+                    scenario, seed, build_planner(p), request.params, parallel=False
                 )
                 saved = _figure_episode(record)
             records.append(saved)
         w = scenario.world
         fig = paths_figure(records, (w.x_min, w.x_max, w.y_min, w.y_max))
-        name = f"figures/paths_{scenario.name}.png"
-        _save(fig, out / name)
-        written.append(name)
-    _save(deviation_figure(table), out / "figures/deviation.png")
-    written.append("figures/deviation.png")
+        written[f"figures/paths_{scenario.name}.png"] = _png(fig)
+    written["figures/deviation.png"] = _png(deviation_figure(table))
     return written

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import click
 
+from srfm.cli._common import DEBUG_ENV, quiet_broken_pipe
 from srfm.cli.benchmark import benchmark
 from srfm.cli.data import ade, data, fit
 from srfm.cli.logs import score, view
@@ -13,11 +16,32 @@ from srfm.cli.train import export_policy, train
 __all__ = ["main"]
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class _Main(click.Group):
+    """The ``srfm`` group: a closed stdout (``srfm ... | head``) ends it quietly."""
+
+    def invoke(self, ctx: click.Context) -> Any:
+        try:
+            return super().invoke(ctx)
+        except BrokenPipeError:
+            quiet_broken_pipe()
+
+
+@click.group(cls=_Main, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="srfm")
-def main() -> None:
+@click.option(
+    "--debug",
+    is_flag=True,
+    help=f"Print the traceback behind an error message (also: {DEBUG_ENV}=1).",
+)
+@click.pass_context
+def main(ctx: click.Context, debug: bool) -> None:
     """srfm: simulate crowds with the Social Robot Force Model and measure how much a
-    robot makes people deviate from the paths they would have walked."""
+    robot makes people deviate from the paths they would have walked.
+
+    Exit codes: 0 success; 1 score mismatch or internal error; 2 user error; 73 cannot
+    write the output; 75 results folder in use; 130 interrupted (docs/reliability.md).
+    """
+    ctx.meta["srfm.debug"] = debug
 
 
 for _command in (

@@ -1,47 +1,142 @@
-"""Shared pieces of the command line: user errors and parameter loading."""
+"""Shared pieces of the command line: errors and exit codes, parameter loading.
+
+Exit codes (docs/reliability.md):
+
+- 0: success;
+- 1: ``srfm score`` found metrics that differ, or an internal error (a traceback: a bug);
+- 2: a user error: a bad option, value or file, a refused output, a user's planner
+  that raised (one line naming the planner, the method and the exception);
+- 73: an output could not be written (disk full, permission, read-only file system);
+- 75: the results folder is in use by another srfm run;
+- 130: interrupted (Ctrl-C).
+
+``srfm --debug COMMAND`` or the environment variable ``SRFM_DEBUG=1`` prints the
+traceback behind a one-line error as well (for a user's planner: the traceback inside
+the planner's own code).
+"""
 
 from __future__ import annotations
 
 import functools
+import os
+import sys
+import traceback
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, Final, TypeVar
 
 import click
 
-from srfm.errors import SrfmError
+from srfm.errors import FolderInUseError, SrfmError, UserCodeError, WriteError
 from srfm.models.params import SRFMParams
 
-__all__ = ["UserError", "load_params_option", "user_errors"]
+__all__ = [
+    "DEBUG_ENV",
+    "EXIT_IN_USE",
+    "EXIT_USER",
+    "EXIT_WRITE",
+    "UserError",
+    "debug_enabled",
+    "load_params_option",
+    "user_errors",
+]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
+DEBUG_ENV: Final = "SRFM_DEBUG"
+EXIT_USER: Final = 2
+EXIT_WRITE: Final = 73  # sysexits EX_CANTCREAT
+EXIT_IN_USE: Final = 75  # sysexits EX_TEMPFAIL: try again later
+
 
 class UserError(click.ClickException):
-    """A user mistake: printed as one line, exit code 2."""
+    """A user mistake: printed as one line, exit code 2 (or ``exit_code`` given)."""
 
-    exit_code = 2
+    exit_code = EXIT_USER
+
+    def __init__(self, message: str, exit_code: int = EXIT_USER) -> None:
+        super().__init__(message)
+        self.exit_code = exit_code  # type: ignore[misc]  # click declares a class default
+
+
+def debug_enabled() -> bool:
+    """``srfm --debug`` was given, or ``SRFM_DEBUG`` is set to something other than 0."""
+    if os.environ.get(DEBUG_ENV, "").strip() not in ("", "0"):
+        return True
+    ctx = click.get_current_context(silent=True)
+    return bool(ctx is not None and ctx.find_root().meta.get("srfm.debug"))
+
+
+def _exit_code(exc: BaseException) -> int:
+    if isinstance(exc, FolderInUseError):
+        return EXIT_IN_USE
+    if isinstance(exc, WriteError):
+        return EXIT_WRITE
+    return EXIT_USER
+
+
+def _os_message(exc: OSError) -> str:
+    name = f"{exc.filename}: " if exc.filename else ""
+    return f"{name}{exc.strerror or exc}"
 
 
 def user_errors(func: F) -> F:
-    """Turn srfm's own errors into one-line messages with exit code 2."""
+    """Turn srfm's own errors and operating-system errors into one-line messages.
+
+    :class:`SrfmError` exits with 2 (73 for a :class:`WriteError`, 75 for a
+    :class:`FolderInUseError`); any other :class:`OSError` (e.g. raised by a library
+    while writing) with 73. With ``--debug`` the traceback is printed first.
+    """
 
     @functools.wraps(func)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
         try:
             return func(*args, **kwargs)
-        except SrfmError as exc:
-            raise UserError(str(exc)) from None
+        except (SrfmError, OSError) as exc:
+            if isinstance(exc, BrokenPipeError):
+                raise
+            debug = debug_enabled()
+            if debug:
+                if isinstance(exc, UserCodeError) and exc.traceback_text:
+                    click.echo(exc.traceback_text.rstrip(), err=True)
+                else:
+                    click.echo("".join(traceback.format_exception(exc)).rstrip(), err=True)
+            if isinstance(exc, SrfmError):
+                message = str(exc)
+                code = _exit_code(exc)
+            else:
+                message = f"cannot complete: {_os_message(exc)}"
+                code = EXIT_WRITE
+            if isinstance(exc, UserCodeError) and not debug:
+                message += f" (srfm --debug, or {DEBUG_ENV}=1, shows its traceback)"
+            raise UserError(message, code) from None
 
     return wrapper  # type: ignore[return-value]
 
 
 def load_params_option(value: str | None) -> SRFMParams:
     """The SRFM parameters named by a ``--params PRESET|FILE`` option (default preset)."""
+    from srfm._io import MAX_TOML_BYTES, read_input_bytes
+    from srfm.errors import ParameterError
     from srfm.models import load_params
 
     if value is None:
         return SRFMParams()
-    if value.endswith(".toml") or Path(value).exists():
+    if value.endswith(".toml") or os.path.lexists(value):
+        # A FIFO or a device must not hang or exhaust memory (load_params reads it).
+        read_input_bytes(
+            Path(value), max_bytes=MAX_TOML_BYTES, error=ParameterError, what="parameter file"
+        )
         return load_params(value)
     return SRFMParams.preset(value)  # an unknown name raises a ParameterError listing them
+
+
+def quiet_broken_pipe() -> None:
+    """After stdout's reader went away (``srfm ... | head``): exit quietly, 141 like a
+    shell, instead of a ``BrokenPipeError`` traceback."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):
+        pass
+    sys.exit(141)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -17,27 +18,38 @@ if TYPE_CHECKING:
 __all__ = ["benchmark"]
 
 
+_SEED_RE = re.compile(r"(\d{1,20})(?:-(\d{1,20}))?", re.ASCII)
+
+
 def _parse_seeds(text: str) -> list[int]:
-    """``"0-99"``, ``"0,3,7"`` or a mix such as ``"0-9,20"``."""
-    seeds: list[int] = []
+    """``"0-99"``, ``"0,3,7"`` or a mix such as ``"0-9,20"``: at most
+    :data:`~srfm.benchmark.MAX_SEEDS` seeds in [0, 2^32 - 1]; the count is checked from
+    the ranges' bounds before any list is built, so ``0-99999999`` is refused at once."""
+    from srfm._validate import MAX_SEED
+    from srfm.benchmark import MAX_SEEDS
+
+    ranges: list[tuple[int, int]] = []
+    count = 0
     for part in text.split(","):
         part = part.strip()
-        lo, sep, hi = part.partition("-")
-        try:
-            if sep:
-                a, b = int(lo), int(hi)
-                if b < a:
-                    raise ValueError
-                seeds.extend(range(a, b + 1))
-            else:
-                seeds.append(int(part))
-        except ValueError:
+        match = _SEED_RE.fullmatch(part)
+        a = int(match.group(1)) if match else 0
+        b = int(match.group(2)) if match and match.group(2) is not None else a
+        if match is None or b < a:
             raise click.BadParameter(
                 f"{part!r} is not a seed or a range like 0-99", param_hint="--seeds"
-            ) from None
-    if any(s < 0 for s in seeds):
-        raise click.BadParameter(f"seeds must be non-negative, got {text!r}", param_hint="--seeds")
-    return seeds
+            )
+        if b > MAX_SEED:
+            raise click.BadParameter(
+                f"seeds must be in [0, {MAX_SEED}] (2^32 - 1), got {part!r}", param_hint="--seeds"
+            )
+        count += b - a + 1
+        if count > MAX_SEEDS:
+            raise click.BadParameter(
+                f"{text!r} asks for more than {MAX_SEEDS} seeds", param_hint="--seeds"
+            )
+        ranges.append((a, b))
+    return [seed for a, b in ranges for seed in range(a, b + 1)]
 
 
 def _parse_rrd_seeds(text: str) -> int | None:
@@ -45,7 +57,7 @@ def _parse_rrd_seeds(text: str) -> int | None:
     if text.strip().lower() == "all":
         return None
     try:
-        value = int(text)
+        value = int(text) if len(text) <= 20 else -1
     except ValueError:
         value = -1
     if value < 0:
@@ -65,7 +77,7 @@ def _log_writer(
     forces: bool,
 ) -> EpisodeLogger | None:
     """The per-episode writer the options ask for (None: no logs)."""
-    from srfm.logs import EpisodeLogger, LogOptions, remove_stale_temporaries
+    from srfm.logs import EpisodeLogger, LogOptions
 
     rrd_count = _parse_rrd_seeds(rrd_seeds)
     if not logs or (not mcap and rrd_count == 0):
@@ -79,8 +91,8 @@ def _log_writer(
         forces=forces,
         share_counterfactual=compact,
     )
-    if out.is_dir():
-        remove_stale_temporaries(out)
+    # Stale temporaries are removed by run_benchmark, under the folder's lock: never
+    # here, where they may belong to another run still in progress.
     return EpisodeLogger.create(
         options,
         scenarios=request.scenarios,
@@ -144,8 +156,10 @@ def _split(values: tuple[str, ...]) -> list[str]:
     type=click.Path(file_okay=False, path_type=Path),
     default=Path("results"),
     show_default=True,
-    help="Results folder; an interrupted run there is resumed.",
+    help="Results folder; an interrupted run there is resumed. It must be new, empty or "
+    "made by srfm benchmark; one run at a time.",
 )
+@click.option("--force", is_flag=True, help="Write into a non-empty folder srfm did not make.")
 @click.option(
     "--jobs",
     "-j",
@@ -207,6 +221,7 @@ def benchmark(
     mcap_profile: str,
     rrd_seeds: str,
     forces: bool,
+    force: bool,
 ) -> None:
     """Run scenarios × planners × seeds of twin episodes and write tables and figures.
 
@@ -241,7 +256,13 @@ def benchmark(
 
         try:
             summary = run_benchmark(
-                request, out, jobs=jobs, on_progress=advance, figures=not no_figures, writer=writer
+                request,
+                out,
+                jobs=jobs,
+                on_progress=advance,
+                figures=not no_figures,
+                writer=writer,
+                force=force,
             )
         except KeyboardInterrupt:
             done = len(list((out / "episodes").rglob("seed-*.json")))
@@ -251,6 +272,20 @@ def benchmark(
                 err=True,
             )
             sys.exit(130)
+    if summary.resimulated:
+        shown = ", ".join(summary.resimulated[:3])
+        more = f" and {len(summary.resimulated) - 3} more" if len(summary.resimulated) > 3 else ""
+        click.echo(
+            f"note: {len(summary.resimulated)} damaged episode file(s) simulated again: "
+            f"{shown}{more}",
+            err=True,
+        )
+    if jobs is not None and summary.jobs < jobs:
+        click.echo(
+            f"note: {summary.jobs} worker(s) instead of {jobs}: more episodes side by side "
+            "would not fit in memory",
+            err=True,
+        )
     click.echo(
         f"simulated {summary.simulated} of {summary.episodes} episodes in "
         f"{summary.wall_time_s:.1f} s ({summary.episodes - summary.simulated} were already done)",

@@ -17,6 +17,7 @@ from typing import Any, TypeVar
 
 import click
 
+from srfm._validate import MAX_DURATION_S
 from srfm.cli._common import load_params_option, user_errors
 from srfm.errors import DatasetError
 
@@ -48,8 +49,8 @@ def _parse_dt(values: Sequence[str]) -> tuple[float | None, dict[str, float]]:
             value = float(text)
         except ValueError:
             raise DatasetError(f"--dt expects SECONDS or FILE=SECONDS, got {item!r}") from None
-        if not (math.isfinite(value) and value > 0):
-            raise DatasetError(f"--dt must be a positive number of seconds, got {item!r}")
+        if not 0.0 < value <= MAX_DURATION_S:  # also false for NaN
+            raise DatasetError(f"--dt must be in (0, {MAX_DURATION_S:g}] s, got {item!r}")
         if sep:
             per_file[key] = value
         else:
@@ -82,8 +83,10 @@ def convert(
 ) -> None:
     """Convert a DATASET (jrdb, eth-ucy, navwareset) at SRC (a file or folder) to OUT.mcap.
 
-    Nothing is written unless every source file reads cleanly.
+    Nothing is written unless every source file reads cleanly; OUT may not be one of
+    the sources.
     """
+    from srfm._io import check_writable, refuse_overwriting_inputs
     from srfm.datasets import eth_ucy, jrdb, navwareset, write_mcap
 
     if dt_values and dataset != "eth-ucy":
@@ -103,6 +106,11 @@ def convert(
     }
     list_sources, read_one = readers[dataset]
     files = list_sources(src)
+    inputs: list[Path] = [src, *files]
+    if odometry is not None:
+        inputs += [odometry, *(odometry.rglob("*.json") if odometry.is_dir() else ())]
+    refuse_overwriting_inputs(out, inputs, option="OUT")
+    check_writable(out)
     if dataset == "eth-ucy":
         eth_ucy.check_overrides(files, dt_files)
     if dataset == "jrdb" and odometry is not None and odometry.is_file() and len(files) > 1:
@@ -308,9 +316,13 @@ def fit(
     with the pedestrian part fixed. See docs/fitting.md for the residual.
     """
     from srfm import __version__
+    from srfm._io import check_writable, refuse_overwriting_inputs
     from srfm.fitting import fit_params
     from srfm.models import save_params
 
+    inputs = [*files, *([Path(start_spec)] if start_spec is not None else [])]
+    refuse_overwriting_inputs(output, inputs, option="--output")
+    check_writable(output)  # before the fit, not after it
     start = load_params_option(start_spec)
     windows = _load_windows(files, **window)
     chosen = tuple(stages) or ("pedestrian", "robot")

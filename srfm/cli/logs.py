@@ -25,11 +25,14 @@ __all__ = ["check_recording", "display_available", "score", "view", "viewer_comm
     "--out",
     type=click.Path(path_type=Path),
     default=None,
-    help="Also write the tables, CSV files and summary.json here (a new folder, or one "
-    "that is not a benchmark results folder).",
+    help="Also write the tables, CSV files and summary.json here (a new or empty folder, "
+    "or one srfm score made).",
+)
+@click.option(
+    "--force", is_flag=True, help="With --out: write into a non-empty folder srfm did not make."
 )
 @user_errors
-def score(paths: tuple[Path, ...], out: Path | None) -> None:
+def score(paths: tuple[Path, ...], out: Path | None, force: bool) -> None:
     """Recompute every metric and the benchmark tables from MCAP logs alone.
 
     PATH is a results folder (every .mcap under it is read), a logs folder or .mcap
@@ -37,13 +40,15 @@ def score(paths: tuple[Path, ...], out: Path | None) -> None:
     and compared bit for bit with the metrics logged when it ran. Prints the table
     (the benchmark's table.md); exits with 1 if any episode's metrics differ.
     """
+    from srfm._io import check_writable, claim_output_folder, folder_lock
     from srfm.logs import score_logs, write_score_reports
     from srfm.logs.score import check_report_folder
     from srfm.metrics import TABLE_COLUMNS, benchmark_table, to_markdown
 
     if out is not None:
         check_report_folder(out)
-    result = score_logs(paths)
+        check_writable(out, folder=True)
+    result = score_logs(paths)  # a bad input names itself before the output is judged
     n = len(result.episodes)
     click.echo(
         f"score: {n} episode logs, {len(result.scenarios)} scenarios × "
@@ -73,7 +78,9 @@ def score(paths: tuple[Path, ...], out: Path | None) -> None:
         )
         click.echo(to_markdown(table), nl=False)
     if out is not None:
-        files = write_score_reports(out, result)
+        claim_output_folder(out, kind="score", force=force)
+        with folder_lock(out):
+            files = write_score_reports(out, result)
         same = " (the benchmark's complete logs: same tables)" if result.complete else ""
         click.echo(f"reports in {out}: {', '.join(files)}{same}", err=True)
     if bad:

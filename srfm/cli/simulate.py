@@ -11,6 +11,7 @@ from typing import Any
 import click
 import numpy as np
 
+from srfm._validate import MAX_SEED
 from srfm.cli._common import UserError, load_params_option, user_errors
 
 __all__ = ["planners", "scenarios", "simulate"]
@@ -48,17 +49,17 @@ def planners() -> None:
 )
 @click.option(
     "--seed",
-    type=click.IntRange(min=0),
+    type=click.IntRange(min=0, max=MAX_SEED),
     default=0,
     show_default=True,
-    help="Episode seed (non-negative integer).",
+    help="Episode seed (integer in [0, 2^32 - 1]).",
 )
 @click.option(
     "--planner",
     "planner_name",
     default="straight",
     show_default=True,
-    help="Planner registry name (see `srfm planners`).",
+    help="Planner registry name (see `srfm planners`) or module:attribute of your own.",
 )
 @click.option(
     "--params",
@@ -74,7 +75,10 @@ def planners() -> None:
     type=click.Path(file_okay=False, path_type=Path),
     default=None,
     help="Write the episode's logs into OUT/logs/<scenario>/<planner>/: an MCAP file and "
-    "a Rerun recording (docs/logging.md).",
+    "a Rerun recording (docs/logging.md). OUT must be new, empty or made by srfm.",
+)
+@click.option(
+    "--force", is_flag=True, help="With --out: write into a non-empty folder srfm did not make."
 )
 @click.option("--no-mcap", is_flag=True, help="With --out: no MCAP file.")
 @click.option("--no-rrd", is_flag=True, help="With --out: no Rerun recording.")
@@ -98,17 +102,28 @@ def simulate(
     no_rrd: bool,
     mcap_profile: str,
     forces: bool,
+    force: bool,
 ) -> None:
     """Run one twin episode and print a short summary (and write its logs with --out)."""
-    from srfm.planners import make_planner
+    from srfm._io import claim_output_folder
     from srfm.scenarios import load_scenario
-    from srfm.sim.episode import run_episode
+    from srfm.sim.episode import build_planner, check_episode_memory, run_episode
 
     if out is not None and no_mcap and no_rrd:
         raise UserError("--out with --no-mcap and --no-rrd writes nothing; drop one of them")
     scenario = load_scenario(scenario_name)
-    planner = make_planner(planner_name)
+    planner = build_planner(planner_name)
     params = load_params_option(params_spec)
+    if out is not None:
+        check_episode_memory(scenario, mcap=not no_mcap, rrd=not no_rrd, forces=forces)
+        claim_output_folder(
+            out,
+            kind="simulate",
+            accept=("benchmark",),
+            force=force,
+            legacy_markers=("logs",),
+            mark=False,
+        )
     start = time.perf_counter()
     record = run_episode(scenario, seed, planner, params)
     wall_s = time.perf_counter() - start

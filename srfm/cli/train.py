@@ -231,8 +231,11 @@ def _train(
     n_envs: int,
     progress: bool,
 ) -> None:
+    from srfm._io import check_writable
     from srfm.rl.training import TrainConfig
     from srfm.rl.training import train as run_training
+
+    check_writable(run_dir, folder=True)  # before any training, not at the first checkpoint
 
     config = TrainConfig(
         total_steps=steps,
@@ -303,6 +306,14 @@ def export_policy(checkpoint: Path, out: Path, eval_seeds: int, note: str | None
     evaluation figures). The result loads with NumPy only and runs as a planner
     (srfm.planners.td3.TD3Planner). Reading the checkpoint unpickles: trusted files only.
     """
+    user_errors(_export)(checkpoint, out, eval_seeds=eval_seeds, note=note)
+
+
+def _export(checkpoint: Path, out: Path, *, eval_seeds: int, note: str | None) -> None:
+    from srfm._io import check_writable, refuse_overwriting_inputs
     from srfm.rl.training import export_policy as run_export
 
-    user_errors(run_export)(checkpoint, out, eval_seeds=eval_seeds, note=note, log=click.echo)
+    for target in (out.with_suffix(".npz"), out.with_suffix(".json")):
+        refuse_overwriting_inputs(target, [checkpoint], option="OUT")
+        check_writable(target)
+    run_export(checkpoint, out, eval_seeds=eval_seeds, note=note, log=click.echo)

@@ -1,4 +1,10 @@
-"""Small parsing helpers shared by the adapters: numbers with a location in the message."""
+"""Small parsing helpers shared by the adapters: numbers with a location in the message.
+
+Every raw file is read through :func:`srfm._io.read_input_text` (regular files of at
+most 1 GiB, UTF-8 with an optional byte-order mark), and every number through the
+bounds of :mod:`srfm._validate`: positions within ±1e7 m, frame numbers and timestamps
+(ns) within [0, 2⁶³ − 1], frame intervals within (0, 86400] s.
+"""
 
 from __future__ import annotations
 
@@ -11,6 +17,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._io import MAX_DATASET_FILE_BYTES, read_input_text
+from srfm._validate import BOUNDS, MAX_INT64
 from srfm.datasets._trajectories import DatasetWarning
 from srfm.errors import DatasetError
 
@@ -29,16 +37,56 @@ def number(text: str, where: str, what: str) -> float:
     return value
 
 
-def integer(text: str, where: str, what: str) -> int:
-    """Parse an integer written as ``12`` or ``12.0``."""
-    try:
-        return int(text)
-    except ValueError:
-        pass
+def coordinate(text: str, where: str, what: str) -> float:
+    """A position coordinate (m): a finite number within ±1e7 m (the physical bound)."""
     value = number(text, where, what)
-    if not value.is_integer():
-        raise DatasetError(f"{where}: {what} must be an integer, got {text!r}")
-    return int(value)
+    lo, hi, unit = BOUNDS["coordinate"]
+    if not lo <= value <= hi:
+        raise DatasetError(f"{where}: {what} must be in [{lo:g}, {hi:g}] {unit}, got {text!r}")
+    return value
+
+
+def integer(text: str, where: str, what: str, *, signed: bool = True) -> int:
+    """Parse an integer written as ``12`` or ``12.0``, within int64 (also >= 0 unless
+    ``signed``)."""
+    try:
+        value = int(text)
+    except ValueError:
+        as_float = number(text, where, what)
+        if not as_float.is_integer():
+            raise DatasetError(f"{where}: {what} must be an integer, got {text!r}") from None
+        value = int(as_float)
+    return bounded_int(value, where, what, signed=signed)
+
+
+def bounded_int(value: int, where: str, what: str, *, signed: bool = False) -> int:
+    """``value`` if it fits int64 (and is >= 0 unless ``signed``), else a DatasetError."""
+    lo = -MAX_INT64 - 1 if signed else 0
+    if not lo <= value <= MAX_INT64:
+        span = "[-2^63, 2^63 - 1]" if signed else "[0, 2^63 - 1]"
+        raise DatasetError(f"{where}: {what} must be in {span}, got {value}")
+    return value
+
+
+def seconds_to_ns(seconds: float, where: str, what: str = "timestamp") -> int:
+    """A time in seconds (>= 0) as integer nanoseconds that fit int64."""
+    if not (math.isfinite(seconds) and 0.0 <= seconds <= MAX_INT64 * 1e-9):
+        raise DatasetError(
+            f"{where}: {what} must be in [0, {MAX_INT64 * 1e-9:.4g}] s (int64 ns), got {seconds!r}"
+        )
+    return bounded_int(round(seconds * 1e9), where, what)
+
+
+def frame_interval(dt_s: object, where: str) -> float:
+    """A frame interval (s) in (0, 86400]."""
+    lo, hi, _ = BOUNDS["duration"]
+    if (
+        isinstance(dt_s, bool)
+        or not isinstance(dt_s, int | float)
+        or not lo < float(dt_s) <= hi  # also false for NaN
+    ):
+        raise DatasetError(f"{where}: dt_s must be in (0, {hi:g}] s, got {dt_s!r}")
+    return float(dt_s)
 
 
 def json_number(value: Any, where: str) -> float:
@@ -53,34 +101,25 @@ def json_number(value: Any, where: str) -> float:
 
 def load_json(path: Path) -> Any:
     """Read a JSON file; errors name the file, line and column."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise DatasetError(f"{path}: file not found") from None
-    except UnicodeDecodeError as exc:
-        raise DatasetError(f"{path}: not UTF-8 text (byte {exc.start})") from None
-    except OSError as exc:
-        raise DatasetError(f"{path}: cannot read: {exc.strerror}") from None
+    text = _read(path)
     if not text.strip():
         raise DatasetError(f"{path}: empty file")
     try:
         return json.loads(text)
     except json.JSONDecodeError as exc:
         raise DatasetError(f"{path}:{exc.lineno}:{exc.colno}: not valid JSON: {exc.msg}") from None
+    except RecursionError:
+        raise DatasetError(f"{path}: not valid JSON: nested too deeply") from None
+
+
+def _read(path: Path) -> str:
+    return read_input_text(path, max_bytes=MAX_DATASET_FILE_BYTES, error=DatasetError, what="file")
 
 
 def read_text_lines(path: Path) -> list[str]:
-    """The lines of a UTF-8 text file; a missing or unreadable file is a DatasetError."""
-    try:
-        return path.read_text(encoding="utf-8").splitlines()
-    except FileNotFoundError:
-        raise DatasetError(f"{path}: file not found") from None
-    except IsADirectoryError:
-        raise DatasetError(f"{path}: is a directory, expected a file") from None
-    except UnicodeDecodeError as exc:
-        raise DatasetError(f"{path}: not UTF-8 text (byte {exc.start})") from None
-    except OSError as exc:
-        raise DatasetError(f"{path}: cannot read: {exc.strerror}") from None
+    """The lines of a UTF-8 text file (a byte-order mark is dropped); a missing,
+    unreadable, special (FIFO, device) or oversized file is a DatasetError."""
+    return _read(path).splitlines()
 
 
 def median_speed(

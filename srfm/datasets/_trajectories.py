@@ -15,6 +15,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._validate import BOUNDS
 from srfm.errors import DatasetError, DatasetWarning
 
 __all__ = [
@@ -123,6 +124,14 @@ class Trajectories:
             raise DatasetError(
                 f"{where}: non-finite position {xy[k].tolist()} of agent {ids[agent[k]]!r} "
                 f"at frame {int(frame[k])}"
+            )
+        lo, hi, unit = BOUNDS["coordinate"]
+        outside = (xy < lo) | (xy > hi)
+        if np.any(outside):
+            k = int(np.argwhere(outside)[0, 0])
+            raise DatasetError(
+                f"{where}: position {xy[k].tolist()} of agent {ids[agent[k]]!r} at frame "
+                f"{int(frame[k])} is outside [{lo:g}, {hi:g}] {unit} (the physical bound)"
             )
         if m and t_ns.min() < 0:
             k = int(np.argmin(t_ns))

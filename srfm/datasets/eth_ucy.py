@@ -13,14 +13,21 @@ differences between consecutive distinct frame ids.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Final
 
 import numpy as np
 
-from srfm.datasets._parse import integer, median_speed, number, read_text_lines, warn_if_fast
+from srfm._validate import MAX_INT64
+from srfm.datasets._parse import (
+    coordinate,
+    frame_interval,
+    integer,
+    median_speed,
+    read_text_lines,
+    warn_if_fast,
+)
 from srfm.datasets._trajectories import PEDESTRIAN, Trajectories
 from srfm.errors import DatasetError
 
@@ -100,8 +107,7 @@ def read_file(path: str | Path, dt_s: float = DEFAULT_DT_S) -> Trajectories:
             pedestrian twice in a frame; the message names the file and line.
     """
     path = Path(path)
-    if not (isinstance(dt_s, int | float) and math.isfinite(dt_s) and dt_s > 0):
-        raise DatasetError(f"{path}: dt_s must be a positive number of seconds, got {dt_s!r}")
+    dt_s = frame_interval(dt_s, str(path))
     frames: list[int] = []
     ids: list[int] = []
     xy: list[tuple[float, float]] = []
@@ -122,8 +128,8 @@ def read_file(path: str | Path, dt_s: float = DEFAULT_DT_S) -> Trajectories:
             )
         frame = integer(fields[0], where, "frame (column 1)")
         pid = integer(fields[1], where, "pedestrian id (column 2)")
-        x = number(fields[2], where, "x (column 3)")
-        y = number(fields[3], where, "y (column 4)")
+        x = coordinate(fields[2], where, "x (column 3)")
+        y = coordinate(fields[3], where, "y (column 4)")
         previous = last_of.get(pid)
         if previous is not None and frame < previous[0]:
             raise DatasetError(
@@ -154,7 +160,14 @@ def read_file(path: str | Path, dt_s: float = DEFAULT_DT_S) -> Trajectories:
     distinct = np.unique(frame_a)
     step = int(np.gcd.reduce(np.diff(distinct))) if distinct.size > 1 else 1
     # Integer nanoseconds per frame step, then exact integer arithmetic per frame.
-    t_ns = np.rint(frame_a.astype(np.float64) * (dt_s * 1e9 / step)).astype(np.int64)
+    t_float = frame_a.astype(np.float64) * (dt_s * 1e9 / step)
+    if t_float[-1] >= float(MAX_INT64):
+        raise DatasetError(
+            f"{path}: frame {int(frame_a[-1])} at dt = {dt_s:g} s per frame step of {step} "
+            f"is {t_float[-1] * 1e-9:.4g} s, beyond the int64 nanosecond clock (292 years); "
+            "check the frame numbers or --dt"
+        )
+    t_ns = np.rint(t_float).astype(np.int64)
     uniq_ids = sorted(set(ids))
     index = {pid: i for i, pid in enumerate(uniq_ids)}
     agent = np.array([index[p] for p in ids], dtype=np.int64)

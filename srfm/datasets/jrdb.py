@@ -31,7 +31,8 @@ from typing import Any, Final
 
 import numpy as np
 
-from srfm.datasets._parse import json_number, load_json
+from srfm._validate import BOUNDS
+from srfm.datasets._parse import bounded_int, json_number, load_json, seconds_to_ns
 from srfm.datasets._trajectories import PEDESTRIAN, ROBOT, DatasetWarning, Trajectories
 from srfm.errors import DatasetError
 
@@ -117,10 +118,10 @@ def read_jrdb(src: str | Path, *, odometry: str | Path | None = None) -> list[Tr
 
 
 def _frame_number(name: str, where: str) -> int:
-    match = _FRAME_NAME.match(Path(name).name)
+    match = _FRAME_NAME.fullmatch(Path(name).name)
     if match is None:
         raise DatasetError(f"{where}: frame name must be a number like '000123.pcd', got {name!r}")
-    return int(match.group(1))
+    return bounded_int(int(match.group(1)), where, "frame number")
 
 
 def _read_timestamps(path: Path) -> dict[int, int]:
@@ -147,7 +148,7 @@ def _read_timestamps(path: Path) -> dict[int, int]:
             fid = entry["frame_id"]
             if isinstance(fid, bool) or not isinstance(fid, int):
                 raise DatasetError(f"{where}.frame_id: expected an integer, got {fid!r}")
-            frame = fid
+            frame = bounded_int(fid, f"{where}.frame_id", "frame_id")
             t_s = json_number(entry["timestamp"], f"{where}.timestamp")
         else:
             raise DatasetError(f"{where}: missing key 'pointclouds'")
@@ -155,7 +156,7 @@ def _read_timestamps(path: Path) -> dict[int, int]:
             raise DatasetError(f"{where}: negative timestamp {t_s!r}")
         if frame in out:
             raise DatasetError(f"{where}: frame {frame} listed twice")
-        out[frame] = round(t_s * 1e9)
+        out[frame] = seconds_to_ns(t_s, where)
     if not out:
         raise DatasetError(f"{path}: no frames in 'data'")
     previous: tuple[int, int] | None = None
@@ -166,6 +167,15 @@ def _read_timestamps(path: Path) -> dict[int, int]:
                 f"is not after frame {previous[0]} at {previous[1] * 1e-9:.6f} s"
             )
         previous = (frame, out[frame])
+    return out
+
+
+def _coordinate(value: Any, where: str) -> float:
+    """A JSON position coordinate (m) within the physical bound (±1e7 m)."""
+    out = json_number(value, where)
+    lo, hi, unit = BOUNDS["coordinate"]
+    if not lo <= out <= hi:
+        raise DatasetError(f"{where}: must be in [{lo:g}, {hi:g}] {unit}, got {value!r}")
     return out
 
 
@@ -183,8 +193,8 @@ def _yaw_from_pose(pose: Any, where: str) -> tuple[float, float, float]:
         for key in ("x", "y", "z", "w"):
             if key not in ori:
                 raise DatasetError(f"{where}.orientation: missing key {key!r}")
-        x = json_number(pos["x"], f"{where}.position.x")
-        y = json_number(pos["y"], f"{where}.position.y")
+        x = _coordinate(pos["x"], f"{where}.position.x")
+        y = _coordinate(pos["y"], f"{where}.position.y")
         qx, qy, qz, qw = (json_number(ori[k], f"{where}.orientation.{k}") for k in "xyzw")
         if qx * qx + qy * qy + qz * qz + qw * qw < 1e-12:
             raise DatasetError(f"{where}.orientation: zero quaternion")
@@ -197,8 +207,8 @@ def _yaw_from_pose(pose: Any, where: str) -> tuple[float, float, float]:
                 "(a pose is {position, orientation} or {x, y, yaw})"
             )
     return (
-        json_number(pose["x"], f"{where}.x"),
-        json_number(pose["y"], f"{where}.y"),
+        _coordinate(pose["x"], f"{where}.x"),
+        _coordinate(pose["y"], f"{where}.y"),
         json_number(pose["yaw"], f"{where}.yaw"),
     )
 
@@ -278,7 +288,7 @@ def read_sequence(
         name = frame_names[frame]
         where_f = f"{labels_path}: labels[{name!r}]"
         if ts is None:
-            t_ns = round(frame * 1e9 / RATE_HZ)
+            t_ns = seconds_to_ns(frame / RATE_HZ, where_f, f"frame {frame} at {RATE_HZ:g} Hz")
         elif frame in ts:
             t_ns = ts[frame]
         else:
@@ -323,8 +333,8 @@ def read_sequence(
             for key in ("cx", "cy"):
                 if key not in box:
                     raise DatasetError(f"{where}.box: missing key {key!r}")
-            bx = json_number(box["cx"], f"{where}.box.cx")
-            by = json_number(box["cy"], f"{where}.box.cy")
+            bx = _coordinate(box["cx"], f"{where}.box.cx")
+            by = _coordinate(box["cy"], f"{where}.box.cy")
             agent.append(ids.setdefault(label_id, len(ids)))
             frame_l.append(frame)
             t_l.append(t_ns)

@@ -19,7 +19,15 @@ from typing import Final
 
 import numpy as np
 
-from srfm.datasets._parse import integer, median_speed, number, read_text_lines, warn_if_fast
+from srfm.datasets._parse import (
+    bounded_int,
+    coordinate,
+    integer,
+    median_speed,
+    number,
+    read_text_lines,
+    warn_if_fast,
+)
 from srfm.datasets._trajectories import PEDESTRIAN, ROBOT, Trajectories
 from srfm.errors import DatasetError
 
@@ -55,7 +63,7 @@ def _timestamp_ns(text: str, where: str) -> int:
         value = round(number(text, where, "timestamp"))
     if value < 0:
         raise DatasetError(f"{where}: timestamp must be >= 0 ns, got {text!r}")
-    return value
+    return bounded_int(value, where, "timestamp (ns)")
 
 
 def read_file(path: str | Path) -> Trajectories:
@@ -71,6 +79,14 @@ def read_file(path: str | Path) -> Trajectories:
     if not rows or not any(cell.strip() for cell in rows[0]):
         raise DatasetError(f"{path}: empty file (no header)")
     header = [c.strip() for c in rows[0]]
+    seen: set[str] = set()
+    for name in header:
+        if name in seen:
+            raise DatasetError(
+                f"{path}:1: column {name!r} appears twice in the header "
+                f"({','.join(header)}); which one holds the data is ambiguous"
+            )
+        seen.add(name)
     missing = [c for c in REQUIRED_COLUMNS if c not in header]
     if missing:
         raise DatasetError(
@@ -96,14 +112,14 @@ def read_file(path: str | Path) -> Trajectories:
             )
         ped.append(
             (
-                number(row[col["x"]], where, "x"),
-                number(row[col["y"]], where, "y"),
+                coordinate(row[col["x"]], where, "x"),
+                coordinate(row[col["y"]], where, "y"),
             )
         )
         rob.append(
             (
-                number(row[col["robot_x"]], where, "robot_x"),
-                number(row[col["robot_y"]], where, "robot_y"),
+                coordinate(row[col["robot_x"]], where, "robot_x"),
+                coordinate(row[col["robot_y"]], where, "robot_y"),
             )
         )
         if has_group:

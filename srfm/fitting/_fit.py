@@ -48,6 +48,7 @@ BOUNDS: Final[dict[str, tuple[float, float]]] = {
     "a_robot": (0.0, 100.0),
     "b_robot": (0.05, 3.0),
 }
+_MAX_NFEV: Final = 1_000_000
 _STAGE_MODE: Final[dict[str, Mode]] = {"pedestrian": "sfm", "robot": "srfm"}
 _STAGE_WINDOWS: Final[dict[str, bool]] = {"pedestrian": False, "robot": True}
 
@@ -145,13 +146,20 @@ def fit_params(
         skipped (``StageResult.skipped``) and its parameters stay at ``start``.
 
     Raises:
-        ParameterError: an unknown stage.
+        ParameterError: an unknown stage, or ``max_nfev`` not an integer in
+            [1, 1_000_000].
     """
     from scipy.optimize import least_squares
 
     unknown = [s for s in stages if s not in STAGE_FIELDS]
     if unknown:
         raise ParameterError(f"unknown fitting stage {unknown[0]!r}; known: pedestrian, robot")
+    if (
+        isinstance(max_nfev, bool)
+        or not isinstance(max_nfev, int | np.integer)
+        or not 1 <= max_nfev <= _MAX_NFEV
+    ):
+        raise ParameterError(f"max_nfev must be an integer in [1, {_MAX_NFEV}], got {max_nfev!r}")
     params = start or SRFMParams()
     results: list[StageResult] = []
     for stage in ("pedestrian", "robot"):

@@ -15,7 +15,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm._validate import positive, unit_interval
+from srfm._validate import physical, positive, unit_interval
 from srfm.datasets._trajectories import PEDESTRIAN, Trajectories
 from srfm.errors import DatasetError, ParameterError
 
@@ -32,6 +32,18 @@ def _pos(inst: object, attribute: attrs.Attribute[float], value: float) -> None:
     positive(value, attribute.name, ParameterError)
 
 
+def _duration(inst: object, attribute: attrs.Attribute[float], value: float) -> None:
+    physical(value, attribute.name, "duration", ParameterError, strict=True)
+
+
+def _length(inst: object, attribute: attrs.Attribute[float], value: float) -> None:
+    physical(value, attribute.name, "length", ParameterError, strict=True)
+
+
+def _radius(inst: object, attribute: attrs.Attribute[float], value: float) -> None:
+    physical(value, attribute.name, "radius", ParameterError, strict=True)
+
+
 def _quantile(inst: object, attribute: attrs.Attribute[float], value: float) -> None:
     unit_interval(value, attribute.name, ParameterError)
 
@@ -39,6 +51,9 @@ def _quantile(inst: object, attribute: attrs.Attribute[float], value: float) -> 
 @attrs.frozen(kw_only=True)
 class WindowConfig:
     """How tracks are cut into prediction windows, and the bodies' sizes.
+
+    Every length, radius and duration is checked against the physical bounds of
+    :mod:`srfm._validate` (radii <= 1e3 m, durations <= 86400 s, ...).
 
     Attributes:
         horizon_s: prediction horizon (s); H = round(horizon_s / dt) samples per window,
@@ -65,15 +80,15 @@ class WindowConfig:
             breaks a track (a detection gap).
     """
 
-    horizon_s: float = attrs.field(default=4.8, validator=_pos)
-    stride_s: float = attrs.field(default=0.4, validator=_pos)
-    velocity_span_s: float = attrs.field(default=0.4, validator=_pos)
-    speed_span_s: float = attrs.field(default=1.0, validator=_pos)
+    horizon_s: float = attrs.field(default=4.8, validator=_duration)
+    stride_s: float = attrs.field(default=0.4, validator=_duration)
+    velocity_span_s: float = attrs.field(default=0.4, validator=_duration)
+    speed_span_s: float = attrs.field(default=1.0, validator=_duration)
     speed_quantile: float = attrs.field(default=0.8, validator=_quantile)
-    interaction_radius_m: float = attrs.field(default=3.0, validator=_pos)
-    ped_radius_m: float = attrs.field(default=0.3, validator=_pos)
-    robot_radius_m: float = attrs.field(default=0.2, validator=_pos)
-    max_substep_s: float = attrs.field(default=1.0 / 15.0, validator=_pos)
+    interaction_radius_m: float = attrs.field(default=3.0, validator=_length)
+    ped_radius_m: float = attrs.field(default=0.3, validator=_radius)
+    robot_radius_m: float = attrs.field(default=0.2, validator=_radius)
+    max_substep_s: float = attrs.field(default=1.0 / 15.0, validator=_duration)
     max_gap_factor: float = attrs.field(default=1.5, validator=_pos)
 
 

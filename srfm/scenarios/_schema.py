@@ -4,7 +4,7 @@ A scenario file is TOML with these tables (every key is checked; unknown keys an
 malformed values raise :class:`srfm.errors.ScenarioError` naming the file and key)::
 
     schema_version = 1                  # required
-    name = "footpath"                   # required, [a-z0-9_-]+
+    name = "footpath"                   # required, [a-z0-9][a-z0-9_-]*, <= 100 chars
     description = "one line"            # required
     kind = "fixed"                      # "fixed" (listed pedestrians) or "random"
 
@@ -13,7 +13,7 @@ malformed values raise :class:`srfm.errors.ScenarioError` naming the file and ke
     horizon_steps = 750                 # steps of both twins, 1..MAX_HORIZON_STEPS
 
     [world]                             # the robot is out of bounds outside it
-    x_min = 0.0                         # defaults: [0, 15] x [0, 15] m
+    x_min = 0.0                         # defaults: [0, 15] x [0, 15] m; |x|, |y| <= 1e7
     x_max = 15.0
     y_min = 0.0
     y_max = 15.0
@@ -49,6 +49,10 @@ malformed values raise :class:`srfm.errors.ScenarioError` naming the file and ke
     [obstacles]
     walls = [[x1, y1, x2, y2], ...]     # segments (m)
     pillars = [[cx, cy, radius], ...]   # circles (m)
+
+Every physical value is bounded by the one rule of :mod:`srfm._validate` (positions
+|x| <= 1e7 m, radii <= 1e3 m, speeds <= 1e3 m/s, ...). A file is read only if it is a
+regular file of at most 16 MiB; a UTF-8 byte-order mark is accepted.
 """
 
 from __future__ import annotations
@@ -63,6 +67,8 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._io import MAX_TOML_BYTES, read_input_text
+from srfm._validate import BOUNDS, MAX_NAME_LENGTH
 from srfm.errors import ScenarioError, SrfmError
 from srfm.models.forces import MAX_DT_S
 from srfm.models.robot import KINEMATICS, RobotConfig
@@ -71,7 +77,7 @@ from srfm.models.state import MAX_RADIUS_M, MAX_SPEED_MPS, Obstacles
 SCHEMA_VERSION: Final = 1
 MAX_HORIZON_STEPS: Final = 1_000_000
 DEFAULT_DT_S: Final = 1.0 / 15.0
-_NAME_RE: Final = re.compile(r"^[a-z0-9][a-z0-9_-]*$")
+_NAME_RE: Final = re.compile(r"[a-z0-9][a-z0-9_-]*")  # used with fullmatch
 
 FloatArray = NDArray[np.float64]
 
@@ -187,7 +193,14 @@ class _Reader:
         minimum: float | None = None,
         strict: bool = False,
         maximum: float | None = None,
+        kind: str | None = None,
     ) -> float:
+        """A finite number; ``kind`` applies the physical bounds of
+        :data:`srfm._validate.BOUNDS` (``minimum`` and ``maximum`` may only narrow them)."""
+        if kind is not None:
+            lo, hi, _ = BOUNDS[kind]
+            minimum = lo if minimum is None else max(minimum, lo)
+            maximum = hi if maximum is None else min(maximum, hi)
         if name not in self.data:
             if default is None:
                 raise self.fail(name, "is required")
@@ -202,6 +215,25 @@ class _Reader:
             raise self.fail(name, f"must be {'>' if strict else '>='} {minimum:g}, got {value!r}")
         if maximum is not None and out > maximum:
             raise self.fail(name, f"must be <= {maximum:g}, got {value!r}")
+        return out
+
+    def bounded_array(
+        self, name: str, cols: int, *, required: bool, kinds: tuple[str, ...]
+    ) -> FloatArray | None:
+        """:meth:`array` whose column j obeys :data:`srfm._validate.BOUNDS` ``[kinds[j]]``
+        (a single kind applies to every column)."""
+        out = self.array(name, cols, required=required)
+        if out is None:
+            return None
+        rows = out.reshape(-1, out.shape[-1]) if out.size else out.reshape(0, max(cols, 2))
+        for i, row in enumerate(rows):
+            for j, item in enumerate(row):
+                lo, hi, unit = BOUNDS[kinds[j] if len(kinds) > 1 else kinds[0]]
+                if not lo <= item <= hi:
+                    label = name if cols == 0 else f"{name}[{i}]"
+                    raise self.fail(
+                        label, f"values must be in [{lo:g}, {hi:g}] {unit}, got {item!r}"
+                    )
         return out
 
     def integer(self, name: str, default: int, *, minimum: int, maximum: int) -> int:
@@ -282,8 +314,12 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     if type(version) is not int or version != SCHEMA_VERSION:
         raise top.fail("schema_version", f"must be {SCHEMA_VERSION}, got {version!r}")
     name = top.string("name")
-    if not _NAME_RE.match(name):
-        raise top.fail("name", f"must match [a-z0-9][a-z0-9_-]*, got {name!r}")
+    if not _NAME_RE.fullmatch(name) or len(name) > MAX_NAME_LENGTH:
+        raise top.fail(
+            "name",
+            f"must match [a-z0-9][a-z0-9_-]* (at most {MAX_NAME_LENGTH} characters; it "
+            f"names folders and table rows), got {name!r}",
+        )
     description = top.string("description")
     kind = top.string("kind", "fixed")
     if kind not in ("fixed", "random"):
@@ -296,10 +332,10 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
 
     w = top.table("world")
     world = WorldBounds(
-        x_min=w.number("x_min", 0.0),
-        x_max=w.number("x_max", 15.0),
-        y_min=w.number("y_min", 0.0),
-        y_max=w.number("y_max", 15.0),
+        x_min=w.number("x_min", 0.0, kind="coordinate"),
+        x_max=w.number("x_max", 15.0, kind="coordinate"),
+        y_min=w.number("y_min", 0.0, kind="coordinate"),
+        y_max=w.number("y_max", 15.0, kind="coordinate"),
     )
     w.finish()
     if world.x_max <= world.x_min or world.y_max <= world.y_min:
@@ -316,28 +352,28 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     for key, point in (("start", robot_start), ("goal", robot_goal)):
         if point is not None and not world.contains(float(point[0]), float(point[1])):
             raise r.fail(key, f"must lie inside the world {world}, got {point.tolist()}")
-    heading = r.number("heading_rad") if r.has("heading_rad") else None
+    heading = r.number("heading_rad", minimum=-1e3, maximum=1e3) if r.has("heading_rad") else None
     kin = r.string("kinematics", "unicycle")
     if kin not in KINEMATICS:
         raise r.fail("kinematics", f"must be one of {KINEMATICS}, got {kin!r}")
     defaults = RobotConfig()
     limits = {
-        field: r.number(field, getattr(defaults, field), minimum=0.0, strict=True)
-        for field in (
-            "radius_m",
-            "max_speed_mps",
-            "max_angular_speed_radps",
-            "max_accel_mps2",
-            "max_angular_accel_radps2",
-            "goal_radius_m",
+        field: r.number(field, getattr(defaults, field), strict=True, kind=kind)
+        for field, kind in (
+            ("radius_m", "radius"),
+            ("max_speed_mps", "speed"),
+            ("max_angular_speed_radps", "angular_speed"),
+            ("max_accel_mps2", "acceleration"),
+            ("max_angular_accel_radps2", "acceleration"),
+            ("goal_radius_m", "radius"),
         )
     }
     r.finish()
     robot = RobotConfig(kinematics=kin, **limits)
 
     p = top.table("pedestrians")
-    starts = p.array("starts", 2, required=fixed)
-    goals = p.array("goals", 2, required=fixed)
+    starts = p.bounded_array("starts", 2, required=fixed, kinds=("coordinate",))
+    goals = p.bounded_array("goals", 2, required=fixed, kinds=("coordinate",))
     n: int | None = None
     if starts is not None:
         n = starts.shape[0]
@@ -351,11 +387,11 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     ped_radius = p.per_agent("radius_m", 0.3, n, MAX_RADIUS_M)
     ped_v0 = p.per_agent("desired_speed_mps", 1.25, n, MAX_SPEED_MPS)
     ped_vmax = p.per_agent("max_speed_mps", 1.25, n, MAX_SPEED_MPS)
-    ped_goal_radius = p.number("goal_radius_m", 0.5, minimum=0.0, strict=True)
+    ped_goal_radius = p.number("goal_radius_m", 0.5, strict=True, kind="radius")
     world_size = min(world.x_max - world.x_min, world.y_max - world.y_min)
     if not fixed and p.has("noise_m"):
         raise p.fail("noise_m", "is only allowed with kind = 'fixed'")
-    noise = p.number("noise_m", 0.5, minimum=0.0, maximum=world_size)
+    noise = p.number("noise_m", 0.5, maximum=world_size, kind="length")
     p.finish()
 
     random_spec: RandomSpec | None = None
@@ -365,11 +401,11 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         q = top.table("random")
         random_spec = RandomSpec(
             count=q.integer("count", 10, minimum=1, maximum=10_000),
-            margin_m=q.number("margin_m", 0.5, minimum=0.0),
-            robot_min_start_goal_m=q.number("robot_min_start_goal_m", 5.0, minimum=0.0),
-            ped_min_robot_start_m=q.number("ped_min_robot_start_m", 2.0, minimum=0.0),
-            ped_min_start_goal_m=q.number("ped_min_start_goal_m", 7.0, minimum=0.0),
-            ped_min_robot_goal_m=q.number("ped_min_robot_goal_m", 2.0, minimum=0.0),
+            margin_m=q.number("margin_m", 0.5, kind="length"),
+            robot_min_start_goal_m=q.number("robot_min_start_goal_m", 5.0, kind="length"),
+            ped_min_robot_start_m=q.number("ped_min_robot_start_m", 2.0, kind="length"),
+            ped_min_start_goal_m=q.number("ped_min_start_goal_m", 7.0, kind="length"),
+            ped_min_robot_goal_m=q.number("ped_min_robot_goal_m", 2.0, kind="length"),
             regoal=q.boolean("regoal", True),
         )
         q.finish()
@@ -379,8 +415,10 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         raise top.fail("random", "is only allowed with kind = 'random'")
 
     o = top.table("obstacles")
-    walls = o.array("walls", 4, required=False)
-    pillars = o.array("pillars", 3, required=False)
+    walls = o.bounded_array("walls", 4, required=False, kinds=("coordinate",))
+    pillars = o.bounded_array(
+        "pillars", 3, required=False, kinds=("coordinate", "coordinate", "radius")
+    )
     o.finish()
     try:
         obstacles = Obstacles.create(
@@ -423,12 +461,9 @@ def read_scenario_file(path: Path) -> Scenario:
     """Read and validate one scenario file."""
     import tomllib
 
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ScenarioError(f"{path}: scenario file not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ScenarioError(f"{path}: cannot read scenario file: {exc}") from None
+    text = read_input_text(
+        path, max_bytes=MAX_TOML_BYTES, error=ScenarioError, what="scenario file"
+    )
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -17,13 +17,13 @@ what ran before it:
 from __future__ import annotations
 
 import math
-import operator
 from typing import Any, Final
 
 import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm import _validate
 from srfm.errors import ScenarioError
 from srfm.models.state import CrowdState
 from srfm.scenarios._schema import RandomSpec, Scenario, WorldBounds
@@ -49,14 +49,8 @@ class EpisodeSetup:
 
 
 def validate_seed(seed: Any) -> int:
-    """A seed is a non-negative integer."""
-    try:
-        value = operator.index(seed)
-    except TypeError:
-        raise ScenarioError(f"seed must be a non-negative integer, got {seed!r}") from None
-    if isinstance(seed, bool) or value < 0:
-        raise ScenarioError(f"seed must be a non-negative integer, got {seed!r}")
-    return value
+    """A seed is an integer in [0, 2³² − 1] (:data:`srfm._validate.MAX_SEED`)."""
+    return _validate.seed(seed, ScenarioError)
 
 
 def _uniform_point(rng: np.random.Generator, world: WorldBounds, margin: float) -> FloatArray:

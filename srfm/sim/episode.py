@@ -58,14 +58,14 @@ def build_planner(name: str) -> Planner:
     return call_user_code(name, "its factory", lambda: make_planner(name))
 
 
-# Memory of one episode, per pedestrian and recorded sample (bytes): the record's six
-# (T + 1, N, 2) float64 arrays (96), the metrics' working arrays (~48), and the logs
-# when written (measured with tracemalloc on the full profile: MCAP ~100, Rerun ~130,
-# force arrows ~400). Per sample without pedestrians: the robot arrays (~64).
-_BYTES_PER_PED_SAMPLE: Final = 144
-_LOG_BYTES_PER_PED_SAMPLE: Final = {"mcap": 100, "rrd": 130, "forces": 400}
-_BYTES_PER_SAMPLE: Final = 64
-_BASE_BYTES: Final = 64 * 2**20  # the process itself (numba, numpy) is not counted
+# Memory of one episode (bytes), measured with tracemalloc (full MCAP profile, which
+# bounds the compact one): per pedestrian and recorded sample, the record's six
+# (T + 1, N, 2) float64 arrays and the metrics' working arrays (160); per sample, the
+# robot arrays (64). The logs add per pedestrian-sample / per sample: MCAP 1550 / 9000,
+# Rerun 20 / 8000, force arrows 100 / 0.
+_PER_PED_SAMPLE: Final = {"record": 160, "mcap": 1550, "rrd": 20, "forces": 100}
+_PER_SAMPLE: Final = {"record": 64, "mcap": 9000, "rrd": 8000, "forces": 0}
+_BASE_BYTES: Final = 64 * 2**20  # room kept for the process itself (numba, numpy)
 
 MEMORY_LIMIT_ENV: Final = "SRFM_MEMORY_LIMIT"
 """Environment variable that sets the memory limit (bytes, or with a unit: 500M, 8G)."""
@@ -77,11 +77,10 @@ def estimate_episode_memory(
 ) -> int:
     """An estimate (bytes) of the memory one episode of ``scenario`` needs: its record,
     its metrics and, when asked, its logs (MCAP, Rerun, force arrows)."""
-    samples = scenario.horizon_steps + 1
-    per_ped = _BYTES_PER_PED_SAMPLE
-    wanted = {"mcap": mcap, "rrd": rrd, "forces": rrd and forces}
-    per_ped += sum(cost for kind, cost in _LOG_BYTES_PER_PED_SAMPLE.items() if wanted[kind])
-    return samples * (scenario.n_pedestrians * per_ped + _BYTES_PER_SAMPLE)
+    parts = {"record": True, "mcap": mcap, "rrd": rrd, "forces": rrd and forces}
+    per_ped = sum(_PER_PED_SAMPLE[k] for k, on in parts.items() if on)
+    per_sample = sum(_PER_SAMPLE[k] for k, on in parts.items() if on)
+    return (scenario.horizon_steps + 1) * (scenario.n_pedestrians * per_ped + per_sample)
 
 
 def _read_int(path: str) -> int | None:

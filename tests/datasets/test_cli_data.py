@@ -92,7 +92,8 @@ def test_convert_eth_ucy_dt_options(tmp_path: Path) -> None:
     assert slow.t_ns[-1] == 4 * 1_200_000_000
     for bad, match in [
         ("x=abc", "--dt expects SECONDS or FILE=SECONDS"),
-        ("-1", "--dt must be a positive"),
+        ("-1", "--dt must be in (0, 86400] s"),
+        ("1e300", "--dt must be in (0, 86400] s"),
         ("other.txt=0.4", "dt given for 'other.txt'"),
     ]:
         code, text = run("data", "convert", "eth-ucy", str(src), str(out), "--dt", bad)
@@ -182,7 +183,7 @@ def test_fit_then_ade_then_simulate(tmp_path: Path) -> None:
     assert "no interaction windows" in text
     code, text = run("fit", str(data), "-o", str(tmp_path / "x.toml"), "--horizon", "-1")
     assert code == 2
-    assert "horizon_s must be > 0" in text
+    assert "horizon_s must be in (0, 86400] s" in text
     code, text = run("ade", str(data), "--horizon", "60")
     assert code == 2
     assert "no prediction windows" in text

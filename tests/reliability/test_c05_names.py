@@ -1,0 +1,115 @@
+"""Class 5: names that become path components are checked once, at the boundary;
+seeds are bounded; a huge --seeds range is refused at once, without building it."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import srfm
+from srfm._validate import MAX_NAME_LENGTH, MAX_SEED, path_name, planner_name
+from srfm.benchmark import BenchmarkRequest, episode_path
+from srfm.scenarios import load_scenario
+from tests.reliability.conftest import TINY, cli
+
+
+class NamedPlanner:
+    """A working planner whose name the test sets."""
+
+    detection_range_m = None
+
+    def __init__(self, name: object) -> None:
+        self.name = name
+
+    def reset(self, context: object, rng: object) -> None:
+        pass
+
+    def act(self, observation: object) -> np.ndarray:
+        return np.zeros(2)
+
+
+@pytest.mark.parametrize(
+    ("name", "match"),
+    [
+        ("tiny\n", "must match"),
+        ("x" * 300, "must match"),
+        ("Tiny", "must match"),
+        ("", "must match"),
+        ("../up", "must match"),
+    ],
+)
+def test_bad_scenario_names_are_refused(tmp_path: Path, name: str, match: str) -> None:
+    body = TINY.replace('name = "tiny"', f"name = {name!r}".replace("'", '"'))
+    body = body.replace('"tiny\n"', '"tiny\\n"')
+    path = tmp_path / "s.toml"
+    path.write_text(body, encoding="utf-8")
+    with pytest.raises(srfm.ScenarioError, match=match):
+        load_scenario(path)
+
+
+@pytest.mark.parametrize(
+    "name", ["../../escape", "a/b", "", 42, None, "x" * 300, "a\nb", ".hidden"]
+)
+def test_a_planner_instance_whose_name_cannot_be_a_folder_is_refused(name: object) -> None:
+    with pytest.raises(srfm.PlannerError, match="planner"):
+        srfm.run_episode("concert", 0, NamedPlanner(name))  # type: ignore[arg-type]
+
+
+def test_path_names_and_planner_specs() -> None:
+    assert path_name("td3-srfm", "planner name", srfm.PlannerError) == "td3-srfm"
+    assert planner_name("my.pkg:Planner", srfm.PlannerError) == "my.pkg:Planner"
+    for bad in ("..", ".", "-x", "a b", "a/b", "x" * (MAX_NAME_LENGTH + 1), "tiny\n"):
+        with pytest.raises(srfm.PlannerError):
+            path_name(bad, "planner name", srfm.PlannerError)
+    for bad in (":X", "..:X", "../x:Y", "x:", "a.b:c.d", "1a:X", "a b:X"):
+        with pytest.raises(srfm.PlannerError, match="module:attribute"):
+            planner_name(bad, srfm.PlannerError)
+
+
+def test_episode_paths_stay_inside_the_folder(tmp_path: Path) -> None:
+    for scenario, planner in (("..", "straight"), ("tiny", "../x"), ("tiny", "")):
+        with pytest.raises(srfm.BenchmarkError):
+            episode_path(tmp_path, scenario, planner, 0)
+    with pytest.raises(srfm.BenchmarkError, match="seed"):
+        episode_path(tmp_path, "tiny", "straight", 10**301)
+
+
+@pytest.mark.parametrize("seed", [2**32, 10**301, -1])
+def test_seeds_are_bounded(seed: int) -> None:
+    with pytest.raises(srfm.ScenarioError, match=f"at most {MAX_SEED}"):
+        srfm.run_episode("concert", seed)
+    res = cli("simulate", "--scenario", "concert", "--seed", str(seed))
+    assert res.exit_code == 2
+
+
+def test_a_huge_seed_range_is_refused_at_once(tmp_path: Path) -> None:
+    start = time.perf_counter()
+    for spec in ("0-99999999", "0-99999,100000-100001", "0-" + "9" * 301):
+        res = cli("benchmark", "--seeds", spec, "--out", str(tmp_path / "x"))
+        assert res.exit_code == 2
+        assert "--seeds" in res.output
+    assert time.perf_counter() - start < 20  # each refusal is instant (was: gigabytes)
+    assert not (tmp_path / "x").exists()
+
+
+def test_the_duplicate_check_is_linear(tmp_path: Path) -> None:
+    seeds = [*range(99_999), 99_998]
+    start = time.perf_counter()
+    with pytest.raises(srfm.BenchmarkError, match="seeds given twice: 99998"):
+        BenchmarkRequest.create(scenarios=["concert"], planners=["straight"], seeds=seeds)
+    assert time.perf_counter() - start < 5  # quadratic: 10^10 comparisons, hours
+    with pytest.raises(srfm.BenchmarkError, match="at most 100000"):
+        BenchmarkRequest.create(scenarios=["concert"], planners=["straight"], seeds=range(100_001))
+
+
+def test_a_benchmark_planner_named_to_escape_is_refused(tmp_path: Path) -> None:
+    scenario = load_scenario("concert")
+    with pytest.raises(srfm.BenchmarkError, match=r"module:attribute|letters"):
+        BenchmarkRequest(scenarios=(scenario,), planners=("../../x",), seeds=(0,))
+    res = cli("benchmark", "-p", "../x:Y", "--seeds", "0", "--out", str(tmp_path / "o"))
+    assert res.exit_code == 2
+    assert "module:attribute" in res.output
+    assert not (tmp_path / "o").exists()

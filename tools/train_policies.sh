@@ -1,48 +1,42 @@
 #!/usr/bin/env bash
-# The recipe of the two shipped TD3 policies (docs/rl.md records the steps, the wall
-# time, the machine and how the procedure was arrived at):
+# The recipe of the two shipped TD3 policies; docs/rl.md records the runs, their wall
+# times and how every choice was reached.
 #
-# - srfm/policies/td3_base.zip (RL_base, k2 = 0): `srfm train` from scratch with the
-#   paper's TD3 set-up (the srfm train defaults), seed 0;
-# - srfm/policies/td3_srfm.zip (SRFM-aware, k2 = 2): RL_base's checkpoint at
-#   WARM_START steps, trained on with k2 = 2 (an empty replay buffer; the reward now
-#   includes the deviation penalty). Trained from scratch with k2 > 0 the policy never
-#   found the goal within our step budget (docs/rl.md).
+# Six runs, started together: RL_base (k2 = 0) and SRFM-aware (k2 = 2, reached by a
+# curriculum: 0 until 50,000 steps, then a linear ramp over 150,000 steps), each with
+# training seeds 1, 2 and 3. Every run trains SBX TD3 ([64, 64], 50 gradient steps every
+# 50 steps, learning rate 3e-4) for 500,000 steps on the mixed training layouts
+# (srfm.scenarios.training), with the paper's reward plus the potential-based progress
+# term (k_progress = 10). Training never sees the benchmark's seeds 0-99 nor the
+# evaluation scenarios' layouts; it is evaluated every 25,000 steps on the five
+# evaluation scenarios with seeds 10000-10009, and keeps its best checkpoint (best.zip).
 #
-# Each shipped file was its run's best checkpoint by the periodic evaluation (seeds
-# 10000-10009): RL_base at 100,000 steps, SRFM-aware at 125,000 (100,000 + 25,000).
-# Measured wall times (2-core VM shared with other work, docs/rl.md): td3-base 1,930 s
-# to 100,000 steps, td3-srfm 426 s more (2,356 s in all).
-#
-# Every shipped policy is two files (srfm/policies/): the SB3 checkpoint <name>.zip,
-# and the NumPy policy file <name>.npz + <name>.json that the registered planners run
-# (no torch, SB3 or pickle needed), made from the checkpoint by the export step at the
-# end (`srfm export-policy`, with an evaluation of the exported actor on seeds
-# 10000-10009 recorded in the JSON). To re-export the shipped checkpoints only:
+# The shipped policy of each variant is the best.zip of the training seed whose best
+# evaluation ranks first (higher success, then fewer collisions, then less deviation;
+# tools/select_policy.py). The export step writes the NumPy policy files the planners
+# run (no JAX, torch or pickle needed). To re-export the shipped checkpoints only:
 #
 #     EXPORT_ONLY=1 tools/train_policies.sh
-# A run stopped at step N holds the same policy as one started with --steps N
-# (tests/rl/test_train.py), so the shipped files are reproduced, on the same machine and
-# software, by:
 #
-#     tools/train_policies.sh              # trains (hours), then copies the checkpoints
-#     RUNS=/tmp/runs tools/train_policies.sh
+# A killed run resumes from its latest checkpoint and replay buffer:
 #
-# Run from the repository root with the rl extra installed.
+#     RESUME=1 tools/train_policies.sh
+#
+# Run from the repository root with the rl and sbx extras installed (make setup).
 set -euo pipefail
 
 RUNS=${RUNS:-runs}
 EXPORT_ONLY=${EXPORT_ONLY:-0}
-BASE_STEPS=${BASE_STEPS:-100000}
-SRFM_STEPS=${SRFM_STEPS:-125000}
-WARM_START=${WARM_START:-100000}
+RESUME=${RESUME:-0}
+STEPS=${STEPS:-500000}
+SEEDS=${SEEDS:-"1 2 3"}
 SRFM=${SRFM:-.venv/bin/srfm}
 PYTHON=${PYTHON:-.venv/bin/python}
 export NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1
 mkdir -p "$RUNS"
 
 export_policies() {
-    # The NumPy policy files, from the SB3 checkpoints in srfm/policies/.
+    # The NumPy policy files, from the checkpoints in srfm/policies/.
     for name in td3_base td3_srfm; do
         "$SRFM" export-policy "srfm/policies/$name.zip" "srfm/policies/$name" --eval-seeds 10 \
             --note "shipped ${name/_/-}; recipe and run: tools/train_policies.sh, docs/rl.md"
@@ -53,23 +47,28 @@ if [ "$EXPORT_ONLY" = 1 ]; then
     exit 0
 fi
 
-common=(--seed 0 --eval-every 25000 --eval-seeds 10 --checkpoint-every 25000 --no-progress)
-printf -v warm 'step_%09d.zip' "$WARM_START"
-printf -v base_final 'step_%09d.zip' "$BASE_STEPS"
-printf -v srfm_final 'step_%09d.zip' "$SRFM_STEPS"
+common=(--scenario mixed --k-progress 10 --backend sbx --net-arch 64,64 --train-freq 50
+    --gradient-steps 50 --learning-rate 3e-4 --steps "$STEPS" --eval-every 25000
+    --eval-seeds 10 --checkpoint-every 50000 --no-progress)
+declare -A variant=([td3-base]="--k-div 0" [td3-srfm]="--k-div 2 --k-div-start 50000 --k-div-ramp 150000")
 
-nice -n 10 "$SRFM" train --run-dir "$RUNS/td3-base" --k-div 0 --steps "$BASE_STEPS" \
-    "${common[@]}" > "$RUNS/td3-base.log" 2>&1 &
-# state.json is written after the checkpoint files: wait until it reports WARM_START.
-until "$PYTHON" -c "import json, sys; sys.exit(json.load(open(sys.argv[1]))['steps'] < $WARM_START)" \
-    "$RUNS/td3-base/state.json" 2> /dev/null; do
-    sleep 30
+for name in td3-base td3-srfm; do
+    for seed in $SEEDS; do
+        run="$RUNS/$name-seed$seed"
+        resume=()
+        if [ "$RESUME" = 1 ] && [ -f "$run/latest.zip" ]; then
+            resume=(--resume "$run/latest.zip")
+        fi
+        # shellcheck disable=SC2086  # the variant's options are words
+        nice -n 10 "$SRFM" train --run-dir "$run" --seed "$seed" ${variant[$name]} \
+            "${common[@]}" "${resume[@]}" >> "$run.log" 2>&1 &
+    done
 done
-nice -n 10 "$SRFM" train --run-dir "$RUNS/td3-srfm" --k-div 2.0 --steps "$SRFM_STEPS" \
-    "${common[@]}" --resume "$RUNS/td3-base/checkpoints/$warm" > "$RUNS/td3-srfm.log" 2>&1 &
 wait
 
-cp "$RUNS/td3-base/checkpoints/$base_final" srfm/policies/td3_base.zip
-cp "$RUNS/td3-srfm/checkpoints/$srfm_final" srfm/policies/td3_srfm.zip
-echo "shipped $RUNS/td3-base/checkpoints/$base_final and $RUNS/td3-srfm/checkpoints/$srfm_final"
+for name in td3-base td3-srfm; do
+    best=$("$PYTHON" tools/select_policy.py "$RUNS"/"$name"-seed*)
+    cp "$best" "srfm/policies/${name/-/_}.zip"
+    echo "shipped $best as srfm/policies/${name/-/_}.zip"
+done
 export_policies

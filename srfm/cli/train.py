@@ -63,6 +63,27 @@ def _default(name: str) -> Any:
     show_default=True,
     help="k1, weight of the normalised goal distance.",
 )
+@click.option(
+    "--k-progress",
+    type=click.FloatRange(min=0.0),
+    default=_default("k_progress"),
+    show_default=True,
+    help="Weight of the potential-based progress term (0: the paper's reward).",
+)
+@click.option(
+    "--k-div-start",
+    type=click.IntRange(min=0),
+    default=_default("k_div_start"),
+    show_default=True,
+    help="Curriculum: k2 is 0 until this step, then ramps up to --k-div.",
+)
+@click.option(
+    "--k-div-ramp",
+    type=click.IntRange(min=0),
+    default=_default("k_div_ramp"),
+    show_default=True,
+    help="Curriculum: steps over which k2 rises linearly from 0 to --k-div.",
+)
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option(
     "--steps",
@@ -75,7 +96,7 @@ def _default(name: str) -> Any:
     "--scenario",
     default=_default("scenario"),
     show_default=True,
-    help="Training scenario (name or TOML file).",
+    help="Training scenario: a name, a TOML file, or 'mixed' (a new layout per episode).",
 )
 @click.option("--learning-rate", type=float, default=_default("learning_rate"), show_default=True)
 @click.option(
@@ -210,6 +231,9 @@ def _train(
     run_dir: Path,
     k_div: float,
     k_dist: float,
+    k_progress: float,
+    k_div_start: int,
+    k_div_ramp: int,
     seed: int,
     steps: int,
     scenario: str,
@@ -243,6 +267,9 @@ def _train(
         scenario=scenario,
         k_dist=k_dist,
         k_div=k_div,
+        k_progress=k_progress,
+        k_div_start=k_div_start,
+        k_div_ramp=k_div_ramp,
         learning_rate=learning_rate,
         buffer_size=buffer_size,
         learning_starts=learning_starts,

@@ -122,6 +122,12 @@ def _kinematics(inst: Any, attribute: attrs.Attribute[str | None], value: Any) -
         raise ParameterError(f"env.kinematics must be None or one of {KINEMATICS}, got {value!r}")
 
 
+def _unit_interval(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    non_negative(value, f"env.{attribute.name}", ParameterError)
+    if value > 1.0:
+        raise ParameterError(f"env.{attribute.name} must be in [0, 1], got {value!r}")
+
+
 def _flag(inst: Any, attribute: attrs.Attribute[bool], value: Any) -> None:
     if not isinstance(value, bool):
         raise ParameterError(f"env.{attribute.name} must be True or False, got {value!r}")
@@ -175,6 +181,13 @@ class EnvConfig:
         counterfactual_twin: step the full counterfactual crowd as well (so an
             episode can be scored for deviation). The reward does not need it (it
             uses the one-step counterfactual); False skips it for faster training.
+        k_progress: weight of the potential-based progress term added to the reward,
+            r_progress = γ Φ(s') − Φ(s) with Φ = −k_progress · d / d_0 (d the goal
+            distance, d_0 its value at reset, Φ = 0 in a terminal state): it leaves
+            the optimal policy unchanged (Ng, Harada, Russell 1999). 0 (the
+            default) gives the paper's reward.
+        progress_gamma: γ of the progress term; set it to the learner's discount
+            (``srfm train`` does).
     """
 
     k1: float = attrs.field(default=0.1, validator=_non_negative)
@@ -186,6 +199,8 @@ class EnvConfig:
     velocity_scale_mps: float = attrs.field(default=2.0, validator=_positive)
     kinematics: Kinematics | None = attrs.field(default=None, validator=_kinematics)
     counterfactual_twin: bool = attrs.field(default=True, validator=_flag)
+    k_progress: float = attrs.field(default=0.0, validator=_non_negative)
+    progress_gamma: float = attrs.field(default=0.99, validator=_unit_interval)
 
     @property
     def collision_penalty(self) -> float:

@@ -84,6 +84,8 @@ class EnvCore:
             timeout_penalty=float(config.timeout_penalty),
             collision_penalty=float(config.collision_penalty),
             goal_distance_m=1.0,
+            k_progress=float(config.k_progress),
+            gamma=float(config.progress_gamma),
         )
         self.options = _k.StepOptions(
             dt_s=float(scenario.dt_s),
@@ -182,6 +184,31 @@ class EnvCore:
         self.__dict__.update(state)
         self._pack()
         self._specialize()
+
+    def use_layout(self, scenario: Scenario) -> None:
+        """Run the next episodes on ``scenario``, a layout with this core's pedestrian
+        count, re-goaling, world, time step, horizon and robot (the mixed training
+        layouts, :mod:`srfm.scenarios.training`)."""
+        current = self.scenario
+        regoal = scenario.random is not None and scenario.random.regoal
+        if (
+            scenario.n_pedestrians != self.n
+            or regoal != self.regoal
+            or scenario.world != current.world
+            or scenario.dt_s != current.dt_s
+            or scenario.horizon_steps != current.horizon_steps
+            or scenario.robot != current.robot
+            or scenario.ped_goal_radius_m != current.ped_goal_radius_m
+            or not scenario.obstacles.empty
+        ):
+            raise ScenarioError(f"{scenario.source}: does not fit this environment core")
+        self.scenario = scenario
+
+    def set_k2(self, k2: float) -> None:
+        """The deviation weight k2 (1/m) from the next step on."""
+        if self.reward.k2 != k2:
+            self.reward = self.reward._replace(k2=k2)
+            self._pack()
 
     def reset(self, episode_seed: int) -> None:
         """Start episode ``episode_seed`` (the scenario's set-up for that seed)."""

@@ -18,6 +18,7 @@ from srfm.planners._observation import EnvConfig, obs_size
 from srfm.rl import _kernels as _k
 from srfm.rl._core import EnvCore, resolve_scenario
 from srfm.scenarios import Scenario, load_scenario, validate_seed
+from srfm.scenarios.training import TRAINING_SCENARIO, training_layout
 from srfm.sim.simulator import EVENT_OUTCOMES
 
 __all__ = ["MAX_EPISODE_STEPS", "SocialNavEnv"]
@@ -99,8 +100,11 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
       horizon, −``collision_penalty`` (2 × timeout penalty, 50) on a collision or on
       leaving the world, else 0.
 
-    ``info`` holds ``r_dist``, ``r_div`` and ``r_term`` at every step, and at the end
-    ``outcome`` (``"goal_reached"``, ``"collision"``, ``"out_of_bounds"`` or
+    With ``config.k_progress`` > 0 the potential-based progress term ``r_progress``
+    = γ Φ(s') − Φ(s), Φ = −k_progress · d / d_0, is added (:class:`EnvConfig`).
+
+    ``info`` holds ``r_dist``, ``r_div``, ``r_term`` and ``r_progress`` at every step,
+    and at the end ``outcome`` (``"goal_reached"``, ``"collision"``, ``"out_of_bounds"`` or
     ``"timeout"``) and ``is_success``.
 
     ## Episode end
@@ -167,13 +171,19 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
             params = SRFMParams()
         elif not isinstance(params, SRFMParams):
             raise ParameterError(f"params must be an srfm.SRFMParams, got {params!r}")
+        # "mixed": a new training layout per episode (srfm.scenarios.training), on the
+        # world, robot and time step of the random scenario.
+        self.mixed = isinstance(scenario, str) and scenario == TRAINING_SCENARIO
         if not isinstance(scenario, Scenario):
-            scenario = load_scenario(scenario)
+            scenario = load_scenario("random" if self.mixed else scenario)
         self.render_mode = render_mode
         self.scenario = resolve_scenario(scenario, config)
         self.config = config
         self.params = params
         self._core = EnvCore(self.scenario, config, params)
+        # one core per (pedestrian count, re-goaling) of the mixed layouts
+        self._cores: dict[tuple[int, bool], EnvCore] = {}
+        self._k2 = float(config.k2)
         size = obs_size(config.max_pedestrians)
         self.observation_space = gym.spaces.Box(-1.0, 1.0, shape=(size,), dtype=np.float32)
         self.action_space = gym.spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
@@ -191,6 +201,16 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
             episode = validate_seed(seed)
         else:
             episode = int(self.np_random.integers(0, MAX_DRAWN_SEED))
+        if self.mixed:
+            layout = resolve_scenario(training_layout(self.scenario, episode), self.config)
+            key = (layout.n_pedestrians, layout.random is not None)
+            core = self._cores.get(key)
+            if core is None:
+                core = EnvCore(layout, self.config, self.params)
+                self._cores[key] = core
+            core.use_layout(layout)
+            core.set_k2(self._k2)
+            self._core = core
         self._core.reset(episode)
         self.episode_seed = episode
         self._running = True
@@ -214,6 +234,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
             "r_dist": float(out[_k.OUT_R_DIST]),
             "r_div": float(out[_k.OUT_R_DIV]),
             "r_term": float(out[_k.OUT_R_TERM]),
+            "r_progress": float(out[_k.OUT_R_PROGRESS]),
         }
         terminated = event in _TERMINAL
         truncated = event == _rk.EVENT_TIMEOUT
@@ -222,6 +243,24 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
             info["outcome"] = EVENT_OUTCOMES[event]
             info["is_success"] = event == _rk.EVENT_GOAL
         return core.obs.copy(), float(out[_k.OUT_REWARD]), terminated, truncated, info
+
+    def set_k2(self, k2: float) -> None:
+        """Change the deviation weight k2 (1/m) from the next step on (a curriculum
+        on k2; ``config.k2`` keeps the value the environment was made with)."""
+        if not (isinstance(k2, (int, float)) and math.isfinite(k2) and k2 >= 0.0):
+            raise ParameterError(f"k2 must be a finite number >= 0, got {k2!r}")
+        self._k2 = float(k2)
+        self._core.set_k2(self._k2)
+
+    @property
+    def k2(self) -> float:
+        """The deviation weight k2 (1/m) in use."""
+        return self._k2
+
+    @property
+    def layout(self) -> Scenario:
+        """The scenario of the current episode (a training layout for ``"mixed"``)."""
+        return self._core.scenario
 
     # Read-only views for scoring and tests.
 

@@ -61,13 +61,17 @@ ARRIVED_F, ARRIVED_C, NEW_F, NEW_C = 0, 1, 2, 3
 
 # step results (``out``): reward and its terms, new arrivals of each twin
 OUT_REWARD, OUT_R_DIST, OUT_R_DIV, OUT_R_TERM, OUT_NEW_F, OUT_NEW_C = 0, 1, 2, 3, 4, 5
-OUT_SIZE: Final = 6
+# the progress term, and the robot's goal distance before the step (m)
+OUT_R_PROGRESS, OUT_GOAL_DIST_BEFORE = 6, 7
+OUT_SIZE: Final = 8
 
 
 class RewardParams(NamedTuple):
     """The reward as the kernels take it (built from :class:`srfm.rl.EnvConfig`).
 
-    r = r_term − k1 · r_dist − k2 · r_div (paper Eq. 7).
+    r = r_term − k1 · r_dist − k2 · r_div (paper Eq. 7) + r_progress, with the
+    potential-based progress term r_progress = γ Φ(s') − Φ(s), Φ = −k_progress ·
+    d / d_0 (d the goal distance, d_0 at reset; Φ = 0 in a terminal state).
 
     Attributes:
         k1: weight of r_dist.
@@ -77,6 +81,8 @@ class RewardParams(NamedTuple):
         collision_penalty: −r_term on a collision or on leaving the world.
         goal_distance_m: the goal distance at reset (m), the r_dist normaliser; set
             per episode.
+        k_progress: weight of the progress potential (0: the paper's reward).
+        gamma: the discount γ of the progress term (the learner's).
     """
 
     k1: float
@@ -85,6 +91,8 @@ class RewardParams(NamedTuple):
     timeout_penalty: float
     collision_penalty: float
     goal_distance_m: float
+    k_progress: float
+    gamma: float
 
 
 class StepOptions(NamedTuple):
@@ -206,10 +214,21 @@ def reward_and_observation(
         r_term = -reward.collision_penalty
     else:
         r_term = 0.0
+    r_progress = 0.0
+    if reward.k_progress != 0.0:
+        # Ng, Harada, Russell (1999): F = γ Φ(s') − Φ(s) leaves the optimal policy
+        # unchanged; Φ of a terminal state is 0 (a timeout is a truncation, not one).
+        scale = reward.k_progress / reward.goal_distance_m
+        phi_before = -scale * out[OUT_GOAL_DIST_BEFORE]
+        phi_after = 0.0
+        if event in (EVENT_NONE, EVENT_TIMEOUT):
+            phi_after = -scale * math.sqrt(gdx * gdx + gdy * gdy)
+        r_progress = reward.gamma * phi_after - phi_before
     out[OUT_R_DIST] = r_dist
     out[OUT_R_DIV] = r_div
     out[OUT_R_TERM] = r_term
-    out[OUT_REWARD] = r_term - reward.k1 * r_dist - reward.k2 * r_div
+    out[OUT_R_PROGRESS] = r_progress
+    out[OUT_REWARD] = r_term - reward.k1 * r_dist - reward.k2 * r_div + r_progress
     build_observation(
         crowd[FACTUAL_POS],
         crowd[FACTUAL_VEL],
@@ -275,6 +294,9 @@ def env_step(
     c0, c1 = action_to_command(a0, a1, robot[THETA], limits)
     body[0] = robot[X]
     body[1] = robot[Y]
+    out[OUT_GOAL_DIST_BEFORE] = math.sqrt(
+        (task.goal_x - robot[X]) ** 2 + (task.goal_y - robot[Y]) ** 2
+    )
     dt = options.dt_s
     move_robot(robot, c0, c1, limits, dt)
     goal_radius = options.ped_goal_radius_m

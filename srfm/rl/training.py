@@ -53,6 +53,7 @@ __all__ = [
     "TrainResult",
     "evaluate_planner",
     "export_policy",
+    "k2_schedule",
     "train",
 ]
 
@@ -114,6 +115,10 @@ class TrainConfig:
         k_dist: k1, weight of the goal-distance term.
         k_div: k2 (1/m), weight of the one-step deviation term: > 0 SRFM-aware,
             0 RL_base.
+        k_progress: weight of the potential-based progress term of the reward
+            (:class:`srfm.rl.EnvConfig`; 0: the paper's reward). Its γ is ``gamma``.
+        k_div_start: curriculum on k2: k2 is 0 up to this step, then
+        k_div_ramp: rises linearly to ``k_div`` over this many steps (0: at once).
         learning_rate: Adam learning rate (paper: 1e-4).
         buffer_size: replay buffer capacity (paper: 1e6).
         batch_size: minibatch size.
@@ -150,6 +155,9 @@ class TrainConfig:
     scenario: str = "random"
     k_dist: float = attrs.field(default=0.1, validator=_nonneg)
     k_div: float = attrs.field(default=2.0, validator=_nonneg)
+    k_progress: float = attrs.field(default=0.0, validator=_nonneg)
+    k_div_start: int = attrs.field(default=0, validator=_count(0))
+    k_div_ramp: int = attrs.field(default=0, validator=_count(0))
     learning_rate: float = attrs.field(default=1e-4, validator=_pos)
     buffer_size: int = attrs.field(default=1_000_000, validator=_count(1))
     batch_size: int = attrs.field(default=256, validator=_count(1))
@@ -249,6 +257,17 @@ def evaluate_planner(
     return EvalResult(steps=steps, episodes=len(all_out), per_scenario=per, **total)
 
 
+def k2_schedule(config: TrainConfig, steps: int) -> float:
+    """k2 (1/m) at training step ``steps`` under the curriculum: 0 before
+    ``config.k_div_start``, then a linear ramp to ``config.k_div`` over
+    ``config.k_div_ramp`` steps (at once when that is 0)."""
+    if steps < config.k_div_start:
+        return 0.0
+    if config.k_div_ramp == 0:
+        return config.k_div
+    return config.k_div * min(1.0, (steps - config.k_div_start) / config.k_div_ramp)
+
+
 def _versions() -> dict[str, str]:
     out = {"python": platform.python_version()}
     for mod in ("srfm", "numpy", "numba", "gymnasium", "stable_baselines3", "torch", "sbx", "jax"):
@@ -277,7 +296,8 @@ def _require_sbx() -> Any:
 
 
 def _best_so_far(path: Path) -> EvalResult | None:
-    """The best evaluation recorded in an ``eval.jsonl`` (None when there is none)."""
+    """The best evaluation recorded in an ``eval.jsonl`` among those eligible to be
+    the run's best (None when there is none)."""
     best: EvalResult | None = None
     if not path.exists():
         return None
@@ -286,6 +306,8 @@ def _best_so_far(path: Path) -> EvalResult | None:
         if not line.strip():
             continue
         row = json.loads(line)
+        if not row.get("eligible", True):
+            continue
         result = EvalResult(**{k: v for k, v in row.items() if k in names})
         if result.better_than(best):
             best = result
@@ -358,7 +380,11 @@ def train(
     torch.set_num_threads(config.torch_threads)
 
     env_config = EnvConfig(
-        k1=config.k_dist, k2=config.k_div, counterfactual_twin=config.counterfactual_twin
+        k1=config.k_dist,
+        k2=config.k_div,
+        counterfactual_twin=config.counterfactual_twin,
+        k_progress=config.k_progress,
+        progress_gamma=config.gamma,
     )
     probe = SocialNavEnv(config.scenario, env_config)
     env_config = env_config.replace(kinematics=probe.scenario.robot.kinematics)
@@ -481,9 +507,13 @@ def train(
             eval_seeds,
             steps,
         )
+        # Only a policy trained with the final k2 can be the run's best (the k2
+        # curriculum's early checkpoints are policies of another reward).
+        eligible = k2_schedule(config, steps) == config.k_div
+        row = {**attrs.asdict(result), "wall_time_s": wall(), "k2": k2_schedule(config, steps)}
         with (run / "eval.jsonl").open("a") as fh:
-            fh.write(json.dumps({**attrs.asdict(result), "wall_time_s": wall()}) + "\n")
-        if result.better_than(best[0]):
+            fh.write(json.dumps({**row, "eligible": eligible}) + "\n")
+        if eligible and result.better_than(best[0]):
             best[0] = result
             model.save(run / "best.zip")
         say(
@@ -500,10 +530,20 @@ def train(
     class _Callback(BaseCallback):
         def _on_training_start(self) -> None:
             self._before = int(self.num_timesteps)
+            self._k2 = -1.0
+            self._set_k2(self._before)
+
+        def _set_k2(self, steps: int) -> None:
+            k2 = k2_schedule(config, steps)
+            if k2 != self._k2:
+                vec_env.env_method("set_k2", k2)
+                self._k2 = k2
 
         def _on_step(self) -> bool:
             steps = int(self.num_timesteps)
             before, self._before = self._before, steps
+            if crossed(before, steps, 100):
+                self._set_k2(steps)
             if progress is not None and crossed(before, steps, 100):
                 progress(steps)
             if crossed(before, steps, config.checkpoint_every):

@@ -206,7 +206,7 @@ def test_shipped_numpy_actor_matches_sb3_predict(name: str) -> None:
 
     numpy_policy = load_numpy_policy(shipped_policy_path(name))
     model = sb3.TD3.load(shipped_policy_path(name).with_suffix(".zip"), device="cpu")
-    assert attrs.asdict(numpy_policy.config) == model.srfm_env_config
+    assert numpy_policy.config == EnvConfig(**model.srfm_env_config)
     obs = _observations(2000)
     predicted, _ = model.predict(obs, deterministic=True)
     got = np.stack([numpy_policy.actor.forward(o) for o in obs])

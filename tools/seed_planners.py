@@ -1,0 +1,53 @@
+"""The policy of every training seed of the shipped recipe, as planners for
+``srfm benchmark`` (docs/rl.md, "The claim over training seeds"):
+
+    srfm benchmark -p td3-srfm,td3-base,dwa,vo,orca,social-force,straight \\
+        -p tools.seed_planners:srfm_seed1,tools.seed_planners:base_seed1,... --out DIR
+
+Run from the repository root with it on the import path (PYTHONPATH=.): the module is
+imported by name in every worker. Each factory loads the NumPy policy file
+``tools/policies/td3_<variant>_seed<k>`` exported from that run's best checkpoint
+(tools/train_policies.sh).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from srfm.planners.td3 import TD3Planner
+
+POLICIES = Path(__file__).resolve().parent / "policies"
+
+
+def _planner(variant: str, seed: int) -> TD3Planner:
+    return TD3Planner(POLICIES / f"td3_{variant}_seed{seed}.json", f"td3-{variant}-seed{seed}")
+
+
+def srfm_seed1() -> TD3Planner:
+    """SRFM-aware, training seed 1."""
+    return _planner("srfm", 1)
+
+
+def srfm_seed2() -> TD3Planner:
+    """SRFM-aware, training seed 2."""
+    return _planner("srfm", 2)
+
+
+def srfm_seed3() -> TD3Planner:
+    """SRFM-aware, training seed 3."""
+    return _planner("srfm", 3)
+
+
+def base_seed1() -> TD3Planner:
+    """RL_base, training seed 1."""
+    return _planner("base", 1)
+
+
+def base_seed2() -> TD3Planner:
+    """RL_base, training seed 2."""
+    return _planner("base", 2)
+
+
+def base_seed3() -> TD3Planner:
+    """RL_base, training seed 3."""
+    return _planner("base", 3)

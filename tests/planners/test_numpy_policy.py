@@ -193,3 +193,22 @@ def test_shipped_numpy_policies(name: str) -> None:
     record = srfm.run_episode("crosswalk", 1, planner)
     assert record.outcome in {"goal_reached", "collision", "out_of_bounds", "timeout"}
     assert attrs.asdict(policy.config) == meta["env_config"]
+
+
+@pytest.mark.parametrize("variant", ["srfm", "base"])
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_per_seed_policies_load_and_drive(variant: str, seed: int) -> None:
+    """The policy of every training seed (tools/policies/, docs/rl.md) is a valid NumPy
+    policy file of that run, and drives a robot."""
+    from srfm.planners.td3 import TD3Planner, load_numpy_policy
+
+    path = Path(__file__).parents[2] / "tools" / "policies" / f"td3_{variant}_seed{seed}.json"
+    policy = load_numpy_policy(path)
+    training = policy.metadata["training"]
+    assert training["seed"] == seed
+    assert training["backend"] == "sbx"
+    assert policy.config.k2 == (2.0 if variant == "srfm" else 0.0)
+    assert policy.config.k_progress == 10.0
+    record = srfm.run_episode("crosswalk", 0, TD3Planner(path, f"td3-{variant}-seed{seed}"))
+    moved = np.linalg.norm(record.robot_pose[-1, :2] - record.robot_pose[0, :2])
+    assert moved > 1.0

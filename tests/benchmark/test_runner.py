@@ -66,6 +66,29 @@ class Waiter:
         return np.array([0.25, 2.0 * err])
 
 
+class SlowStraight:
+    """``straight``, 0.5 ms slower per step, so that a run of the short scenario lasts
+    seconds and a signal reliably lands in the middle of it (without the delay all
+    200 episodes can finish between two polls of the interrupt test)."""
+
+    def __init__(self) -> None:
+        from srfm.planners import make_planner
+
+        self.inner = make_planner("straight")
+        self.name = "slow-straight"
+        self.detection_range_m = self.inner.detection_range_m
+
+    def reset(self, context, rng):  # type: ignore[no-untyped-def]
+        self.inner.reset(context, rng)
+
+    def act(self, observation):  # type: ignore[no-untyped-def]
+        time.sleep(0.0005)
+        return self.inner.act(observation)
+
+
+SLOW = "tests.benchmark.test_runner:SlowStraight"
+
+
 def _tables(out: Path) -> dict[str, bytes]:
     return {name: (out / name).read_bytes() for name in TABLES}
 
@@ -152,7 +175,7 @@ def test_interrupted_run_resumes_to_the_same_tables(short_scenario: Path, tmp_pa
         "-s",
         str(short_scenario),
         "-p",
-        "straight",
+        SLOW,
         "--seeds",
         "0-199",
         "--out",
@@ -162,7 +185,7 @@ def test_interrupted_run_resumes_to_the_same_tables(short_scenario: Path, tmp_pa
         "--no-figures",
     ]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    episodes = out / "episodes" / "short" / "straight"
+    episodes = episode_path(out, "short", SLOW, 0).parent
     deadline = time.monotonic() + 300
     while time.monotonic() < deadline and len(list(episodes.glob("seed-*.json"))) < 10:
         time.sleep(0.05)
@@ -176,9 +199,7 @@ def test_interrupted_run_resumes_to_the_same_tables(short_scenario: Path, tmp_pa
     for path in episodes.glob("seed-*.json"):
         json.loads(path.read_text())  # every file that exists is complete
     resumed = run_benchmark(
-        BenchmarkRequest.create(
-            scenarios=[str(short_scenario)], planners=["straight"], seeds=range(200)
-        ),
+        BenchmarkRequest.create(scenarios=[str(short_scenario)], planners=[SLOW], seeds=range(200)),
         out,
         jobs=2,
         figures=False,
@@ -186,9 +207,7 @@ def test_interrupted_run_resumes_to_the_same_tables(short_scenario: Path, tmp_pa
     assert resumed.simulated == 200 - done
     fresh = tmp_path / "fresh"
     run_benchmark(
-        BenchmarkRequest.create(
-            scenarios=[str(short_scenario)], planners=["straight"], seeds=range(200)
-        ),
+        BenchmarkRequest.create(scenarios=[str(short_scenario)], planners=[SLOW], seeds=range(200)),
         fresh,
         jobs=2,
         figures=False,

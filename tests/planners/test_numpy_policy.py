@@ -185,9 +185,12 @@ def test_shipped_numpy_policies(name: str) -> None:
     meta = policy.metadata
     assert (policy.config.k2 > 0.0) == (name == "td3-srfm")
     assert meta["kinematics"] == "unicycle"
-    assert meta["layers"] == [[256, 69], [256, 256], [2, 256]]
-    assert meta["training"]["seed"] == 0
-    assert meta["training"]["steps"] == (125_000 if name == "td3-srfm" else 100_000)
+    # the recipe of docs/rl.md: SBX [64, 64], training seed 2 of each variant
+    assert meta["layers"] == [[64, 69], [64, 64], [2, 64]]
+    assert meta["training"]["backend"] == "sbx"
+    assert meta["training"]["seed"] == 2
+    assert meta["training"]["steps"] == (375_000 if name == "td3-srfm" else 350_000)
+    assert policy.config.k_progress == 10.0
     assert meta["evaluation"]["at_export"]["episodes"] == 50
     planner = make_planner(name)
     record = srfm.run_episode("crosswalk", 1, planner)

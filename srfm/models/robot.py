@@ -18,6 +18,8 @@ the one implementation that the simulator and the RL environment call as well;
 from __future__ import annotations
 
 import math
+import numbers
+from collections.abc import Mapping
 from typing import Any, Literal
 
 import attrs
@@ -128,29 +130,37 @@ class RobotState:
         return cls(x=x, y=y, theta=theta, vx=vx, vy=vy, v=v, omega=omega)
 
 
-def command_pair(command: Any) -> tuple[float, float]:
-    """The two numbers of a planner's command, checked.
+def command_pair(command: Any, what: str = "a command") -> tuple[float, float]:
+    """The two numbers of a planner's command (or an agent's action), checked.
 
     Args:
-        command: (2,) (v, ω) for a unicycle, (vx, vy) world frame for a holonomic robot.
+        command: (2,) (v, ω) for a unicycle, (vx, vy) world frame for a holonomic robot:
+            a sequence or array of exactly two real numbers (not strings, booleans or
+            complex numbers).
+        what: how the message names the value (``"a command"``, ``"an action"``).
 
     Returns:
         (c0, c1) as floats.
 
     Raises:
-        PlannerError: the command is not two finite numbers.
+        PlannerError: the command is not two finite real numbers; the message names it.
     """
-    if isinstance(command, str | bytes):
-        raise PlannerError(f"a command must be two numbers, got {command!r}")
+    bad = PlannerError(f"{what} must be two real numbers, got {command!r}")
+    if isinstance(command, str | bytes | Mapping) or not hasattr(command, "__len__"):
+        raise bad
     try:
-        c0 = float(command[0])
-        c1 = float(command[1])
         if len(command) != 2:
-            raise TypeError
-    except (TypeError, ValueError, IndexError):
-        raise PlannerError(f"a command must be two numbers, got {command!r}") from None
+            raise bad
+        first, second = command[0], command[1]
+    except (TypeError, KeyError, IndexError, ValueError):
+        raise bad from None
+    for value in (first, second):
+        if not isinstance(value, numbers.Real) or isinstance(value, bool | np.bool_):
+            raise bad
+    c0 = float(first)
+    c1 = float(second)
     if not (math.isfinite(c0) and math.isfinite(c1)):
-        raise PlannerError(f"a command must be finite, got {command!r}")
+        raise PlannerError(f"{what} must be finite, got {command!r}")
     return c0, c1
 
 

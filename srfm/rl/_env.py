@@ -10,10 +10,10 @@ import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm.errors import ParameterError, PlannerError, SimulationError
+from srfm.errors import ParameterError, SimulationError
 from srfm.models import _robot_kernels as _rk
 from srfm.models.params import SRFMParams
-from srfm.models.robot import RobotState
+from srfm.models.robot import RobotState, command_pair
 from srfm.planners._observation import EnvConfig, obs_size
 from srfm.rl import _kernels as _k
 from srfm.rl._core import EnvCore, resolve_scenario
@@ -194,6 +194,8 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[ObsType, dict[str, Any]]:
         """Start an episode; see the class docstring for how the episode is chosen."""
+        if options is not None and not isinstance(options, dict):
+            raise ParameterError(f"reset options must be a dict or None, got {options!r}")
         super().reset(seed=seed)
         if options and "episode_seed" in options:
             episode = validate_seed(options["episode_seed"])
@@ -220,13 +222,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         """Advance one step; see the class docstring."""
         if not self._running:
             raise SimulationError("the episode is over (or never started): call reset()")
-        try:
-            a0 = float(action[0])
-            a1 = float(action[1])
-        except (TypeError, ValueError, IndexError):
-            raise PlannerError(f"an action must be two numbers, got {action!r}") from None
-        if not (math.isfinite(a0) and math.isfinite(a1)):
-            raise PlannerError(f"an action must be finite, got {action!r}")
+        a0, a1 = command_pair(action, "an action")
         core = self._core
         event = core.step(a0, a1)
         out = core.out

@@ -145,7 +145,7 @@ def test_step_before_reset_and_after_end_raise() -> None:
     env.reset(seed=0)
     with pytest.raises(PlannerError, match="finite"):
         env.step(np.array([np.nan, 0.0], np.float32))
-    with pytest.raises(PlannerError, match="two numbers"):
+    with pytest.raises(PlannerError, match="two real numbers"):
         env.step(np.array([1.0], np.float32))
 
 

@@ -27,7 +27,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm._io import atomic_write_text
+from srfm._io import MAX_TOML_BYTES, atomic_write_text, read_input_text
 from srfm._validate import finite_float, non_negative, positive, unit_interval
 from srfm.errors import ParameterError
 
@@ -183,14 +183,14 @@ def load_params(path: str | Path) -> SRFMParams:
     Unknown keys and malformed values raise :class:`ParameterError` naming the file.
     """
     path = Path(path)
+    # the one reader of input files: a regular file of bounded size, UTF-8 (BOM allowed)
+    text = read_input_text(
+        path, max_bytes=MAX_TOML_BYTES, error=ParameterError, what="parameter file"
+    )
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise ParameterError(f"{path}: parameter file not found") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
         raise ParameterError(f"{path}: not a valid TOML file: {exc}") from None
-    except OSError as exc:
-        raise ParameterError(f"{path}: cannot read parameter file: {exc.strerror}") from None
     unknown = sorted(set(data) - {"schema_version", "preset", "params", "meta"})
     if unknown:
         raise ParameterError(f"{path}: unknown key {unknown[0]!r}")

@@ -485,5 +485,21 @@ def test_save_params_rejects_non_scalar_meta_and_keeps_the_old_file(tmp_path: Pa
 
 
 def test_load_params_on_a_folder(tmp_path: Path) -> None:
-    with pytest.raises(srfm.ParameterError, match="cannot read parameter file"):
+    with pytest.raises(srfm.ParameterError, match="is a folder, expected a parameter file"):
         srfm.load_params(tmp_path)
+
+
+def test_load_params_reads_like_every_input(tmp_path: Path) -> None:
+    """The shared reader (srfm._io.read_input_text): a BOM is fine, other encodings
+    and missing files get a message naming the file."""
+    path = tmp_path / "p.toml"
+    srfm.save_params(srfm.SRFMParams(a_robot=0.5), path)
+    bom = tmp_path / "bom.toml"
+    bom.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())
+    assert srfm.load_params(bom).a_robot == 0.5
+    latin = tmp_path / "latin.toml"
+    latin.write_bytes(path.read_bytes() + "# caf\u00e9\n".encode("latin-1"))
+    with pytest.raises(srfm.ParameterError, match=r"latin\.toml: not UTF-8"):
+        srfm.load_params(latin)
+    with pytest.raises(srfm.ParameterError, match=r"missing\.toml: parameter file not found"):
+        srfm.load_params(tmp_path / "missing.toml")

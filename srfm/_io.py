@@ -49,6 +49,7 @@ __all__ = [
     "check_writable",
     "claim_output_folder",
     "folder_lock",
+    "new_file_mode",
     "read_input_bytes",
     "read_input_text",
     "recover_file_set",
@@ -154,8 +155,9 @@ def read_input_text(
 
 
 @functools.cache
-def _file_mode() -> int:
-    """The mode ``open()`` gives new files: 0o666 less the process umask."""
+def new_file_mode() -> int:
+    """The mode ``open()`` gives new files: 0o666 less the process umask. Every file
+    srfm writes through a temporary (``mkstemp`` makes 0600 files) gets it."""
     mask = os.umask(0o022)
     os.umask(mask)
     return 0o666 & ~mask
@@ -178,7 +180,7 @@ def _write_temporary(path: Path, data: bytes, *, fsync: bool) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=_TEMP_SUFFIX, dir=path.parent)
     try:
-        os.fchmod(fd, _file_mode())  # mkstemp makes 0600 files; match a plain open()
+        os.fchmod(fd, new_file_mode())  # mkstemp makes 0600 files; match a plain open()
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
             if fsync:

@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING, Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._io import new_file_mode
 from srfm.errors import LogError
 from srfm.metrics import EpisodeMetrics
 from srfm.scenarios import Scenario, episode_setup
@@ -381,6 +382,7 @@ def write_rrd(
         size = tmp.stat().st_size
         if size == 0:
             raise LogError(f"{path}: rerun wrote an empty recording")
+        os.chmod(tmp, new_file_mode())  # as every output, not mkstemp's 0600
         os.replace(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)

@@ -194,3 +194,17 @@ def test_without_forces_and_atomic(tmp_path: Path, episode) -> None:  # type: ig
     assert not entities & FORCES
     assert not {"/world/obstacles/walls", "/world/obstacles/pillars"} & entities
     assert [p.name for p in tmp_path.iterdir()] == ["a.rrd"]
+
+
+def test_rrd_file_mode_is_that_of_every_output(tmp_path: Path, episode, short_scenario) -> None:  # type: ignore[no-untyped-def]
+    """Not mkstemp's 0600: the mode a plain open() gives (0o666 less the umask)."""
+    import os
+    import stat
+
+    scenario, record, _ = episode(short_scenario, 1, "dwa")
+    old = os.umask(0o022)
+    try:
+        write_rrd(tmp_path / "ep.rrd", record, scenario=scenario)
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE((tmp_path / "ep.rrd").stat().st_mode) == 0o644

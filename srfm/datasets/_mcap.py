@@ -29,6 +29,7 @@ import json
 import math
 import re
 import struct
+import zlib
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, Final
@@ -242,6 +243,44 @@ def _frames(scene: Trajectories) -> list[tuple[int, int, list[tuple[int, int]]]]
     return out
 
 
+_MAGIC_BYTES: Final = 8
+_FOOTER_BYTES: Final = 29  # opcode, length, summary start, summary offset start, CRC
+_DATA_END_BYTES: Final = 13  # opcode, length, data section CRC
+_OP_FOOTER: Final = 0x02
+_OP_DATA_END: Final = 0x0F
+
+
+def _check_file_crcs(path: Path, data: bytes) -> None:
+    """Validate the two whole-file CRC-32s of an MCAP file (the data section's, in its
+    DataEnd record, and the summary section's, in its footer).
+
+    The mcap reader checks each chunk's CRC but neither of these, so a flip in a
+    record outside the chunks (header, metadata, attachments' framing, the summary)
+    would otherwise be read silently. A CRC of 0 means "not recorded" (MCAP spec).
+
+    Raises:
+        DatasetError: a CRC does not match, or the file's framing is not MCAP's.
+    """
+    end = len(data) - _MAGIC_BYTES
+    if end - _FOOTER_BYTES - _DATA_END_BYTES < _MAGIC_BYTES:
+        raise DatasetError(f"{path}: not a readable MCAP file (too short)")
+    op, _, summary_start, _, summary_crc = struct.unpack("<BQQQI", data[end - _FOOTER_BYTES : end])
+    data_end = (summary_start if summary_start else end - _FOOTER_BYTES) - _DATA_END_BYTES
+    if op != _OP_FOOTER or not _MAGIC_BYTES <= data_end <= end - _FOOTER_BYTES:
+        raise DatasetError(f"{path}: not a readable MCAP file (bad footer)")
+    op, _, data_crc = struct.unpack("<BQI", data[data_end : data_end + _DATA_END_BYTES])
+    if op != _OP_DATA_END:
+        raise DatasetError(f"{path}: not a readable MCAP file (no DataEnd record)")
+    if data_crc and zlib.crc32(data[:data_end]) != data_crc:
+        raise DatasetError(
+            f"{path}: not a readable MCAP file (damaged: the data section's CRC does not match)"
+        )
+    if summary_start and summary_crc and zlib.crc32(data[summary_start : end - 4]) != summary_crc:
+        raise DatasetError(
+            f"{path}: not a readable MCAP file (damaged: the summary section's CRC does not match)"
+        )
+
+
 def read_mcap(path: str | Path) -> DatasetFile:
     """Read an srfm dataset MCAP file written by :func:`write_mcap`.
 
@@ -263,6 +302,8 @@ def read_mcap(path: str | Path) -> DatasetFile:
     path = Path(path)
     try:
         with path.open("rb") as fh:
+            _check_file_crcs(path, fh.read())
+            fh.seek(0)
             reader = make_reader(fh, validate_crcs=True)
             library = reader.get_header().library
             meta_records = [(m.name, dict(m.metadata)) for m in reader.iter_metadata()]
@@ -285,7 +326,18 @@ def read_mcap(path: str | Path) -> DatasetFile:
         raise DatasetError(f"{path}: file not found") from None
     except IsADirectoryError:
         raise DatasetError(f"{path}: is a directory, expected an .mcap file") from None
-    except (McapError, struct.error, zstandard.ZstdError, EOFError, ValueError, KeyError) as exc:
+    except (
+        McapError,
+        struct.error,
+        zstandard.ZstdError,
+        EOFError,
+        ValueError,
+        KeyError,
+        OverflowError,
+        MemoryError,
+        UnicodeDecodeError,
+    ) as exc:
+        # a damaged file: any decoding failure is the file's fault, named as such
         if isinstance(exc, DatasetError):
             raise
         raise DatasetError(

@@ -184,7 +184,16 @@ def test_interrupted_run_resumes_to_the_same_tables(short_scenario: Path, tmp_pa
         "2",
         "--no-figures",
     ]
-    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    # A shell starts background jobs with SIGINT ignored, and Python keeps it ignored:
+    # give the run the default disposition, as a terminal would (a suite started with
+    # `make test &` otherwise sees the run ignore the signal and finish with status 0).
+    proc = subprocess.Popen(
+        cmd,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     episodes = episode_path(out, "short", SLOW, 0).parent
     deadline = time.monotonic() + 300
     while time.monotonic() < deadline and len(list(episodes.glob("seed-*.json"))) < 10:

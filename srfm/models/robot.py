@@ -26,7 +26,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm._validate import positive
+from srfm._validate import physical
 from srfm.errors import ParameterError, PlannerError
 from srfm.models._robot_kernels import RobotLimits, move_robot
 
@@ -44,8 +44,14 @@ Kinematics = Literal["unicycle", "holonomic"]
 KINEMATICS: tuple[Kinematics, ...] = ("unicycle", "holonomic")
 
 
-def _positive(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
-    positive(value, f"robot.{attribute.name}", ParameterError)
+def _bounded(kind: str) -> Any:
+    """A validator: a number > 0 within the physical range of ``kind`` (one table of
+    bounds for every input: :data:`srfm._validate.BOUNDS`)."""
+
+    def check(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+        physical(value, f"robot.{attribute.name}", kind, ParameterError, strict=True)
+
+    return check
 
 
 def _kinematics(inst: Any, attribute: attrs.Attribute[str], value: Any) -> None:
@@ -69,12 +75,16 @@ class RobotConfig:
     """
 
     kinematics: Kinematics = attrs.field(default="unicycle", validator=_kinematics)
-    radius_m: float = attrs.field(default=0.2, validator=_positive)
-    max_speed_mps: float = attrs.field(default=0.5, validator=_positive)
-    max_angular_speed_radps: float = attrs.field(default=math.pi, validator=_positive)
-    max_accel_mps2: float = attrs.field(default=1.0, validator=_positive)
-    max_angular_accel_radps2: float = attrs.field(default=2.0 * math.pi, validator=_positive)
-    goal_radius_m: float = attrs.field(default=0.5, validator=_positive)
+    radius_m: float = attrs.field(default=0.2, validator=_bounded("radius"))
+    max_speed_mps: float = attrs.field(default=0.5, validator=_bounded("speed"))
+    max_angular_speed_radps: float = attrs.field(
+        default=math.pi, validator=_bounded("angular_speed")
+    )
+    max_accel_mps2: float = attrs.field(default=1.0, validator=_bounded("acceleration"))
+    max_angular_accel_radps2: float = attrs.field(
+        default=2.0 * math.pi, validator=_bounded("acceleration")
+    )
+    goal_radius_m: float = attrs.field(default=0.5, validator=_bounded("radius"))
 
     def for_kernels(self) -> RobotLimits:
         """The body and limits as the robot kernels take them (a NamedTuple)."""

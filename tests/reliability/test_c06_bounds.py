@@ -156,3 +156,22 @@ def test_jrdb_numbers_that_overflow(
 ) -> None:
     with pytest.raises(srfm.DatasetError, match=match):
         jrdb.read_sequence(_jrdb(tmp_path, frame, stamp, cx))
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "message"),
+    [
+        ("radius_m", 1e9, r"robot\.radius_m must be in \(0, 1000\] m"),
+        ("radius_m", 0.0, r"robot\.radius_m must be in \(0, 1000\] m"),
+        ("goal_radius_m", -1.0, r"robot\.goal_radius_m must be in"),
+        ("max_speed_mps", 5e3, r"robot\.max_speed_mps must be in \(0, 1000\] m/s"),
+        ("max_angular_speed_radps", 1e4, r"robot\.max_angular_speed_radps must be in"),
+        ("max_accel_mps2", 1e7, r"robot\.max_accel_mps2 must be in"),
+        ("max_angular_accel_radps2", float("inf"), r"robot\.max_angular_accel_radps2 must be"),
+        ("max_speed_mps", "fast", r"robot\.max_speed_mps must be a number"),
+    ],
+)
+def test_robot_config_physical_bounds(field: str, value: object, message: str) -> None:
+    """RobotConfig takes its bounds from the one table (srfm._validate.BOUNDS)."""
+    with pytest.raises(srfm.ParameterError, match=message):
+        srfm.RobotConfig(**{field: value})

@@ -100,6 +100,13 @@ def _default(name: str) -> Any:
 )
 @click.option("--learning-rate", type=float, default=_default("learning_rate"), show_default=True)
 @click.option(
+    "--gamma",
+    type=click.FloatRange(min=0.0, max=1.0, min_open=True),
+    default=_default("gamma"),
+    show_default=True,
+    help="Discount factor (also the progress term's γ).",
+)
+@click.option(
     "--buffer-size", type=click.IntRange(min=1), default=_default("buffer_size"), show_default=True
 )
 @click.option(
@@ -238,6 +245,7 @@ def _train(
     steps: int,
     scenario: str,
     learning_rate: float,
+    gamma: float,
     buffer_size: int,
     learning_starts: int,
     batch_size: int,
@@ -271,6 +279,7 @@ def _train(
         k_div_start=k_div_start,
         k_div_ramp=k_div_ramp,
         learning_rate=learning_rate,
+        gamma=gamma,
         buffer_size=buffer_size,
         learning_starts=learning_starts,
         batch_size=batch_size,

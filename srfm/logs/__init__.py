@@ -36,7 +36,6 @@ from srfm.logs._writer import (
     LogOptions,
     counterfactual_log_path,
     episode_log_path,
-    remove_stale_temporaries,
     write_episode_logs,
 )
 from srfm.logs.score import (
@@ -66,7 +65,6 @@ __all__ = [
     "load_episode",
     "metrics_identical",
     "read_log",
-    "remove_stale_temporaries",
     "score_logs",
     "write_counterfactual_mcap",
     "write_episode_logs",

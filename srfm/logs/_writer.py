@@ -8,7 +8,8 @@ Layout (``OUT`` is the ``--out`` folder of ``srfm simulate`` or ``srfm benchmark
 
 Every file is written to a temporary file in the same folder and renamed into place,
 so a reader never sees half a file; an interrupted run leaves at most hidden
-``.*.tmp`` files, which :func:`remove_stale_temporaries` deletes.
+``.*.tmp`` files, which the next run on the folder deletes while holding the folder's
+lock (:func:`srfm._io.remove_stale_temporaries`).
 """
 
 from __future__ import annotations
@@ -20,6 +21,8 @@ from typing import Any, Final
 
 import attrs
 
+from srfm._validate import path_name
+from srfm._validate import seed as validate_seed
 from srfm.errors import LogError
 from srfm.logs._mcap import (
     PROFILES,
@@ -38,7 +41,6 @@ __all__ = [
     "LogOptions",
     "counterfactual_log_path",
     "episode_log_path",
-    "remove_stale_temporaries",
     "write_episode_logs",
 ]
 
@@ -48,24 +50,25 @@ COUNTERFACTUAL_DIR: Final = "_counterfactual"
 
 
 def episode_log_path(out: Path, scenario: str, planner: str, seed: int, suffix: str) -> Path:
-    """``OUT/logs/<scenario>/<planner>/seed-NNNNNN<suffix>``."""
+    """``OUT/logs/<scenario>/<planner>/seed-NNNNNN<suffix>``.
+
+    Raises:
+        LogError: a name that cannot be a folder name (:func:`srfm._validate.path_name`:
+            no ``/``, ``..``, whitespace or leading ``_``, so never the counterfactual
+            folder) or a bad seed; so no log is ever written outside ``OUT/logs``.
+    """
+    scenario = path_name(scenario, "scenario name", LogError)
+    planner = path_name(planner, "planner name", LogError)
+    seed = validate_seed(seed, LogError)
     return Path(out) / LOGS_DIR / scenario / planner / f"seed-{seed:06d}{suffix}"
 
 
 def counterfactual_log_path(out: Path, scenario: str, seed: int) -> Path:
-    """``OUT/logs/<scenario>/_counterfactual/seed-NNNNNN.mcap``."""
+    """``OUT/logs/<scenario>/_counterfactual/seed-NNNNNN.mcap`` (names checked as in
+    :func:`episode_log_path`)."""
+    scenario = path_name(scenario, "scenario name", LogError)
+    seed = validate_seed(seed, LogError)
     return Path(out) / LOGS_DIR / scenario / COUNTERFACTUAL_DIR / f"seed-{seed:06d}.mcap"
-
-
-def remove_stale_temporaries(out: Path) -> int:
-    """Delete temporary files left in ``OUT/logs`` by a killed run; return how many."""
-    root = Path(out) / LOGS_DIR
-    count = 0
-    if root.is_dir():
-        for tmp in root.rglob(".*.tmp"):
-            tmp.unlink(missing_ok=True)
-            count += 1
-    return count
 
 
 @attrs.frozen(kw_only=True)

@@ -8,7 +8,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm._validate import float_array
+from srfm._validate import float_array, physical_array
 from srfm.errors import SimulationError
 
 __all__ = ["CrowdState", "Obstacles"]
@@ -147,11 +147,10 @@ class Obstacles:
     def __attrs_post_init__(self) -> None:
         seg = float_array(self.segments, "segments", (None, 4), SimulationError)
         circ = float_array(self.circles, "circles", (None, 3), SimulationError)
-        if np.any(circ[:, 2] < 0.0):
-            k = int(np.argmax(circ[:, 2] < 0.0))
-            raise SimulationError(
-                f"pillar radius must be >= 0, got {float(circ[k, 2])!r} for pillar {k}"
-            )
+        # The one rule for physical inputs (srfm._validate.BOUNDS).
+        physical_array(seg, "wall coordinates", "coordinate", SimulationError)
+        physical_array(circ[:, :2], "pillar centres", "coordinate", SimulationError)
+        physical_array(circ[:, 2], "pillar radius", "radius", SimulationError)
         # Private read-only copies: nobody can change an obstacle after the fact.
         object.__setattr__(self, "segments", _read_only(seg.copy()))
         object.__setattr__(self, "circles", _read_only(circ.copy()))

@@ -309,7 +309,7 @@ def test_crowd_defaults_and_copies() -> None:
 
 
 def test_negative_pillar_radius_raises() -> None:
-    with pytest.raises(srfm.SimulationError, match=r"pillar radius.*-0\.1.*pillar 1"):
+    with pytest.raises(srfm.SimulationError, match=r"pillar radius.*-0\.1 at index 1"):
         srfm.Obstacles.create(circles=[[0.0, 0.0, 0.5], [1.0, 1.0, -0.1]])
 
 

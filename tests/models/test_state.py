@@ -64,7 +64,7 @@ def test_obstacles_are_validated_and_read_only() -> None:
     assert obs.segments[0, 0] == 0.0  # a private copy
     with pytest.raises(ValueError, match="read-only"):
         obs.circles[0, 2] = 3.0
-    with pytest.raises(srfm.SimulationError, match="pillar radius must be >= 0"):
+    with pytest.raises(srfm.SimulationError, match=r"pillar radius must be in \[0, 1000\] m"):
         srfm.Obstacles(circles=np.array([[0.0, 0.0, -1.0]]))
     with pytest.raises(srfm.SimulationError, match=r"segments must have shape \(n, 4\)"):
         srfm.Obstacles(segments=np.zeros((2, 3)))

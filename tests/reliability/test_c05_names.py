@@ -77,6 +77,29 @@ def test_episode_paths_stay_inside_the_folder(tmp_path: Path) -> None:
         episode_path(tmp_path, "tiny", "straight", 10**301)
 
 
+def test_log_paths_stay_inside_the_logs_folder(tmp_path: Path) -> None:
+    """The log writers' path functions check the names themselves: a caller of
+    srfm.logs cannot write outside OUT/logs or into the counterfactual folder."""
+    from srfm.logs import counterfactual_log_path, episode_log_path
+
+    good = episode_log_path(tmp_path, "tiny", "straight", 7, ".mcap")
+    assert good == tmp_path / "logs" / "tiny" / "straight" / "seed-000007.mcap"
+    for scenario, planner in (
+        ("..", "straight"),
+        ("tiny", "../x"),
+        ("tiny", ""),
+        ("tiny", "_counterfactual"),
+        ("tiny\n", "straight"),
+        ("tiny", 3),
+    ):
+        with pytest.raises(srfm.LogError):
+            episode_log_path(tmp_path, scenario, planner, 0, ".mcap")  # type: ignore[arg-type]
+    with pytest.raises(srfm.LogError, match="seed"):
+        episode_log_path(tmp_path, "tiny", "straight", -1, ".rrd")
+    with pytest.raises(srfm.LogError, match="scenario name"):
+        counterfactual_log_path(tmp_path, "../up", 0)
+
+
 @pytest.mark.parametrize("seed", [2**32, 10**301, -1])
 def test_seeds_are_bounded(seed: int) -> None:
     with pytest.raises(srfm.ScenarioError, match=f"at most {MAX_SEED}"):

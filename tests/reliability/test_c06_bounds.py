@@ -175,3 +175,20 @@ def test_robot_config_physical_bounds(field: str, value: object, message: str) -
     """RobotConfig takes its bounds from the one table (srfm._validate.BOUNDS)."""
     with pytest.raises(srfm.ParameterError, match=message):
         srfm.RobotConfig(**{field: value})
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"circles": [[7.0, 7.0, 1e300]]}, r"pillar radius must be in \[0, 1000\] m, got 1e\+300"),
+        ({"circles": [[1e9, 7.0, 0.5]]}, r"pillar centres must be in \[-1e\+07, 1e\+07\] m"),
+        ({"segments": [[0.0, 0.0, 1e300, 1.0]]}, r"wall coordinates must be in .* index \(0, 2\)"),
+    ],
+)
+def test_obstacles_built_in_python_have_the_same_bounds(
+    kwargs: dict[str, object], message: str
+) -> None:
+    """The API path (Obstacles.create) applies the bounds a scenario file gets."""
+    with pytest.raises(srfm.SimulationError, match=message):
+        srfm.Obstacles.create(**kwargs)
+    srfm.Obstacles.create(circles=[[7.0, 7.0, 1000.0]], segments=[[-1e7, 0.0, 1e7, 0.0]])

@@ -100,6 +100,13 @@ def _default(name: str) -> Any:
 )
 @click.option("--learning-rate", type=float, default=_default("learning_rate"), show_default=True)
 @click.option(
+    "--action-repeat",
+    type=click.IntRange(min=1, max=100),
+    default=_default("action_repeat"),
+    show_default=True,
+    help="Simulation steps per action (1: the paper's set-up); the step counts count actions.",
+)
+@click.option(
     "--gamma",
     type=click.FloatRange(min=0.0, max=1.0, min_open=True),
     default=_default("gamma"),
@@ -245,6 +252,7 @@ def _train(
     steps: int,
     scenario: str,
     learning_rate: float,
+    action_repeat: int,
     gamma: float,
     buffer_size: int,
     learning_starts: int,
@@ -279,6 +287,7 @@ def _train(
         k_div_start=k_div_start,
         k_div_ramp=k_div_ramp,
         learning_rate=learning_rate,
+        action_repeat=action_repeat,
         gamma=gamma,
         buffer_size=buffer_size,
         learning_starts=learning_starts,

@@ -117,6 +117,20 @@ def _max_peds(inst: Any, attribute: attrs.Attribute[int], value: Any) -> None:
         raise ParameterError(f"env.max_pedestrians must be an integer in [0, 1000], got {value!r}")
 
 
+MAX_ACTION_REPEAT: Final = 100
+
+
+def _action_repeat(inst: Any, attribute: attrs.Attribute[int], value: Any) -> None:
+    try:
+        count = operator.index(value)
+    except TypeError:
+        count = 0
+    if isinstance(value, bool) or not 1 <= count <= MAX_ACTION_REPEAT:
+        raise ParameterError(
+            f"env.action_repeat must be an integer in [1, {MAX_ACTION_REPEAT}], got {value!r}"
+        )
+
+
 def _kinematics(inst: Any, attribute: attrs.Attribute[str | None], value: Any) -> None:
     if value is not None and value not in KINEMATICS:
         raise ParameterError(f"env.kinematics must be None or one of {KINEMATICS}, got {value!r}")
@@ -188,6 +202,12 @@ class EnvConfig:
             default) gives the paper's reward.
         progress_gamma: γ of the progress term; set it to the learner's discount
             (``srfm train`` does).
+        action_repeat: simulation steps per action (1, the default, is the paper's
+            set-up). The environment applies each action for this many steps (fewer
+            when the episode ends) and returns the sum of their rewards, with the
+            progress term taken over the whole action, γ Φ(s_{t+k}) − Φ(s_t), so that
+            it stays potential-based for a learner that discounts once per action. A
+            policy's planner holds each action for as many steps.
     """
 
     k1: float = attrs.field(default=0.1, validator=_non_negative)
@@ -201,6 +221,7 @@ class EnvConfig:
     counterfactual_twin: bool = attrs.field(default=True, validator=_flag)
     k_progress: float = attrs.field(default=0.0, validator=_non_negative)
     progress_gamma: float = attrs.field(default=0.99, validator=_unit_interval)
+    action_repeat: int = attrs.field(default=1, validator=_action_repeat)
 
     @property
     def collision_penalty(self) -> float:

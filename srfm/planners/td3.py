@@ -613,6 +613,7 @@ class PolicyPlanner:
         self._builder: ObservationBuilder | None = None
         self._obs: F32 = np.zeros(actor.obs_size, dtype=np.float32)
         self._last = np.zeros(2)
+        self._held = 0  # steps the last action has been applied (config.action_repeat)
 
     def reset(self, context: PlannerContext, rng: np.random.Generator) -> None:
         """Start an episode (the policy is deterministic and draws nothing from ``rng``)."""
@@ -630,16 +631,20 @@ class PolicyPlanner:
             )
         self._builder = builder
         self._last[:] = 0.0
+        self._held = 0
 
     def act(self, observation: Observation) -> FloatArray:
-        """The command for this step."""
+        """The command for this step: a new action every ``config.action_repeat``
+        steps (as in training), the last one held in between."""
         builder = self._builder
         if builder is None:
             raise PlannerError(f"planner {self.name!r}: call reset() before act()")
-        obs = builder.build(observation, self._last, self._obs)
-        action = self._actor.forward(obs)
-        self._last[0] = action[0]
-        self._last[1] = action[1]
+        if self._held % self._config.action_repeat == 0:
+            obs = builder.build(observation, self._last, self._obs)
+            action = self._actor.forward(obs)
+            self._last[0] = action[0]
+            self._last[1] = action[1]
+        self._held += 1
         command: FloatArray = builder.command(self._last, observation.robot.theta)
         return command
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Final
 
 import attrs
 import numpy as np
@@ -27,7 +27,10 @@ from srfm.rl import _kernels as _k
 from srfm.scenarios import EpisodeSetup, Scenario, episode_setup, next_goal
 from srfm.sim.simulator import EVENT_OUTCOMES
 
-__all__ = ["EnvCore", "resolve_scenario"]
+__all__ = ["REWARD_TERMS", "EnvCore", "resolve_scenario"]
+
+REWARD_TERMS: Final = (_k.OUT_REWARD, _k.OUT_R_DIST, _k.OUT_R_DIV, _k.OUT_R_TERM, _k.OUT_R_PROGRESS)
+"""The entries of the kernel's ``out`` that an action sums over its simulation steps."""
 
 FloatArray = NDArray[np.float64]
 
@@ -70,7 +73,9 @@ class EnvCore:
         self.dist_buf = np.zeros(max(n, 1))
         self.idx_buf = np.zeros(max(n, 1), dtype=np.int64)
         self.obs = np.zeros(obs_size(config.max_pedestrians), dtype=np.float32)
-        self.out = np.zeros(_k.OUT_SIZE)
+        self.out = np.zeros(_k.OUT_SIZE)  # one simulation step's results (the kernel's)
+        self.total = np.zeros(_k.OUT_SIZE)  # one action's reward terms (see step)
+        self.repeat = int(config.action_repeat)
         self.action = np.zeros(2)
         self.regoal = scenario.random is not None and scenario.random.regoal
         self.limits = scenario.robot.for_kernels()
@@ -122,7 +127,9 @@ class EnvCore:
             self.reward,
             self.options,
         )
-        # env_step's arguments but the step index
+        # env_step's arguments but the step index: for the last simulation step of an
+        # action, and (progress γ = 1, see step) for the steps before it
+        held = (*config[:4], self.reward._replace(gamma=1.0), config[5])
         self._step_args = (
             self.flags,
             *arrays,
@@ -132,8 +139,10 @@ class EnvCore:
             *scratch,
             *config,
         )
-        # reward_and_observation's arguments but the event
+        self._held_step_args = (*self._step_args[: -len(config)], *held)
+        # reward_and_observation's arguments but the event (the same two kinds)
         self._reward_args = (*arrays, *scratch, *config)
+        self._held_reward_args = (*arrays, *scratch, *held)
         factual_pos = self.crowd[_k.FACTUAL_POS]
         # robot_event's arguments but the sample index
         self._event_args = (
@@ -254,21 +263,38 @@ class EnvCore:
         self._build_observation(*self._observation_args)
 
     def step(self, a0: float, a1: float) -> int:
-        """Advance one step under the action (a0, a1); return the event code.
+        """Apply the action (a0, a1) for ``config.action_repeat`` simulation steps, or
+        until the episode ends; return the event code.
 
-        The reward terms are in ``self.out`` and the observation in ``self.obs``.
+        The reward terms summed over those steps are in ``self.total`` (indices
+        :data:`REWARD_TERMS` of :mod:`srfm.rl._kernels`' ``out``) and the observation
+        in ``self.obs``. The progress term uses γ = 1 on every step of the action but
+        its last one (the horizon's step is a last one), so that its sum telescopes
+        to γ Φ(s_{t+k}) − Φ(s_t): potential-based per action.
         """
         action = self.action
         action[0] = a0
         action[1] = a1
-        event: int = self._env_step(*self._step_args, self.step_index)
-        self.step_index += 1
-        self.event = event
         out = self.out
-        if self.regoal and (out[_k.OUT_NEW_F] or out[_k.OUT_NEW_C]):
-            self._regoal()
-            if out[_k.OUT_NEW_F]:
-                self._reward_and_observation(*self._reward_args, event)
+        total = self.total
+        total[:] = 0.0
+        last_step = self.scenario.horizon_steps - 1
+        event = _rk.EVENT_NONE
+        for k in range(self.repeat):
+            last = k == self.repeat - 1 or self.step_index >= last_step
+            step_args = self._step_args if last else self._held_step_args
+            event = self._env_step(*step_args, self.step_index)
+            self.step_index += 1
+            if self.regoal and (out[_k.OUT_NEW_F] or out[_k.OUT_NEW_C]):
+                self._regoal()
+                if out[_k.OUT_NEW_F]:
+                    reward_args = self._reward_args if last else self._held_reward_args
+                    self._reward_and_observation(*reward_args, event)
+            for term in REWARD_TERMS:
+                total[term] += out[term]
+            if event != _rk.EVENT_NONE:
+                break
+        self.event = event
         return event
 
     def _regoal(self) -> None:

@@ -103,6 +103,10 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
     With ``config.k_progress`` > 0 the potential-based progress term ``r_progress``
     = γ Φ(s') − Φ(s), Φ = −k_progress · d / d_0, is added (:class:`EnvConfig`).
 
+    With ``config.action_repeat`` = k > 1 one ``step`` applies the action for k
+    simulation steps (fewer when the episode ends) and returns the sum of their rewards
+    and reward terms; the progress term is then γ Φ(s_{t+k}) − Φ(s_t).
+
     ``info`` holds ``r_dist``, ``r_div``, ``r_term`` and ``r_progress`` at every step,
     and at the end ``outcome`` (``"goal_reached"``, ``"collision"``, ``"out_of_bounds"`` or
     ``"timeout"``) and ``is_success``.
@@ -225,7 +229,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         a0, a1 = command_pair(action, "an action")
         core = self._core
         event = core.step(a0, a1)
-        out = core.out
+        out = core.total
         info: dict[str, Any] = {
             "r_dist": float(out[_k.OUT_R_DIST]),
             "r_div": float(out[_k.OUT_R_DIV]),
@@ -262,7 +266,8 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
 
     @property
     def step_index(self) -> int:
-        """Steps taken in the current episode."""
+        """Simulation steps taken in the current episode (``action_repeat`` per
+        action)."""
         return self._core.step_index
 
     @property

@@ -117,6 +117,9 @@ class TrainConfig:
             0 RL_base.
         k_progress: weight of the potential-based progress term of the reward
             (:class:`srfm.rl.EnvConfig`; 0: the paper's reward). Its γ is ``gamma``.
+        action_repeat: simulation steps per action (:class:`srfm.rl.EnvConfig`; 1:
+            the paper's set-up). ``total_steps`` and the other step counts count
+            actions (environment steps), not simulation steps.
         k_div_start: curriculum on k2: k2 is 0 up to this step, then
         k_div_ramp: rises linearly to ``k_div`` over this many steps (0: at once).
         learning_rate: Adam learning rate (paper: 1e-4).
@@ -156,6 +159,7 @@ class TrainConfig:
     k_dist: float = attrs.field(default=0.1, validator=_nonneg)
     k_div: float = attrs.field(default=2.0, validator=_nonneg)
     k_progress: float = attrs.field(default=0.0, validator=_nonneg)
+    action_repeat: int = attrs.field(default=1, validator=_count(1))
     k_div_start: int = attrs.field(default=0, validator=_count(0))
     k_div_ramp: int = attrs.field(default=0, validator=_count(0))
     learning_rate: float = attrs.field(default=1e-4, validator=_pos)
@@ -385,6 +389,7 @@ def train(
         counterfactual_twin=config.counterfactual_twin,
         k_progress=config.k_progress,
         progress_gamma=config.gamma,
+        action_repeat=config.action_repeat,
     )
     probe = SocialNavEnv(config.scenario, env_config)
     env_config = env_config.replace(kinematics=probe.scenario.robot.kinematics)

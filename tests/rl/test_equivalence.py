@@ -100,11 +100,21 @@ def _random_actor(obs_size: int, seed: int) -> NumpyActor:
 
 
 @pytest.mark.parametrize(
-    ("name", "kinematics"),
-    [("random", "unicycle"), ("crosswalk", "unicycle"), ("circle", "holonomic")],
+    ("name", "kinematics", "repeat"),
+    [
+        ("random", "unicycle", 1),
+        ("crosswalk", "unicycle", 1),
+        ("circle", "holonomic", 1),
+        ("crosswalk", "unicycle", 3),
+        ("circle", "holonomic", 4),
+    ],
 )
-def test_policy_sees_the_same_observation_in_env_and_episode(name: str, kinematics: str) -> None:
-    config = EnvConfig(kinematics=kinematics)  # type: ignore[arg-type]
+def test_policy_sees_the_same_observation_in_env_and_episode(
+    name: str, kinematics: str, repeat: int
+) -> None:
+    """Also with action_repeat: the planner decides every ``repeat`` steps, on the
+    observation the environment returned for that step, and holds the action."""
+    config = EnvConfig(kinematics=kinematics, action_repeat=repeat)  # type: ignore[arg-type]
     env = SocialNavEnv(name, config)
     actor = _random_actor(env.observation_space.shape[0], 4)
     obs, _ = env.reset(seed=3)
@@ -119,7 +129,11 @@ def test_policy_sees_the_same_observation_in_env_and_episode(name: str, kinemati
         env_obs.append(obs)
     planner = _Recording(actor, config)
     record = srfm.run_episode(env.scenario, 3, planner)
-    assert len(planner.seen) == len(env_obs)
-    for a, b in zip(planner.seen, env_obs, strict=True):
+    decisions = planner.seen[::repeat]
+    assert len(decisions) == len(env_obs)
+    for a, b in zip(decisions, env_obs, strict=True):
         assert a.tobytes() == b.tobytes()
-    assert np.array_equal(record.robot_pose[1 : len(poses) + 1], np.array(poses))
+    at_decisions = record.robot_pose[repeat::repeat]
+    assert np.array_equal(at_decisions[: len(poses) - 1], np.array(poses[:-1]))
+    assert np.array_equal(record.robot_pose[record.end_step], np.array(poses[-1]))
+    assert record.end_step == env.step_index

@@ -45,11 +45,13 @@ def test_mixed_env_draws_layouts_and_is_reproducible() -> None:
     assert [r for r, _ in a] == [r for r, _ in b]
 
 
-def test_progress_term_is_potential_based() -> None:
+@pytest.mark.parametrize("repeat", [1, 4])
+def test_progress_term_is_potential_based(repeat: int) -> None:
     """Σ γ^t F_t = γ^T Φ(s_T) − Φ(s_0), with Φ = −k d / d_0 and Φ = 0 when terminal,
-    and each F_t equals its definition from the robot's positions."""
+    and each F_t equals its definition from the robot's positions; t counts actions
+    (with action_repeat = 4, 750 steps end in an action of 2 steps)."""
     k, gamma = 7.0, 0.97
-    config = EnvConfig(k2=0.0, k_progress=k, progress_gamma=gamma)
+    config = EnvConfig(k2=0.0, k_progress=k, progress_gamma=gamma, action_repeat=repeat)
     for seed, policy in ((3, "forward"), (4, "random"), (8, "forward")):
         env = SocialNavEnv("crosswalk", config)
         env.reset(seed=seed)
@@ -110,3 +112,47 @@ def test_k2_curriculum() -> None:
     ]
     assert k2_schedule(TrainConfig(k_div=2.0), 0) == 2.0
     assert k2_schedule(TrainConfig(k_div=2.0, k_div_start=5), 5) == 2.0
+
+
+def test_action_repeat_sums_the_steps_of_one_action() -> None:
+    """An action repeated k times is k simulation steps of the plain environment under
+    that action: the same crowd and robot, bit for bit, and the sum of their reward
+    terms (the progress term aside: it telescopes, see above)."""
+    base = EnvConfig(k2=2.0, counterfactual_twin=False)
+    for name, seed in (("circle", 1), ("mixed", 5), ("mixed", 9)):
+        one = SocialNavEnv(name, base)
+        three = SocialNavEnv(name, base.replace(action_repeat=3))
+        one.reset(seed=seed)
+        three.reset(seed=seed)
+        rng = np.random.default_rng(seed)
+        done = False
+        actions = 0
+        while not done:
+            action = rng.uniform(-1, 1, 2).astype(np.float32)
+            action[0] = abs(action[0])
+            _, reward, terminated, truncated, info = three.step(action)
+            done = terminated or truncated
+            sums = dict.fromkeys(("reward", "r_dist", "r_div", "r_term"), 0.0)
+            for _ in range(3):
+                _, r1, t1, u1, i1 = one.step(action)
+                sums["reward"] += r1
+                for key in ("r_dist", "r_div", "r_term"):
+                    sums[key] += i1[key]
+                if t1 or u1:
+                    assert (t1, u1, i1["outcome"]) == (terminated, truncated, info["outcome"])
+                    break
+            assert one.step_index == three.step_index
+            assert np.array_equal(one.factual_pos, three.factual_pos)
+            assert one.robot_state == three.robot_state
+            assert reward == pytest.approx(sums["reward"], rel=1e-12, abs=1e-12)
+            for key in ("r_dist", "r_div", "r_term"):
+                assert info[key] == pytest.approx(sums[key], rel=1e-12, abs=1e-12)
+            actions += 1
+        assert actions == math.ceil(three.step_index / 3)
+
+
+def test_action_repeat_is_validated() -> None:
+    assert EnvConfig().action_repeat == 1
+    for bad in (0, -2, 101, 2.5, True, "3"):
+        with pytest.raises(ParameterError, match=r"env\.action_repeat must be an integer"):
+            EnvConfig(action_repeat=bad)  # type: ignore[arg-type]

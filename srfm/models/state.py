@@ -49,6 +49,8 @@ class CrowdState:
         n = _check_field(self.pos, "pos", (None, 2))
         for name in ("vel", "goal"):
             _check_field(getattr(self, name), name, (n, 2))
+        for name in ("pos", "goal"):  # the coordinate bound of srfm._validate.BOUNDS
+            physical_array(getattr(self, name), name, "coordinate", SimulationError)
         for name, upper in (
             ("radius", MAX_RADIUS_M),
             ("v0", MAX_SPEED_MPS),

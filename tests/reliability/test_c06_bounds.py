@@ -192,3 +192,12 @@ def test_obstacles_built_in_python_have_the_same_bounds(
     with pytest.raises(srfm.SimulationError, match=message):
         srfm.Obstacles.create(**kwargs)
     srfm.Obstacles.create(circles=[[7.0, 7.0, 1000.0]], segments=[[-1e7, 0.0, 1e7, 0.0]])
+
+
+@pytest.mark.parametrize("field", ["pos", "goal"])
+def test_crowd_positions_built_in_python_have_the_coordinate_bound(field: str) -> None:
+    values = {"pos": [[0.0, 0.0], [1.0, 1.0]], "goal": [[5.0, 5.0], [6.0, 6.0]]}
+    values[field] = [[0.0, 0.0], [1.0, 1e300]]
+    with pytest.raises(srfm.SimulationError, match=rf"{field} must be in \[-1e\+07, 1e\+07\] m"):
+        srfm.CrowdState.create(**values)
+    srfm.CrowdState.create(pos=[[-1e7, 1e7]], goal=[[1e7, -1e7]])

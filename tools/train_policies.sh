@@ -3,14 +3,14 @@
 # times and how every choice was reached.
 #
 # Six runs, started together: RL_base (k2 = 0) and SRFM-aware (k2 = 2, reached by a
-# curriculum: 0 until 50,000 steps, then a linear ramp over 150,000 steps), each with
+# curriculum: 0 until 25,000 steps, then a linear ramp over 75,000 steps), each with
 # training seeds 1, 2 and 3. Every run trains SBX TD3 ([64, 64], 50 gradient steps every
-# 50 steps, learning rate 3e-4) for 400,000 steps on the mixed training layouts
-# (srfm.scenarios.training), with the paper's reward plus the potential-based progress
-# term (k_progress = 10). The shipped runs were stopped at 150,000 steps and resumed
-# (RESUME=1) from their checkpoints there (docs/rl.md). Training never sees the benchmark's seeds 0-99 nor the
-# evaluation scenarios' layouts; it is evaluated every 25,000 steps on the five
-# evaluation scenarios with seeds 10000-10009, and keeps its best checkpoint (best.zip).
+# 50 steps, learning rate 3e-4) for 300,000 actions on the mixed training layouts
+# (srfm.scenarios.training), each action held for 4 simulation steps (action repeat
+# 4: 0.27 s), with the paper's reward plus the potential-based progress term
+# (k_progress = 10). Training never sees the benchmark's seeds 0-99 nor the evaluation
+# scenarios' layouts; it is evaluated every 25,000 steps on the five evaluation
+# scenarios with seeds 10000-10009, and keeps its best checkpoint (best.zip).
 #
 # The shipped policy of each variant is the best.zip of the training seed whose best
 # evaluation ranks first (higher success, then fewer collisions, then less deviation;
@@ -33,7 +33,7 @@ set -euo pipefail
 RUNS=${RUNS:-runs}
 EXPORT_ONLY=${EXPORT_ONLY:-0}
 RESUME=${RESUME:-0}
-STEPS=${STEPS:-400000}
+STEPS=${STEPS:-300000}
 SEEDS=${SEEDS:-"1 2 3"}
 SRFM=${SRFM:-.venv/bin/srfm}
 PYTHON=${PYTHON:-.venv/bin/python}
@@ -90,10 +90,10 @@ if [ "${EVALUATE_ONLY:-0}" = 1 ]; then
     exit 0
 fi
 
-common=(--scenario mixed --k-progress 10 --backend sbx --net-arch 64,64 --train-freq 50
-    --gradient-steps 50 --learning-rate 3e-4 --steps "$STEPS" --eval-every 25000
+common=(--scenario mixed --k-progress 10 --action-repeat 4 --backend sbx --net-arch 64,64
+    --train-freq 50 --gradient-steps 50 --learning-rate 3e-4 --steps "$STEPS" --eval-every 25000
     --eval-seeds 10 --checkpoint-every 50000 --no-progress)
-declare -A variant=([td3-base]="--k-div 0" [td3-srfm]="--k-div 2 --k-div-start 50000 --k-div-ramp 150000")
+declare -A variant=([td3-base]="--k-div 0" [td3-srfm]="--k-div 2 --k-div-start 25000 --k-div-ramp 75000")
 
 for name in td3-base td3-srfm; do
     for seed in $SEEDS; do

@@ -67,6 +67,17 @@ CONFIGS: dict[str, tuple[str, dict[str, Any]]] = {
         "SBX, [64, 64], 50 every 50",
         {"backend": "sbx", "net_arch": (64, 64), "train_freq": 50, "gradient_steps": 50},
     ),
+    # The shipped recipe's set-up: its steps are actions of 4 simulation steps each.
+    "sbx-64-tf50-ar4": (
+        "SBX, [64, 64], 50 every 50, action repeat 4 (steps = actions)",
+        {
+            "backend": "sbx",
+            "net_arch": (64, 64),
+            "train_freq": 50,
+            "gradient_steps": 50,
+            "action_repeat": 4,
+        },
+    ),
 }
 
 

@@ -71,6 +71,20 @@ def _default(name: str) -> Any:
     help="Weight of the potential-based progress term (0: the paper's reward).",
 )
 @click.option(
+    "--success-reward",
+    type=click.FloatRange(min=0.0),
+    default=_default("success_reward"),
+    show_default=True,
+    help="Terminal reward on reaching the goal.",
+)
+@click.option(
+    "--timeout-penalty",
+    type=click.FloatRange(min=0.0),
+    default=_default("timeout_penalty"),
+    show_default=True,
+    help="Terminal penalty at the horizon; a collision or leaving the world costs twice this.",
+)
+@click.option(
     "--k-div-start",
     type=click.IntRange(min=0),
     default=_default("k_div_start"),
@@ -246,6 +260,8 @@ def _train(
     k_div: float,
     k_dist: float,
     k_progress: float,
+    success_reward: float,
+    timeout_penalty: float,
     k_div_start: int,
     k_div_ramp: int,
     seed: int,
@@ -284,6 +300,8 @@ def _train(
         k_dist=k_dist,
         k_div=k_div,
         k_progress=k_progress,
+        success_reward=success_reward,
+        timeout_penalty=timeout_penalty,
         k_div_start=k_div_start,
         k_div_ramp=k_div_ramp,
         learning_rate=learning_rate,

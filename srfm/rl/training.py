@@ -117,6 +117,8 @@ class TrainConfig:
             0 RL_base.
         k_progress: weight of the potential-based progress term of the reward
             (:class:`srfm.rl.EnvConfig`; 0: the paper's reward). Its γ is ``gamma``.
+        success_reward, timeout_penalty: the terminal terms r_term
+            (:class:`srfm.rl.EnvConfig`; a collision costs twice the timeout).
         action_repeat: simulation steps per action (:class:`srfm.rl.EnvConfig`; 1:
             the paper's set-up). ``total_steps`` and the other step counts count
             actions (environment steps), not simulation steps.
@@ -159,6 +161,8 @@ class TrainConfig:
     k_dist: float = attrs.field(default=0.1, validator=_nonneg)
     k_div: float = attrs.field(default=2.0, validator=_nonneg)
     k_progress: float = attrs.field(default=0.0, validator=_nonneg)
+    success_reward: float = attrs.field(default=25.0, validator=_nonneg)
+    timeout_penalty: float = attrs.field(default=25.0, validator=_nonneg)
     action_repeat: int = attrs.field(default=1, validator=_count(1))
     k_div_start: int = attrs.field(default=0, validator=_count(0))
     k_div_ramp: int = attrs.field(default=0, validator=_count(0))
@@ -388,6 +392,8 @@ def train(
         k2=config.k_div,
         counterfactual_twin=config.counterfactual_twin,
         k_progress=config.k_progress,
+        success_reward=config.success_reward,
+        timeout_penalty=config.timeout_penalty,
         progress_gamma=config.gamma,
         action_repeat=config.action_repeat,
     )

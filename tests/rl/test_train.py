@@ -44,6 +44,10 @@ def test_train_checkpoint_evaluate_and_resume(tmp_path: Path) -> None:
             "200",
             "--k-div",
             "2.5",
+            "--success-reward",
+            "40",
+            "--timeout-penalty",
+            "30",
             "--no-progress",
             *TINY,
         ],
@@ -56,6 +60,8 @@ def test_train_checkpoint_evaluate_and_resume(tmp_path: Path) -> None:
     assert (run / "checkpoints" / "step_000000200.zip").is_file()
     meta = json.loads((run / "config.json").read_text())
     assert meta["env_config"]["k2"] == 2.5
+    assert meta["env_config"]["success_reward"] == 40.0
+    assert meta["env_config"]["timeout_penalty"] == 30.0
     assert meta["train_config"]["learning_rate"] == 1e-4
     assert meta["command"].startswith("srfm train --run-dir")
     assert "--k-div 2.5" in meta["command"]

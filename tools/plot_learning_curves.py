@@ -19,7 +19,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-VARIANTS = {"td3-srfm": "SRFM-aware (k2 → 2)", "td3-base": "RL_base (k2 = 0)"}
+VARIANTS = {"td3-srfm": "SRFM-aware (k2: 0 → 2)", "td3-base": "RL_base (k2 = 0)"}
 COLOURS = {"td3-srfm": "tab:blue", "td3-base": "tab:orange"}
 STYLES = ("-", "--", ":", "-.")
 
@@ -60,7 +60,7 @@ def main(runs_dir: str, out: str) -> int:
     axes[0].set_ylim(-0.02, 1.02)
     axes[1].set_ylabel("mean largest twin separation (m)")
     for ax in axes:
-        ax.set_xlabel("training steps (thousands)")
+        ax.set_xlabel("training actions (thousands; an action is held 4 simulation steps)")
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=7, loc="lower right")
     fig.suptitle("Periodic evaluation: five evaluation scenarios × seeds 10000-10009")

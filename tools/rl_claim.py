@@ -33,6 +33,7 @@ from scipy import stats
 
 SCENARIOS = ("footpath", "crosswalk", "cross_footpath", "circle", "concert")
 SEED_PLANNER = re.compile(r"tools\.seed_planners:(srfm|base)_seed(\d+)")
+STAGE1_PLANNER = re.compile(r"tools\.seed_planners:stage1_seed(\d+)")
 
 
 def load(folder: Path) -> dict[tuple[str, str], dict[int, dict[str, float | str]]]:
@@ -52,7 +53,10 @@ def load(folder: Path) -> dict[tuple[str, str], dict[int, dict[str, float | str]
 
 def short(planner: str) -> str:
     match = SEED_PLANNER.fullmatch(planner)
-    return f"td3-{match.group(1)} seed {match.group(2)}" if match else planner
+    if match:
+        return f"td3-{match.group(1)} seed {match.group(2)}"
+    stage1 = STAGE1_PLANNER.fullmatch(planner)
+    return f"stage-1 RL_base seed {stage1.group(1)}" if stage1 else planner
 
 
 def fmt(x: float, digits: int = 2) -> str:
@@ -151,7 +155,7 @@ def main(folder: str) -> int:
     planners = sorted({planner for _, planner in table}, key=lambda p: (p.startswith("tools"), p))
     print("### Outcomes: success / collisions / out of bounds (n episodes)\n")
     print("\n".join(outcomes(table, planners)))
-    others = [p for p in planners if p != "td3-srfm" and not SEED_PLANNER.fullmatch(p)]
+    others = [p for p in planners if p != "td3-srfm" and not p.startswith("tools.")]
     print("\n### Paired: td3-srfm minus the other planner, seeds where both reached the goal\n")
     print("\n".join(paired(table, "td3-srfm", others)))
     print("\n### Spread over training seeds\n")

@@ -6,8 +6,9 @@
 
 Run from the repository root with it on the import path (PYTHONPATH=.): the module is
 imported by name in every worker. Each factory loads the NumPy policy file
-``tools/policies/td3_<variant>_seed<k>`` exported from that run's best checkpoint
-(tools/train_policies.sh).
+``tools/policies/td3_<variant>_seed<k>`` exported from that stage-2 run's best
+checkpoint (tools/train_policies.sh); ``stage1_seed<k>`` the pre-training runs' RL_base
+policies (``tools/policies/stage1/``).
 """
 
 from __future__ import annotations
@@ -51,3 +52,22 @@ def base_seed2() -> TD3Planner:
 def base_seed3() -> TD3Planner:
     """RL_base, training seed 3."""
     return _planner("base", 3)
+
+
+def _stage1(seed: int) -> TD3Planner:
+    return TD3Planner(POLICIES / "stage1" / f"td3_base_seed{seed}.json", f"stage1-seed{seed}")
+
+
+def stage1_seed1() -> TD3Planner:
+    """Stage 1 (pre-training, RL_base), training seed 1."""
+    return _stage1(1)
+
+
+def stage1_seed2() -> TD3Planner:
+    """Stage 1 (pre-training, RL_base), training seed 2."""
+    return _stage1(2)
+
+
+def stage1_seed3() -> TD3Planner:
+    """Stage 1 (pre-training, RL_base), training seed 3."""
+    return _stage1(3)

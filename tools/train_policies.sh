@@ -2,26 +2,37 @@
 # The recipe of the two shipped TD3 policies; docs/rl.md records the runs, their wall
 # times and how every choice was reached.
 #
-# Six runs, started together: RL_base (k2 = 0) and SRFM-aware (k2 = 2, reached by a
-# curriculum: 0 until 25,000 steps, then a linear ramp over 75,000 steps), each with
-# training seeds 1, 2 and 3. Every run trains SBX TD3 ([64, 64], 50 gradient steps every
-# 50 steps, learning rate 3e-4) for 300,000 actions on the mixed training layouts
-# (srfm.scenarios.training), each action held for 4 simulation steps (action repeat
-# 4: 0.27 s), with the paper's reward plus the potential-based progress term
-# (k_progress = 10). Training never sees the benchmark's seeds 0-99 nor the evaluation
-# scenarios' layouts; it is evaluated every 25,000 steps on the five evaluation
-# scenarios with seeds 10000-10009, and keeps its best checkpoint (best.zip).
+# Every run trains SBX TD3 ([64, 64], 50 gradient steps every 50 actions, learning rate
+# 3e-4) on the mixed training layouts (srfm.scenarios.training), each action held for
+# 4 simulation steps (action repeat 4: 0.27 s), with the paper's reward plus the
+# potential-based progress term (k_progress = 10). Training never sees the benchmark's
+# seeds 0-99 nor the evaluation scenarios' layouts; every run is evaluated every 25,000
+# actions on the five evaluation scenarios with seeds 10000-10009 and keeps its best
+# checkpoint (best.zip; for the SRFM-aware runs only evaluations at the final k2).
 #
-# The shipped policy of each variant is the best.zip of the training seed whose best
-# evaluation ranks first (higher success, then fewer collisions, then less deviation;
-# tools/select_policy.py). The export step writes the NumPy policy files the planners
-# run (no JAX, torch or pickle needed). To re-export the shipped checkpoints only:
+# Stage 1, pre-training: three RL_base runs (k2 = 0, success and timeout 25, training
+# seeds 1-3), 300,000 actions each. The best.zip of the seed whose best evaluation
+# ranks first (higher success, then fewer collisions, then less deviation;
+# tools/select_policy.py) is the starting point of stage 2 ($RUNS/stage1_base.zip).
+#
+# Stage 2, the two variants: six runs continue from that checkpoint (an empty replay
+# buffer) to 300,000 actions with success and timeout 50 (collision 100): RL_base
+# (k2 = 0) and SRFM-aware (k2 = 0 until 125,000 actions, then rising linearly to 2 by
+# 150,000), each with training seeds 1-3. Both variants start from the same network
+# and differ only in k2: the stage-2 RL_base runs are the SRFM-aware runs' control in
+# the claim's tests (docs/rl.md). The shipped td3-base is the stage-1 checkpoint itself
+# (it ranked above every stage-2 RL_base run in the evaluations); the shipped td3-srfm
+# is the best.zip of the best stage-2 SRFM-aware seed (select_policy.py again). The
+# export step writes the NumPy policy files the planners run (no JAX, torch or pickle
+# needed). To re-export the shipped
+# checkpoints only:
 #
 #     EXPORT_ONLY=1 tools/train_policies.sh
 #
 # The evaluation (per-seed policies, 100-seed benchmark, the claim's tests, learning
 # curves) runs at the end; alone with EVALUATE_ONLY=1. AFTER_TRAINING=1 does everything
-# after the training runs (selection, export, evaluation).
+# after the stage-2 runs (selection, export, evaluation). STAGE=2 skips stage 1 (it
+# needs $RUNS/stage1_base.zip).
 #
 # A killed run resumes from its latest checkpoint and replay buffer:
 #
@@ -33,6 +44,7 @@ set -euo pipefail
 RUNS=${RUNS:-runs}
 EXPORT_ONLY=${EXPORT_ONLY:-0}
 RESUME=${RESUME:-0}
+STAGE=${STAGE:-1}
 STEPS=${STEPS:-300000}
 SEEDS=${SEEDS:-"1 2 3"}
 SRFM=${SRFM:-.venv/bin/srfm}
@@ -48,19 +60,30 @@ export_policies() {
     done
 }
 evaluate() {
-    # Every training seed's best checkpoint as a NumPy policy (tools/policies/), the
-    # 100-seed benchmark of the shipped and per-seed policies beside the classical
-    # planners, the claim's tests and the learning curves (docs/rl.md).
+    # Every stage-2 seed's best checkpoint as a NumPy policy (tools/policies/) with its
+    # evaluations (tools/policies/evals/), the 100-seed benchmark of the shipped and
+    # per-seed policies beside the classical planners, the claim's tests and the
+    # learning curves (docs/rl.md).
+    mkdir -p tools/policies/evals
     for name in td3-base td3-srfm; do
         for seed in $SEEDS; do
             "$SRFM" export-policy "$RUNS/$name-seed$seed/best.zip" \
                 "tools/policies/${name/-/_}_seed$seed" \
-                --note "$name, training seed $seed: best.zip of tools/train_policies.sh"
+                --note "$name, training seed $seed: best.zip of stage 2 of tools/train_policies.sh"
+            cp "$RUNS/$name-seed$seed/eval.jsonl" "tools/policies/evals/$name-seed$seed.jsonl"
         done
+    done
+    mkdir -p tools/policies/stage1
+    for seed in $SEEDS; do
+        "$SRFM" export-policy "$RUNS/stage1-seed$seed/best.zip" \
+            "tools/policies/stage1/td3_base_seed$seed" \
+            --note "RL_base, training seed $seed: best.zip of stage 1 of tools/train_policies.sh"
+        cp "$RUNS/stage1-seed$seed/eval.jsonl" "tools/policies/evals/stage1-seed$seed.jsonl"
     done
     seeds=""
     for seed in $SEEDS; do
         seeds+=",tools.seed_planners:srfm_seed$seed,tools.seed_planners:base_seed$seed"
+        seeds+=",tools.seed_planners:stage1_seed$seed"
     done
     PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}" "$SRFM" benchmark -p "td3-srfm,td3-base,dwa,vo,orca,social-force,straight$seeds" \
         --seeds 0-99 --out "$RUNS/benchmark" --no-logs -j 2
@@ -68,16 +91,31 @@ evaluate() {
     "$PYTHON" tools/plot_learning_curves.py "$RUNS" docs/rl_learning_curves.png
 }
 ship() {
-    # The shipped checkpoint of each variant: the best training seed (select_policy.py).
-    for name in td3-base td3-srfm; do
-        best=$("$PYTHON" tools/select_policy.py "$RUNS"/"$name"-seed*/)
-        cp "$best" "srfm/policies/${name/-/_}.zip"
-        echo "shipped $best as srfm/policies/${name/-/_}.zip"
+    # The shipped checkpoints: td3-base is the stage-1 start of stage 2 (the best
+    # stage-1 seed), td3-srfm the best stage-2 SRFM-aware seed (select_policy.py). Each
+    # is exported from its run folder, so that its policy file records that run's
+    # configuration, command and evaluations.
+    base=$("$PYTHON" tools/select_policy.py "$RUNS"/stage1-seed*/)
+    srfm=$("$PYTHON" tools/select_policy.py "$RUNS"/td3-srfm-seed*/)
+    for pair in "td3_base:$base" "td3_srfm:$srfm"; do
+        name=${pair%%:*}
+        cp "${pair#*:}" "srfm/policies/$name.zip"
+        "$SRFM" export-policy "${pair#*:}" "srfm/policies/$name" --eval-seeds 10 \
+            --note "shipped ${name/_/-}; recipe and run: tools/train_policies.sh, docs/rl.md"
     done
+}
+train() {
+    # One run in the background: train RUN_DIR OPTIONS...; RESUME=1 continues it.
+    local run=$1
+    shift
+    local start=()
+    if [ "$RESUME" = 1 ] && [ -f "$run/latest.zip" ]; then
+        start=(--resume "$run/latest.zip")
+    fi
+    nice -n 10 "$SRFM" train --run-dir "$run" "$@" "${start[@]}" >> "$run.log" 2>&1 &
 }
 if [ "${AFTER_TRAINING:-0}" = 1 ]; then
     ship
-    export_policies
     evaluate
     exit 0
 fi
@@ -92,23 +130,30 @@ fi
 
 common=(--scenario mixed --k-progress 10 --action-repeat 4 --backend sbx --net-arch 64,64
     --train-freq 50 --gradient-steps 50 --learning-rate 3e-4 --steps "$STEPS" --eval-every 25000
-    --eval-seeds 10 --checkpoint-every 50000 --no-progress)
-declare -A variant=([td3-base]="--k-div 0" [td3-srfm]="--k-div 2 --k-div-start 25000 --k-div-ramp 75000")
+    --eval-seeds 10 --no-progress)
 
-for name in td3-base td3-srfm; do
+if [ "$STAGE" = 1 ]; then
     for seed in $SEEDS; do
-        run="$RUNS/$name-seed$seed"
-        resume=()
-        if [ "$RESUME" = 1 ] && [ -f "$run/latest.zip" ]; then
-            resume=(--resume "$run/latest.zip")
-        fi
-        # shellcheck disable=SC2086  # the variant's options are words
-        nice -n 10 "$SRFM" train --run-dir "$run" --seed "$seed" ${variant[$name]} \
-            "${common[@]}" "${resume[@]}" >> "$run.log" 2>&1 &
+        train "$RUNS/stage1-seed$seed" --seed "$seed" --k-div 0 --checkpoint-every 50000 "${common[@]}"
     done
+    wait
+    best=$("$PYTHON" tools/select_policy.py "$RUNS"/stage1-seed*/)
+    cp "$best" "$RUNS/stage1_base.zip"
+    echo "stage 1: $best is the start of stage 2"
+fi
+
+stage2=(--success-reward 50 --timeout-penalty 50 --checkpoint-every 25000 "${common[@]}")
+for seed in $SEEDS; do
+    # a fresh stage-2 run starts from stage 1; RESUME=1 continues a started one instead
+    from=(--resume "$RUNS/stage1_base.zip")
+    if [ "$RESUME" = 1 ] && [ -f "$RUNS/td3-base-seed$seed/latest.zip" ]; then from=(); fi
+    train "$RUNS/td3-base-seed$seed" --seed "$seed" --k-div 0 "${stage2[@]}" "${from[@]}"
+    from=(--resume "$RUNS/stage1_base.zip")
+    if [ "$RESUME" = 1 ] && [ -f "$RUNS/td3-srfm-seed$seed/latest.zip" ]; then from=(); fi
+    train "$RUNS/td3-srfm-seed$seed" --seed "$seed" --k-div 2 --k-div-start 125000 \
+        --k-div-ramp 25000 "${stage2[@]}" "${from[@]}"
 done
 wait
 
 ship
-export_policies
 evaluate

@@ -434,6 +434,9 @@ def train(
             say(f"resumed from {resume} at step {model.num_timesteps} with its replay buffer")
         else:
             say(f"resumed from {resume} at step {model.num_timesteps} (empty replay buffer)")
+        # The checkpoints of this run record its seed, not that of the run it started
+        # from (a run may start from another run's checkpoint: tools/train_policies.sh).
+        model.seed = config.seed
         # Fresh, deterministic random streams for the continuation (networks'
         # sampling, exploration noise, episodes); the saved states are not restored.
         model.set_random_seed(config.seed + int(model.num_timesteps))
@@ -681,6 +684,12 @@ def export_policy(
         "source_sha256": hashlib.sha256(checkpoint.read_bytes()).hexdigest(),
         **records,
     }
+    # A checkpoint of a run that started from another run's checkpoint may carry that
+    # run's seed (checkpoints written before srfm recorded the resuming run's seed):
+    # the seed is that of the run that wrote it, as its config_resume.json says.
+    resumed = records.get("resume_config", {}).get("train_config", {})
+    if isinstance(resumed, dict) and isinstance(resumed.get("seed"), int):
+        training["seed"] = resumed["seed"]
     # The hyperparameters SB3 records as plain JSON in the zip (the pickled ones skipped).
     with zipfile.ZipFile(checkpoint) as archive:
         data = json.loads(archive.read("data"))

@@ -218,3 +218,21 @@ def test_per_seed_policies_load_and_drive(variant: str, seed: int) -> None:
     record = srfm.run_episode("crosswalk", 0, TD3Planner(path, f"td3-{variant}-seed{seed}"))
     moved = np.linalg.norm(record.robot_pose[-1, :2] - record.robot_pose[0, :2])
     assert moved > 1.0
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_stage1_policies_load_and_drive(seed: int) -> None:
+    """The pre-training (stage 1) RL_base policy of every training seed
+    (tools/policies/stage1/, docs/rl.md) is a valid NumPy policy file with the paper's
+    terminal rewards, and drives a robot."""
+    from srfm.planners.td3 import TD3Planner, load_numpy_policy
+
+    path = Path(__file__).parents[2] / "tools" / "policies" / "stage1" / f"td3_base_seed{seed}.json"
+    policy = load_numpy_policy(path)
+    assert policy.metadata["training"]["seed"] == seed
+    assert policy.config.k2 == 0.0
+    assert policy.config.success_reward == 25.0
+    assert policy.config.action_repeat == 4
+    record = srfm.run_episode("crosswalk", 0, TD3Planner(path, f"stage1-seed{seed}"))
+    moved = np.linalg.norm(record.robot_pose[-1, :2] - record.robot_pose[0, :2])
+    assert moved > 1.0

@@ -118,6 +118,37 @@ def test_train_checkpoint_evaluate_and_resume(tmp_path: Path) -> None:
         run / "checkpoints" / "step_000000200.zip"
     )
 
+    # A run started from another run's checkpoint (stage 2 of tools/train_policies.sh)
+    # records its own seed, in its checkpoints and in the policy file exported from them.
+    from srfm.planners.td3 import load_checkpoint, load_numpy_policy
+    from srfm.rl.training import export_policy
+
+    second = tmp_path / "second"
+    result = runner.invoke(
+        main,
+        [
+            "train",
+            "--run-dir",
+            str(second),
+            "--steps",
+            "400",
+            "--seed",
+            "7",
+            "--k-div",
+            "1.0",
+            "--no-progress",
+            "--resume",
+            str(short / "latest.zip"),
+            *TINY,
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    assert load_checkpoint(second / "latest.zip")[2]["seed"] == 7
+    json_path, _ = export_policy(second / "latest.zip", tmp_path / "exported")
+    training = load_numpy_policy(json_path).metadata["training"]
+    assert training["seed"] == 7
+    assert training["resume_config"]["train_config"]["seed"] == 7
+
     # The checkpoint runs as a planner.
     from srfm.planners.td3 import TD3Planner
 

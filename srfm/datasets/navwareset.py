@@ -8,6 +8,10 @@ Each row holds the pedestrian (``x, y``) and the robot (``robot_x, robot_y``) at
 instant. Every file is one scene with two agents, ``pedestrian:<column>`` (or
 ``pedestrian`` without a ``column`` column) and ``robot``; the frame number is the data
 row's index (0-based).
+
+The full-scene files of the circular-crossing scenario (format 2) have no ``x,y`` but
+``timestamp,robot_x,robot_y,...,x1,y1,...,xK,yK``: the robot and K pedestrians per row,
+read into one scene with agents ``pedestrian:1`` .. ``pedestrian:K`` and ``robot``.
 """
 
 from __future__ import annotations
@@ -31,7 +35,7 @@ from srfm.datasets._parse import (
 from srfm.datasets._trajectories import PEDESTRIAN, ROBOT, Trajectories
 from srfm.errors import DatasetError
 
-__all__ = ["REQUIRED_COLUMNS", "list_sources", "read_file", "read_navwareset"]
+__all__ = ["FULL_SCENE_COLUMNS", "REQUIRED_COLUMNS", "list_sources", "read_file", "read_navwareset"]
 
 NAME: Final = "navwareset"
 REQUIRED_COLUMNS: Final = ("timestamp", "x", "y", "robot_x", "robot_y")
@@ -87,6 +91,8 @@ def read_file(path: str | Path) -> Trajectories:
                 f"({','.join(header)}); which one holds the data is ambiguous"
             )
         seen.add(name)
+    if "x" not in header and "x1" in header:
+        return _read_full_scene(path, header, rows)
     missing = [c for c in REQUIRED_COLUMNS if c not in header]
     if missing:
         raise DatasetError(
@@ -145,6 +151,82 @@ def read_file(path: str | Path) -> Trajectories:
         frame=np.repeat(frame, 2),
         t_ns=np.repeat(t_ns, 2),
         xy=np.stack([np.array(ped), np.array(rob)], axis=1).reshape(-1, 2),
+        frame_of_reference="world",
+        source={
+            "dataset": NAME,
+            "file": path.name,
+            "median_dt_s": f"{dt:.6f}",
+            "median_speed_mps": f"{speed:.3f}",
+        },
+    )
+
+
+FULL_SCENE_COLUMNS: Final = ("timestamp", "robot_x", "robot_y")
+
+
+def _read_full_scene(path: Path, header: list[str], rows: list[list[str]]) -> Trajectories:
+    """Format 2 (circular-crossing scenes): ``timestamp,robot_x,robot_y,...,x1,y1,..,xK,yK``,
+    the robot and K pedestrians per row; pedestrian ``k`` becomes ``pedestrian:<k>``."""
+    missing = [c for c in FULL_SCENE_COLUMNS if c not in header]
+    k_max = 0
+    while f"x{k_max + 1}" in header:
+        k_max += 1
+    missing += [f"y{k}" for k in range(1, k_max + 1) if f"y{k}" not in header]
+    if missing:
+        raise DatasetError(
+            f"{path}:1: missing column {missing[0]!r} (header: {','.join(header)}); "
+            f"expected {','.join(FULL_SCENE_COLUMNS)},x1,y1,..."
+        )
+    col = {name: header.index(name) for name in header}
+    t_list: list[int] = []
+    frames: list[list[tuple[float, float]]] = []
+    for lineno, row in enumerate(rows[1:], start=2):
+        if not row or not any(cell.strip() for cell in row):
+            continue
+        where = f"{path}:{lineno}"
+        if len(row) != len(header):
+            raise DatasetError(f"{where}: expected {len(header)} fields, got {len(row)}")
+        t = _timestamp_ns(row[col["timestamp"]].strip(), where)
+        if t_list and t <= t_list[-1]:
+            raise DatasetError(
+                f"{where}: timestamps go backwards or repeat: {t} ns after {t_list[-1]} ns"
+            )
+        xy = [
+            (
+                coordinate(row[col[f"x{k}"]], where, f"x{k}"),
+                coordinate(row[col[f"y{k}"]], where, f"y{k}"),
+            )
+            for k in range(1, k_max + 1)
+        ]
+        xy.append(
+            (
+                coordinate(row[col["robot_x"]], where, "robot_x"),
+                coordinate(row[col["robot_y"]], where, "robot_y"),
+            )
+        )
+        frames.append(xy)
+        t_list.append(t)
+    if not t_list:
+        raise DatasetError(f"{path}: no data rows")
+    n = len(t_list)
+    m = k_max + 1
+    t_ns = np.array(t_list, dtype=np.int64)
+    xyz = np.array(frames, dtype=np.float64)  # (n, m, 2)
+    speed = median_speed(
+        np.repeat(np.arange(k_max, dtype=np.int64), n),
+        np.tile(t_ns, k_max),
+        xyz[:, :k_max].transpose(1, 0, 2).reshape(-1, 2),
+    )
+    warn_if_fast(f"{path}", speed, "check the timestamp unit (nanoseconds expected)")
+    dt = float(np.median(np.diff(t_ns))) * 1e-9 if n > 1 else math.nan
+    return Trajectories.from_samples(
+        scene=path.stem,
+        agent_ids=[f"{PEDESTRIAN}:{k}" for k in range(1, k_max + 1)] + [ROBOT],
+        kinds=[PEDESTRIAN] * k_max + [ROBOT],
+        agent=np.tile(np.arange(m, dtype=np.int64), n),
+        frame=np.repeat(np.arange(n, dtype=np.int64), m),
+        t_ns=np.repeat(t_ns, m),
+        xy=xyz.reshape(-1, 2),
         frame_of_reference="world",
         source={
             "dataset": NAME,

@@ -90,3 +90,37 @@ def test_real_files(real_data: Path) -> None:
         assert np.array_equal(robot[:, 0], [float(r["robot_x"]) for r in rows])
         # Genuine interaction tracks: the pedestrian passes within a metre of the robot.
         assert np.linalg.norm(xy - robot, axis=1).min() < 1.0
+
+
+def test_full_scene_format_reads_every_pedestrian_and_the_robot(tmp_path: Path) -> None:
+    f = tmp_path / "13_full.csv"
+    f.write_text(
+        "timestamp,robot_x,robot_y,robot_yaw_rad,x1,y1,x2,y2\n"
+        "1000000000,5.0,-4.0,1.3,3.0,0.5,2.0,-2.0\n"
+        "1100000000,5.1,-4.0,1.3,3.1,0.5,2.0,-2.1\n"
+    )
+    tr = navwareset.read_file(f)
+    assert tuple(tr.agent_ids) == ("pedestrian:1", "pedestrian:2", "robot")
+    expected = {
+        "pedestrian:1": [[3.0, 0.5], [3.1, 0.5]],
+        "pedestrian:2": [[2.0, -2.0], [2.0, -2.1]],
+        "robot": [[5.0, -4.0], [5.1, -4.0]],
+    }
+    for a, name in enumerate(tr.agent_ids):
+        sel = tr.agent == a
+        order = np.argsort(tr.t_ns[sel])
+        assert tr.xy[sel][order].tolist() == expected[name]
+
+
+def test_full_scene_format_rejects_text_in_a_pedestrian_column(tmp_path: Path) -> None:
+    f = tmp_path / "13_full.csv"
+    f.write_text("timestamp,robot_x,robot_y,x1,y1\n1000000000,5.0,-4.0,abc,0.5\n")
+    with pytest.raises(DatasetError, match=r"13_full.csv:2: x1 is not a number: 'abc'"):
+        navwareset.read_file(f)
+
+
+def test_full_scene_format_names_a_missing_y_column(tmp_path: Path) -> None:
+    f = tmp_path / "13_full.csv"
+    f.write_text("timestamp,robot_x,robot_y,x1,y1,x2\n1000000000,5.0,-4.0,1,0.5,2\n")
+    with pytest.raises(DatasetError, match=r"missing column 'y2'"):
+        navwareset.read_file(f)

@@ -42,12 +42,13 @@ REQUIRED_COLUMNS: Final = ("timestamp", "x", "y", "robot_x", "robot_y")
 
 
 def list_sources(src: str | Path) -> list[Path]:
-    """The files to read: ``src`` itself, or the ``*.csv`` files of a folder."""
+    """The files to read: ``src`` itself, or the ``*.csv`` files of a folder and its
+    subfolders (the distributed set keeps each scene's tracks in ``<scene>_poses/``)."""
     src = Path(src)
     if src.is_file():
         return [src]
     if src.is_dir():
-        files = sorted(p for p in src.iterdir() if p.is_file() and p.suffix == ".csv")
+        files = sorted(p for p in src.rglob("*.csv") if p.is_file())
         if not files:
             raise DatasetError(f"{src}: no NavWareSet files (*.csv) in this folder")
         return files

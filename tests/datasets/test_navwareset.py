@@ -124,3 +124,12 @@ def test_full_scene_format_names_a_missing_y_column(tmp_path: Path) -> None:
     f.write_text("timestamp,robot_x,robot_y,x1,y1,x2\n1000000000,5.0,-4.0,1,0.5,2\n")
     with pytest.raises(DatasetError, match=r"missing column 'y2'"):
         navwareset.read_file(f)
+
+
+def test_list_sources_finds_the_files_of_subfolders(tmp_path: Path) -> None:
+    (tmp_path / "01_poses").mkdir()
+    (tmp_path / "01_poses" / "a.csv").write_text("timestamp,x,y,robot_x,robot_y\n")
+    (tmp_path / "b.csv").write_text("timestamp,x,y,robot_x,robot_y\n")
+    (tmp_path / "notes.txt").write_text("not data\n")
+    found = navwareset.list_sources(tmp_path)
+    assert [p.relative_to(tmp_path).as_posix() for p in found] == ["01_poses/a.csv", "b.csv"]

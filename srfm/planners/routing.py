@@ -15,6 +15,7 @@ after the start, ending at the goal; a local planner steers to the next one
 
 from __future__ import annotations
 
+import math
 from typing import Final
 
 import numpy as np
@@ -46,14 +47,14 @@ class Router:
         shapes = _obstacle_shapes(obstacles)
         box = shapely.box(world.x_min, world.y_min, world.x_max, world.y_max)
         inner = box.buffer(-self.clearance_m, join_style="mitre")
-        grown = shapely.union_all([s.buffer(self.clearance_m, quad_segs=QUAD_SEGS) for s in shapes])
+        grown = shapely.union_all([_grow(s, r + self.clearance_m) for s, r in shapes])
         self.free = inner.difference(grown)
         if self.free.is_empty:
             raise PlannerError(f"no free space left with clearance_m = {clearance_m!r}")
         shapely.prepare(self.free)
         corners: list[tuple[float, float]] = []
-        for shape in shapes:
-            outline = shape.buffer(self.clearance_m + NODE_MARGIN_M, quad_segs=QUAD_SEGS)
+        for shape, radius in shapes:
+            outline = _grow(shape, radius + self.clearance_m + NODE_MARGIN_M)
             corners.extend(tuple(c) for c in shapely.get_coordinates(outline.exterior)[:-1])
         pts = np.array(corners, dtype=np.float64).reshape(-1, 2)
         keep = shapely.covers(self.free, shapely.points(pts)) if len(pts) else np.zeros(0, bool)
@@ -125,12 +126,20 @@ def next_waypoint(
     return index
 
 
-def _obstacle_shapes(obstacles: Obstacles) -> list[shapely.Geometry]:
-    shapes: list[shapely.Geometry] = []
+def _grow(shape: shapely.Geometry, distance_m: float) -> shapely.Geometry:
+    """``shape`` grown by ``distance_m``; the polygon's arcs circumscribe the true ones
+    (shapely puts arc vertices on the circle, so its edges would cut inside it)."""
+    return shape.buffer(distance_m / math.cos(math.pi / (4 * QUAD_SEGS)), quad_segs=QUAD_SEGS)
+
+
+def _obstacle_shapes(obstacles: Obstacles) -> list[tuple[shapely.Geometry, float]]:
+    """Each wall as a segment (radius 0), each pillar as its centre and radius."""
+    shapes: list[tuple[shapely.Geometry, float]] = []
     for x1, y1, x2, y2 in obstacles.segments:
-        shapes.append(shapely.LineString([(x1, y1), (x2, y2)]) if (x1, y1) != (x2, y2)
-                      else shapely.Point(x1, y1))
+        if (x1, y1) == (x2, y2):
+            shapes.append((shapely.Point(x1, y1), 0.0))
+        else:
+            shapes.append((shapely.LineString([(x1, y1), (x2, y2)]), 0.0))
     for cx, cy, r in obstacles.circles:
-        shapes.append(shapely.Point(cx, cy).buffer(r, quad_segs=QUAD_SEGS) if r > 0
-                      else shapely.Point(cx, cy))
+        shapes.append((shapely.Point(cx, cy), float(r)))
     return shapes

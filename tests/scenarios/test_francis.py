@@ -37,8 +37,10 @@ def test_francis_scenario(name: str) -> None:
         np.fill_diagonal(gap, np.inf)
         assert gap.min() > 0.0, f"{name} seed {seed}: agents overlap at the start"
         record = srfm.run_episode(scenario, seed=seed, planner="dwa")
-        inside = _wall_distance(record.counterfactual_pos, scenario) < np.broadcast_to(
-            scenario.ped_radius_m, (scenario.n_pedestrians,)) * 0.5
+        inside = (
+            _wall_distance(record.counterfactual_pos, scenario)
+            < np.broadcast_to(scenario.ped_radius_m, (scenario.n_pedestrians,)) * 0.5
+        )
         assert not inside.any(), f"{name} seed {seed}: a pedestrian stands in a wall"
         cf_arrivals = {
             e.agent for e in record.events if e.kind == "ped_arrival" and e.twin == "counterfactual"

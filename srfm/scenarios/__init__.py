@@ -27,6 +27,7 @@ from srfm.scenarios._setup import EpisodeSetup, episode_setup, next_goal, valida
 __all__ = [
     "BUILTIN_SCENARIOS",
     "EVALUATION_SCENARIOS",
+    "FRANCIS_SCENARIOS",
     "MAX_HORIZON_STEPS",
     "SCHEMA_VERSION",
     "EpisodeSetup",
@@ -43,7 +44,15 @@ __all__ = [
 
 # The paper's five evaluation scenarios, in its order, then the training scenario.
 EVALUATION_SCENARIOS: Final = ("footpath", "crosswalk", "cross_footpath", "circle", "concert")
-BUILTIN_SCENARIOS: Final = (*EVALUATION_SCENARIOS, "random")
+# Scenarios after Francis et al. 2023 (walled corridors; issue 17). Those that need a
+# global route (doors, corners, rooms) are not here yet.
+FRANCIS_SCENARIOS: Final = (
+    "frontal_approach",
+    "pedestrian_overtaking",
+    "narrow_hallway",
+    "parallel_traffic",
+)
+BUILTIN_SCENARIOS: Final = (*EVALUATION_SCENARIOS, "random", *FRANCIS_SCENARIOS)
 
 
 @cache
@@ -74,5 +83,5 @@ def load_scenario(name_or_path: str | Path) -> Scenario:
 
 
 def builtin_scenarios() -> list[Scenario]:
-    """Every built-in scenario, in the paper's order."""
+    """Every built-in scenario: the paper's in its order, the training one, then Francis's."""
     return [_builtin(name) for name in BUILTIN_SCENARIOS]

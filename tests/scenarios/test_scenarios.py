@@ -12,6 +12,7 @@ import srfm
 from srfm.scenarios import (
     BUILTIN_SCENARIOS,
     EVALUATION_SCENARIOS,
+    FRANCIS_SCENARIOS,
     episode_setup,
     load_scenario,
     next_goal,
@@ -33,9 +34,9 @@ goals = [[3.0, 0.5], [0.5, 4.0]]
 """
 
 
-def test_every_builtin_loads_with_paper_defaults() -> None:
-    assert (*EVALUATION_SCENARIOS, "random") == BUILTIN_SCENARIOS
-    for name in BUILTIN_SCENARIOS:
+def test_every_paper_builtin_loads_with_paper_defaults() -> None:
+    assert (*EVALUATION_SCENARIOS, "random", *FRANCIS_SCENARIOS) == BUILTIN_SCENARIOS
+    for name in (*EVALUATION_SCENARIOS, "random"):
         s = load_scenario(name)
         assert s.name == name
         assert s.n_pedestrians == 10

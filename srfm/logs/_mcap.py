@@ -858,6 +858,7 @@ def episode_from_log(
         robot = info["robot"]
         robot_goal = np.array(robot["goal"], dtype=np.float64)
         robot_radius = float(robot["radius_m"])
+        robot_goal_radius = float(robot["goal_radius_m"])
         kinematics = str(robot["kinematics"])
         cf_ref = info["counterfactual"]
         cf_file, cf_digest = cf_ref["file"], str(cf_ref["sha256"])
@@ -928,6 +929,7 @@ def episode_from_log(
         robot_active=active,
         robot_goal=robot_goal,
         robot_radius=robot_radius,
+        robot_goal_radius_m=robot_goal_radius,
         robot_kinematics=kinematics,
         outcome=outcome,
         end_step=end_step,

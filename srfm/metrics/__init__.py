@@ -6,9 +6,11 @@ Definitions of every metric: :data:`EPISODE_METRICS`, :data:`PEDESTRIAN_METRICS`
 
 from srfm.metrics.episode import (
     EPISODE_METRICS,
+    METRIC_GROUPS,
     PEDESTRIAN_METRICS,
     EpisodeMetrics,
     MetricInfo,
+    MetricParams,
     episode_metrics,
 )
 from srfm.metrics.frechet import frechet_distance, frechet_distances
@@ -27,6 +29,7 @@ from srfm.metrics.tables import (
 __all__ = [
     "ALPHA",
     "EPISODE_METRICS",
+    "METRIC_GROUPS",
     "OUTCOME_COLUMNS",
     "PEDESTRIAN_METRICS",
     "TABLE_COLUMNS",
@@ -35,6 +38,7 @@ __all__ = [
     "Comparison",
     "EpisodeMetrics",
     "MetricInfo",
+    "MetricParams",
     "Summary",
     "benchmark_table",
     "compare",

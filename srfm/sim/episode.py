@@ -312,6 +312,7 @@ def run_episode(
         robot_active=active,
         robot_goal=setup.robot_goal.copy(),
         robot_radius=scenario.robot.radius_m,
+        robot_goal_radius_m=scenario.robot.goal_radius_m,
         robot_kinematics=scenario.robot.kinematics,
         outcome=sim.outcome,
         end_step=sim.end_step,

@@ -86,6 +86,7 @@ class EpisodeRecord:
         outcome: how the robot's episode ended.
         end_step: the sample at which it ended (T on timeout).
         events: every event, in time order.
+        robot_goal_radius_m: the robot's goal counts as reached within this distance (m).
     """
 
     scenario: str
@@ -112,6 +113,7 @@ class EpisodeRecord:
     outcome: RobotOutcome
     end_step: int
     events: tuple[Event, ...]
+    robot_goal_radius_m: float = 0.5
 
     @property
     def n_pedestrians(self) -> int:

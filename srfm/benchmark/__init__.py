@@ -1,5 +1,6 @@
 """The benchmark: scenarios × planners × seeds into a results folder of tables and figures."""
 
+from srfm.benchmark._html import REPORT, render_report, write_report
 from srfm.benchmark._results import episode_path, read_episode
 from srfm.benchmark._runner import (
     MANIFEST,
@@ -17,6 +18,7 @@ from srfm.benchmark._runner import (
 
 __all__ = [
     "MANIFEST",
+    "REPORT",
     "MAX_SEEDS",
     "QUICK_SEEDS",
     "BenchmarkRequest",
@@ -26,7 +28,9 @@ __all__ = [
     "episode_path",
     "load_results",
     "read_episode",
+    "render_report",
     "run_benchmark",
+    "write_report",
     "write_reports",
     "write_tables",
 ]

@@ -53,6 +53,7 @@ from srfm.benchmark._results import (
 from srfm.errors import BenchmarkError
 from srfm.metrics import (
     EpisodeMetrics,
+    MetricParams,
     episode_metrics,
 )
 from srfm.metrics.report import MANIFEST, render_tables, write_tables
@@ -64,11 +65,13 @@ from srfm.sim.record import EpisodeRecord
 
 __all__ = [
     "MANIFEST",
+    "MANIFEST_SCHEMA",
     "MAX_SEEDS",
     "QUICK_SEEDS",
     "BenchmarkRequest",
     "BenchmarkSummary",
     "EpisodeWriter",
+    "check_manifest_schema",
     "default_planners",
     "load_results",
     "run_benchmark",
@@ -198,6 +201,12 @@ class BenchmarkSummary:
     jobs: int = 1
 
 
+MANIFEST_SCHEMA: Final = "srfm.benchmark_manifest/2"
+"""Layout of ``manifest.json``. 2 (issue 16): the metrics of docs/metrics.md, the metric
+thresholds, the request and the command; a folder of schema 1 holds episode files
+without those metrics and is refused."""
+
+
 def _versions() -> dict[str, str]:
     out = {"python": platform.python_version()}
     for dist in ("srfm", "numpy", "numba", "scipy"):
@@ -208,24 +217,55 @@ def _versions() -> dict[str, str]:
     return out
 
 
-def _manifest(request: BenchmarkRequest) -> dict[str, Any]:
-    """The identity of a results folder: what every episode file in it was run with."""
+def _manifest(request: BenchmarkRequest, command: str | None) -> dict[str, Any]:
+    """The identity of a results folder: what every episode file in it was run with,
+    and the request and command of the run that wrote it last."""
     return {
-        "schema": "srfm.benchmark_manifest/1",
+        "schema": MANIFEST_SCHEMA,
         "versions": _versions(),
         "params": request.params.as_dict(),
+        "metric_params": MetricParams().as_dict(),
         "scenarios": {s.name: fingerprint(s) for s in request.scenarios},
+        "request": {
+            "scenarios": [s.name for s in request.scenarios],
+            "planners": list(request.planners),
+            "seeds": list(request.seeds),
+            "reference": request.reference,
+            "figure_seed": request.drawn_seed,
+        },
+        "command": command,
     }
 
 
-def _check_manifest(out: Path, request: BenchmarkRequest) -> dict[str, Any]:
+def check_manifest_schema(path: Path, doc: Any) -> None:
+    """Refuse a manifest that is not srfm's current layout, saying what to do.
+
+    Raises:
+        BenchmarkError: not a JSON object of srfm's, or of an older or newer schema.
+    """
+    if not isinstance(doc, dict) or not isinstance(doc.get("scenarios", {}), dict):
+        raise BenchmarkError(f"{path}: damaged manifest (not srfm's layout); use a new --out")
+    schema = doc.get("schema")
+    if schema == MANIFEST_SCHEMA:
+        return
+    if isinstance(schema, str) and schema.startswith("srfm.benchmark_manifest/"):
+        raise BenchmarkError(
+            f"{path.parent}: a results folder of an older or newer srfm (manifest schema "
+            f"{schema!r}; this srfm reads {MANIFEST_SCHEMA!r}): its episode files lack the "
+            "metrics of docs/metrics.md or hold others. Run the benchmark again into a new "
+            "--out folder"
+        )
+    raise BenchmarkError(f"{path}: not an srfm benchmark folder (schema {schema})")
+
+
+def _check_manifest(out: Path, request: BenchmarkRequest, command: str | None) -> dict[str, Any]:
     """Create the manifest, or check that an existing one matches the request.
 
     Episodes of a folder must all come from the same parameters, scenario content and
     package versions; adding scenarios, planners or seeds to a folder is fine.
     """
     path = out / MANIFEST
-    new = _manifest(request)
+    new = _manifest(request, command)
     if not path.exists():
         return new
     data = read_input_bytes(
@@ -238,11 +278,8 @@ def _check_manifest(out: Path, request: BenchmarkRequest) -> dict[str, Any]:
             f"{path}: damaged manifest ({exc}); the folder's episodes cannot be trusted to "
             "match the request: use a new --out"
         ) from None
-    if not isinstance(old, dict) or not isinstance(old.get("scenarios", {}), dict):
-        raise BenchmarkError(f"{path}: damaged manifest (not srfm's layout); use a new --out")
-    if old.get("schema") != new["schema"]:
-        raise BenchmarkError(f"{path}: not an srfm benchmark folder (schema {old.get('schema')})")
-    for key in ("versions", "params"):
+    check_manifest_schema(path, old)
+    for key in ("versions", "params", "metric_params"):
         if old.get(key) != new[key]:
             raise BenchmarkError(
                 f"{out} holds episodes run with other {key} ({old.get(key)} != {new[key]}); "
@@ -411,6 +448,7 @@ def run_benchmark(
     figures: bool = True,
     writer: EpisodeWriter | None = None,
     force: bool = False,
+    command: str | None = None,
 ) -> BenchmarkSummary:
     """Run (or finish) a benchmark into ``out`` and write its reports.
 
@@ -429,6 +467,8 @@ def run_benchmark(
         figures: also draw the PNG figures.
         writer: optional per-episode hook (see :data:`EpisodeWriter`), e.g. log files.
         force: write into a non-empty folder srfm did not create.
+        command: the command line that asked for this run, kept in the manifest and
+            shown on the results page.
 
     Returns:
         A :class:`BenchmarkSummary`.
@@ -456,7 +496,7 @@ def run_benchmark(
     with folder_lock(out):
         recover_file_set(out)  # a report set cut short by a kill: finish it first
         remove_stale_temporaries(out)
-        manifest = _check_manifest(out, request)
+        manifest = _check_manifest(out, request, command)
         atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
         damaged: list[str] = []
         tasks = _pending_tasks(out, request, writer, figures, damaged)
@@ -507,8 +547,8 @@ def load_results(out: Path, request: BenchmarkRequest) -> list[EpisodeMetrics]:
 
 
 def write_reports(out: Path, request: BenchmarkRequest, *, figures: bool = True) -> tuple[str, ...]:
-    """Write the tables, CSV files, JSON summary and figures from the episode files, as
-    a whole, holding the folder's lock."""
+    """Write the tables, CSV and Parquet files, JSON summary, figures and results page
+    from the episode files, as a whole, holding the folder's lock."""
     out = Path(out)
     with folder_lock(out):
         recover_file_set(out)
@@ -518,8 +558,10 @@ def write_reports(out: Path, request: BenchmarkRequest, *, figures: bool = True)
 def _write_reports(out: Path, request: BenchmarkRequest, *, figures: bool) -> tuple[str, ...]:
     """Every report rendered in memory first, then replaced as one set: a full disk or
     a kill never leaves tables of one run beside CSV files of another."""
+    from srfm.benchmark._html import REPORT, render_report
+
     results = load_results(out, request)
-    files, table = render_tables(
+    files, tables = render_tables(
         results,
         scenarios=[s.name for s in request.scenarios],
         planners=request.planners,
@@ -530,6 +572,7 @@ def _write_reports(out: Path, request: BenchmarkRequest, *, figures: bool) -> tu
     if figures:
         from srfm.benchmark.figures import render_figures
 
-        files.update(render_figures(out, request, table))
+        files.update(render_figures(out, request, tables.table, tables.extended))
+    files[REPORT] = render_report(out, files)
     write_file_set(out, files)
     return tuple(files)

@@ -26,6 +26,7 @@ __all__ = [
     "deviation_figure",
     "figure_episode_path",
     "load_figure_episode",
+    "metric_bars_figure",
     "paths_figure",
     "save_figure_episode",
     "write_figures",
@@ -178,6 +179,16 @@ def paths_figure(records: Sequence[FigureEpisode], world: Sequence[float]) -> Fi
 
 def deviation_figure(table: BenchmarkTable) -> Figure:
     """Grouped bars: mean Fréchet deviation per scenario and planner, ± sample std."""
+    return metric_bars_figure(
+        table,
+        "frechet_m",
+        "Fréchet deviation (m)",
+        "Pedestrian deviation caused by the robot (mean ± std over seeds)",
+    )
+
+
+def metric_bars_figure(table: BenchmarkTable, metric: str, ylabel: str, title: str) -> Figure:
+    """Grouped bars: the mean of ``metric`` per scenario and planner, ± sample std."""
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(max(6.0, 1.2 + 1.6 * len(table.scenarios)), 4.0), layout="constrained")
@@ -186,26 +197,37 @@ def deviation_figure(table: BenchmarkTable) -> Figure:
     width = 0.8 / n
     x = np.arange(len(table.scenarios))
     for k, planner in enumerate(table.planners):
-        cells = [table.cells[(s, planner)]["frechet_m"].summary for s in table.scenarios]
+        cells = [table.cells[(s, planner)][metric].summary for s in table.scenarios]
         means = [c.mean for c in cells]
         stds = [0.0 if np.isnan(c.std) else c.std for c in cells]
         ax.bar(x - 0.4 + width * (k + 0.5), means, width, yerr=stds, capsize=2, label=planner)
     ax.set_xticks(x, list(table.scenarios), fontsize=8)
-    ax.set_ylabel("Fréchet deviation (m)")
-    ax.set_title("Pedestrian deviation caused by the robot (mean ± std over seeds)", fontsize=9)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=9)
     fig.legend(fontsize=8, ncols=min(n, 6), loc="outside lower center")
     return fig
 
 
-def write_figures(out: Path, request: BenchmarkRequest, table: BenchmarkTable) -> list[str]:
-    """Draw ``figures/paths_<scenario>.png`` (one seed, every planner) and
-    ``figures/deviation.png`` as a whole; return their paths relative to ``out``."""
-    files = render_figures(out, request, table)
+def write_figures(
+    out: Path,
+    request: BenchmarkRequest,
+    table: BenchmarkTable,
+    extended: BenchmarkTable | None = None,
+) -> list[str]:
+    """Draw ``figures/paths_<scenario>.png`` (one seed, every planner),
+    ``figures/deviation.png`` and, given the extended table, ``figures/social_work.png``
+    as a whole; return their paths relative to ``out``."""
+    files = render_figures(out, request, table, extended)
     write_file_set(out, files)
     return list(files)
 
 
-def render_figures(out: Path, request: BenchmarkRequest, table: BenchmarkTable) -> dict[str, bytes]:
+def render_figures(
+    out: Path,
+    request: BenchmarkRequest,
+    table: BenchmarkTable,
+    extended: BenchmarkTable | None = None,
+) -> dict[str, bytes]:
     """The PNG bytes of every figure by path relative to ``out`` (nothing written)."""
     from srfm.sim.episode import build_planner, run_episode
 
@@ -225,4 +247,13 @@ def render_figures(out: Path, request: BenchmarkRequest, table: BenchmarkTable) 
         fig = paths_figure(records, (w.x_min, w.x_max, w.y_min, w.y_max))
         written[f"figures/paths_{scenario.name}.png"] = _png(fig)
     written["figures/deviation.png"] = _png(deviation_figure(table))
+    if extended is not None:
+        written["figures/social_work.png"] = _png(
+            metric_bars_figure(
+                extended,
+                "social_work_m2ps2",
+                "social work (m²/s²)",
+                "Robot force integrated along each pedestrian's path (mean ± std over seeds)",
+            )
+        )
     return written

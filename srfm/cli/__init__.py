@@ -7,7 +7,7 @@ from typing import Any
 import click
 
 from srfm.cli._common import DEBUG_ENV, quiet_broken_pipe
-from srfm.cli.benchmark import benchmark
+from srfm.cli.benchmark import benchmark, report
 from srfm.cli.data import ade, data, fit
 from srfm.cli.logs import score, view
 from srfm.cli.simulate import planners, scenarios, simulate
@@ -49,6 +49,7 @@ for _command in (
     planners,
     simulate,
     benchmark,
+    report,
     score,
     view,
     data,

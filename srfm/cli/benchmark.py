@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+import shlex
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -15,7 +16,7 @@ if TYPE_CHECKING:
     from srfm.benchmark import BenchmarkRequest
     from srfm.logs import EpisodeLogger
 
-__all__ = ["benchmark"]
+__all__ = ["benchmark", "report"]
 
 
 _SEED_RE = re.compile(r"(\d{1,20})(?:-(\d{1,20}))?", re.ASCII)
@@ -225,12 +226,14 @@ def benchmark(
 ) -> None:
     """Run scenarios × planners × seeds of twin episodes and write tables and figures.
 
-    Writes into --out: episodes/ (one metrics file per episode), episodes.csv,
-    pedestrians.csv, table.md and table.tex (the paper's Table 3 layout),
-    outcomes.md, summary.json, figures/ and manifest.json, and the episode logs in
-    logs/ (by default an MCAP file for every episode and a Rerun recording for the
-    first seed of each cell; `srfm score OUT` re-scores them). Re-running on the same
-    folder skips finished episodes (their logs are not rewritten).
+    Writes into --out: report.html (the results page: tables, figures, outcomes, links
+    to every log, the manifest), episodes/ (one metrics file per episode),
+    episodes.csv and pedestrians.csv (and .parquet copies), table.md and table.tex
+    (the paper's Table 3 layout), outcomes.md, table_extended.md and .tex (every
+    metric), summary.json, figures/ and manifest.json, and the episode logs in logs/
+    (by default an MCAP file for every episode and a Rerun recording for the first
+    seed of each cell; `srfm score OUT` re-scores them). Re-running on the same folder
+    skips finished episodes (their logs are not rewritten).
     """
     from srfm.benchmark import BenchmarkRequest, run_benchmark
 
@@ -263,6 +266,7 @@ def benchmark(
                 figures=not no_figures,
                 writer=writer,
                 force=force,
+                command=shlex.join(["srfm", *sys.argv[1:]]),
             )
         except KeyboardInterrupt:
             done = len(list((out / "episodes").rglob("seed-*.json")))
@@ -295,3 +299,18 @@ def benchmark(
     click.echo(f"results in {out}: " + ", ".join(summary.files))
     if writer is not None:
         click.echo(_logs_line(out), err=True)
+
+
+@click.command()
+@click.argument("folder", type=click.Path(file_okay=False, exists=True, path_type=Path))
+@user_errors
+def report(folder: Path) -> None:
+    """Rebuild FOLDER/report.html, the results page of a benchmark results folder,
+    from the folder's own files (tables, figures, episode list, logs, manifest).
+
+    The page opens offline: every image and link is a path inside FOLDER.
+    """
+    from srfm.benchmark import write_report
+
+    path = write_report(folder)
+    click.echo(f"wrote {path}")

@@ -24,7 +24,7 @@ __all__ = [
     "schema_bytes",
 ]
 
-SCHEMA_VERSION: Final = 3
+SCHEMA_VERSION: Final = 4
 NPY_MEDIA_TYPE: Final = "application/x-npy"
 _DRAFT: Final = "https://json-schema.org/draft/2020-12/schema"
 

@@ -16,19 +16,25 @@ from srfm.metrics.episode import (
 from srfm.metrics.frechet import frechet_distance, frechet_distances
 from srfm.metrics.stats import ALPHA, Comparison, Summary, compare, summarize
 from srfm.metrics.tables import (
+    EXTENDED_COLUMNS,
     OUTCOME_COLUMNS,
     TABLE_COLUMNS,
     BenchmarkTable,
     Cell,
     benchmark_table,
+    legend,
+    min_n_for_best,
     summary_dict,
     to_latex,
+    to_latex_extended,
     to_markdown,
+    to_markdown_extended,
 )
 
 __all__ = [
     "ALPHA",
     "EPISODE_METRICS",
+    "EXTENDED_COLUMNS",
     "METRIC_GROUPS",
     "OUTCOME_COLUMNS",
     "PEDESTRIAN_METRICS",
@@ -45,8 +51,12 @@ __all__ = [
     "episode_metrics",
     "frechet_distance",
     "frechet_distances",
+    "legend",
+    "min_n_for_best",
     "summarize",
     "summary_dict",
     "to_latex",
+    "to_latex_extended",
     "to_markdown",
+    "to_markdown_extended",
 ]

@@ -1,4 +1,5 @@
-"""The report files of a set of scored episodes: tables, CSV exports and the JSON summary.
+"""The report files of a set of scored episodes: tables, CSV and Parquet exports and the
+JSON summary.
 
 Written by the benchmark from its episode files and by ``srfm score`` from MCAP logs
 alone; one writer, so that both give byte-identical files.
@@ -15,20 +16,32 @@ from pathlib import Path
 from typing import Any, Final
 
 from srfm._io import atomic_write_text, write_file_set
-from srfm.metrics.episode import EPISODE_METRICS, PEDESTRIAN_METRICS, EpisodeMetrics
+import attrs
+
+from srfm.metrics.episode import (
+    EPISODE_METRICS,
+    PEDESTRIAN_METRICS,
+    EpisodeMetrics,
+    MetricParams,
+)
 from srfm.metrics.tables import (
+    EXTENDED_COLUMNS,
     OUTCOME_COLUMNS,
     TABLE_COLUMNS,
     BenchmarkTable,
     benchmark_table,
     summary_dict,
     to_latex,
+    to_latex_extended,
     to_markdown,
+    to_markdown_extended,
 )
 from srfm.models.params import SRFMParams
 
 __all__ = [
     "MANIFEST",
+    "SUMMARY_SCHEMA",
+    "ReportTables",
     "render_tables",
     "write_episodes_csv",
     "write_pedestrians_csv",
@@ -37,6 +50,19 @@ __all__ = [
 
 MANIFEST: Final = "manifest.json"
 """The file that marks a benchmark results folder (written by the benchmark)."""
+SUMMARY_SCHEMA: Final = "srfm.summary/2"
+"""Layout of ``summary.json``; 2: the extended table, n and undefined counts, the rules."""
+
+
+
+@attrs.frozen
+class ReportTables:
+    """The three tables of a report: the paper's layout, the robot outcomes, and every
+    metric (extended)."""
+
+    table: BenchmarkTable
+    outcomes: BenchmarkTable
+    extended: BenchmarkTable
 
 
 def _csv_number(x: float) -> str:
@@ -85,6 +111,54 @@ def _pedestrians_csv(results: Sequence[EpisodeMetrics]) -> str:
     return _csv_text(header, rows)
 
 
+def _parquet(columns: dict[str, Any]) -> bytes:
+    """A Parquet file (zstd) of ``columns``: name -> (pyarrow type, values); NaN as null."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    arrays = {}
+    for name, (kind, values) in columns.items():
+        if kind == "float":
+            arrays[name] = pa.array(
+                [None if math.isnan(v) else float(v) for v in values], type=pa.float64()
+            )
+        elif kind == "int":
+            arrays[name] = pa.array(values, type=pa.int64())
+        else:
+            arrays[name] = pa.array(values, type=pa.string())
+    buf = io.BytesIO()
+    pq.write_table(pa.table(arrays), buf, compression="zstd")
+    return buf.getvalue()
+
+
+def _episodes_parquet(results: Sequence[EpisodeMetrics]) -> bytes:
+    """episodes.csv as Parquet: the same rows and columns, typed; undefined as null."""
+    columns: dict[str, Any] = {
+        "scenario": ("str", [r.scenario for r in results]),
+        "planner": ("str", [r.planner for r in results]),
+        "seed": ("int", [r.seed for r in results]),
+        "outcome": ("str", [r.outcome for r in results]),
+        "end_step": ("int", [r.end_step for r in results]),
+    }
+    for m in EPISODE_METRICS:
+        columns[m.name] = ("float", [r.values[m.name] for r in results])
+    return _parquet(columns)
+
+
+def _pedestrians_parquet(results: Sequence[EpisodeMetrics]) -> bytes:
+    """pedestrians.csv as Parquet."""
+    rows = [(r, k) for r in results for k in range(len(r.pedestrians["frechet_m"]))]
+    columns: dict[str, Any] = {
+        "scenario": ("str", [r.scenario for r, _ in rows]),
+        "planner": ("str", [r.planner for r, _ in rows]),
+        "seed": ("int", [r.seed for r, _ in rows]),
+        "pedestrian": ("int", [k for _, k in rows]),
+    }
+    for m in PEDESTRIAN_METRICS:
+        columns[m.name] = ("float", [float(r.pedestrians[m.name][k]) for r, k in rows])
+    return _parquet(columns)
+
+
 def write_tables(
     out: Path,
     results: Sequence[EpisodeMetrics],
@@ -102,7 +176,7 @@ def write_tables(
     Returns:
         The files written (relative to ``out``) and the Table 3 layout table.
     """
-    files, table = render_tables(
+    files, tables = render_tables(
         results,
         scenarios=scenarios,
         planners=planners,
@@ -111,7 +185,7 @@ def write_tables(
         reference=reference,
     )
     write_file_set(out, files)
-    return list(files), table
+    return list(files), tables.table
 
 
 def render_tables(
@@ -122,16 +196,17 @@ def render_tables(
     seeds: Sequence[int],
     params: SRFMParams,
     reference: str | None,
-) -> tuple[dict[str, bytes], BenchmarkTable]:
-    """The tables, CSV files and JSON summary of ``results`` (every scenario × planner ×
-    seed), nothing written.
+    metric_params: MetricParams | None = None,
+) -> tuple[dict[str, bytes], ReportTables]:
+    """The tables, CSV and Parquet files and JSON summary of ``results`` (every scenario
+    × planner × seed), nothing written.
 
     Returns:
         The file contents by name (relative to the results folder, in a fixed order)
-        and the Table 3 layout table.
+        and the tables.
     """
     names = list(scenarios)
-    table, outcomes = (
+    table, outcomes, extended = (
         benchmark_table(
             results,
             scenarios=names,
@@ -140,17 +215,20 @@ def render_tables(
             reference=reference,
             columns=columns,
         )
-        for columns in (TABLE_COLUMNS, OUTCOME_COLUMNS)
+        for columns in (TABLE_COLUMNS, OUTCOME_COLUMNS, EXTENDED_COLUMNS)
     )
     summary = {
+        "schema": SUMMARY_SCHEMA,
         "request": {
             "scenarios": names,
             "planners": list(planners),
             "seeds": list(seeds),
             "params": params.as_dict(),
+            "metric_params": (metric_params or MetricParams()).as_dict(),
         },
         "table": summary_dict(table),
         "outcomes": summary_dict(outcomes),
+        "extended": summary_dict(extended),
     }
     texts = {
         "episodes.csv": _episodes_csv(results),
@@ -158,6 +236,11 @@ def render_tables(
         "table.md": to_markdown(table),
         "table.tex": to_latex(table),
         "outcomes.md": to_markdown(outcomes),
+        "table_extended.md": to_markdown_extended(extended),
+        "table_extended.tex": to_latex_extended(extended),
         "summary.json": json.dumps(summary, indent=1) + "\n",
     }
-    return {name: text.encode("utf-8") for name, text in texts.items()}, table
+    files = {name: text.encode("utf-8") for name, text in texts.items()}
+    files["episodes.parquet"] = _episodes_parquet(results)
+    files["pedestrians.parquet"] = _pedestrians_parquet(results)
+    return files, ReportTables(table, outcomes, extended)

@@ -21,28 +21,31 @@ ALPHA: Final = 0.05
 
 @attrs.frozen
 class Summary:
-    """Mean and sample standard deviation of the finite values.
+    """Mean and sample standard deviation of the defined (finite) values.
 
     Attributes:
-        n: number of finite values (NaN entries, e.g. a time to goal that never
-            happened, are left out).
+        n: number of finite values. Undefined entries (NaN: e.g. a time to goal that
+            never happened) are not part of the mean; they are counted in
+            ``undefined``, and tables show n wherever it is below the number of seeds.
         mean: their mean (NaN when n = 0).
         std: their sample standard deviation, ddof = 1 (NaN when n < 2).
+        undefined: number of entries left out (NaN or infinite).
     """
 
     n: int
     mean: float
     std: float
+    undefined: int = 0
 
 
 def summarize(values: ArrayLike) -> Summary:
-    """:class:`Summary` of the finite entries of ``values``."""
+    """:class:`Summary` of the finite entries of ``values``; the others are counted."""
     x = np.asarray(values, dtype=np.float64).ravel()
-    x = x[np.isfinite(x)]
-    n = int(x.size)
-    mean = float(x.mean()) if n else math.nan
-    std = float(x.std(ddof=1)) if n >= 2 else math.nan
-    return Summary(n=n, mean=mean, std=std)
+    finite = x[np.isfinite(x)]
+    n = int(finite.size)
+    mean = float(finite.mean()) if n else math.nan
+    std = float(finite.std(ddof=1)) if n >= 2 else math.nan
+    return Summary(n=n, mean=mean, std=std, undefined=int(x.size) - n)
 
 
 @attrs.frozen

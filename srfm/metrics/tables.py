@@ -1,11 +1,22 @@
-"""Benchmark tables: the paper's Table 3 layout in Markdown and LaTeX, and a JSON summary.
+"""Benchmark tables: the paper's Table 3 layout, the robot outcomes and the extended
+table of every metric, in Markdown and LaTeX, and a JSON summary.
 
-Rows are (scenario, planner); each cell is mean ± sample std over seeds. The best mean
-of a column within a scenario is bold. Significance is tested against one reference
-planner (the paper's "ours"): on a row of another planner, ``*`` marks a significant
-difference to the reference by Welch's t-test and ``†`` by the paired t-test over the
-shared seeds (p < 0.05); on the reference's own row a mark means the reference differs
-significantly from every other planner by that test.
+Rows are (scenario, planner) (the extended table: one block per scenario, a row per
+metric, a column per planner); each cell is mean ± sample std over the seeds that have
+a value. Rules, stated under every table:
+
+- **n.** A value can be undefined (NaN: a time to goal that never happened, a time to
+  collision when nobody was on a collision course). Undefined values are not part of
+  the mean; they are counted (``undefined`` in ``summary.json``), and a cell whose n
+  is below the number of seeds S shows its n.
+- **Bold.** The best mean of a column within a scenario, among the cells with
+  n ≥ :func:`min_n_for_best` (S) = max(2, ⌈0.8 S⌉): a planner that reached its goal in
+  one seed of a hundred is never bold for its time to goal.
+- **Significance** is tested against one reference planner (the paper's "ours"): on a
+  row of another planner, ``*`` marks a significant difference to the reference by
+  Welch's t-test and ``†`` by the paired t-test over the shared seeds (p < 0.05); on the
+  reference's own row a mark means the reference differs significantly from every
+  other planner by that test.
 """
 
 from __future__ import annotations
@@ -18,18 +29,23 @@ import attrs
 import numpy as np
 
 from srfm.errors import MetricError
-from srfm.metrics.episode import EPISODE_METRICS, EpisodeMetrics, MetricInfo
+from srfm.metrics.episode import EPISODE_METRICS, METRIC_GROUPS, EpisodeMetrics, MetricInfo
 from srfm.metrics.stats import ALPHA, Comparison, Summary, compare, summarize
 
 __all__ = [
+    "EXTENDED_COLUMNS",
     "OUTCOME_COLUMNS",
     "TABLE_COLUMNS",
     "BenchmarkTable",
     "Cell",
     "benchmark_table",
+    "legend",
+    "min_n_for_best",
     "summary_dict",
     "to_latex",
+    "to_latex_extended",
     "to_markdown",
+    "to_markdown_extended",
 ]
 
 _INFO: Final = {m.name: m for m in EPISODE_METRICS}
@@ -38,9 +54,12 @@ TABLE_COLUMNS: Final[tuple[tuple[str, str], ...]] = (
     ("frechet_m", "Fréchet dist. (m)"),
     ("min_robot_distance_m", "Min. robot dist. (m)"),
     ("path_length_m", "Traj. length (m)"),
-    ("time_to_goal_s", "Time (s)"),
+    ("robot_duration_s", "Time: robot run (s)"),
 )
-"""The paper's Table 3 columns: metric name and header."""
+"""The paper's Table 3 columns: metric name and header. The paper's "Time" column is
+the duration of the robot's run (its reference code recorded the pedestrians only until
+the robot arrived), so that is what this column holds; the pedestrians' own time to
+goal is ``time_to_goal_s`` in the extended table."""
 
 OUTCOME_COLUMNS: Final[tuple[tuple[str, str], ...]] = (
     ("robot_success", "Success"),
@@ -51,6 +70,16 @@ OUTCOME_COLUMNS: Final[tuple[tuple[str, str], ...]] = (
     ("robot_path_length_m", "Robot path (m)"),
 )
 """The robot-side table: outcome rates and the robot's own efficiency."""
+
+EXTENDED_COLUMNS: Final[tuple[tuple[str, str], ...]] = tuple(
+    (m.name, m.name) for group in METRIC_GROUPS for m in EPISODE_METRICS if m.group == group
+)
+"""Every episode metric, grouped (pedestrian side, social, robot), for the extended table."""
+
+
+def min_n_for_best(n_seeds: int) -> int:
+    """The least n for a cell to be bold: max(2, ⌈0.8 · n_seeds⌉)."""
+    return max(2, math.ceil(0.8 * n_seeds - 1e-9))
 
 WELCH_MARK: Final = "*"
 PAIRED_MARK: Final = "†"
@@ -76,6 +105,7 @@ class BenchmarkTable:
         scenarios: scenario names in row order.
         planners: planner names in row order within each scenario.
         reference: the planner significance is tested against (None: no tests).
+        n_seeds: S, the number of seeds of every cell.
         cells: ``cells[(scenario, planner)][metric]``.
         comparisons: ``comparisons[(scenario, planner)][metric]`` against the reference.
     """
@@ -86,6 +116,12 @@ class BenchmarkTable:
     reference: str | None
     cells: Mapping[tuple[str, str], Mapping[str, Cell]]
     comparisons: Mapping[tuple[str, str], Mapping[str, Comparison]]
+    n_seeds: int = 0
+
+    @property
+    def min_n(self) -> int:
+        """The least n of a bold cell (:func:`min_n_for_best`)."""
+        return min_n_for_best(self.n_seeds)
 
 
 def _by_seed(
@@ -127,6 +163,8 @@ def benchmark_table(
             raise MetricError(f"unknown metric {name!r}; known: {sorted(_INFO)}")
     cells: dict[tuple[str, str], dict[str, Cell]] = {}
     comps: dict[tuple[str, str], dict[str, Comparison]] = {}
+    seeds = list(seeds)
+    min_n = min_n_for_best(len(seeds))
     for scenario in scenarios:
         values = {
             planner: {
@@ -139,7 +177,7 @@ def benchmark_table(
         }
         for name, _ in columns:
             summaries = {p: summarize(values[p][name]) for p in planners}
-            best = _best(summaries, _INFO[name])
+            best = _best(summaries, _INFO[name], min_n)
             row_comps: dict[str, Comparison] = {}
             if reference is not None:
                 for p in planners:
@@ -159,11 +197,12 @@ def benchmark_table(
         reference=reference,
         cells=cells,
         comparisons=comps,
+        n_seeds=len(seeds),
     )
 
 
-def _best(summaries: Mapping[str, Summary], info: MetricInfo) -> set[str]:
-    means = {p: s.mean for p, s in summaries.items() if not math.isnan(s.mean)}
+def _best(summaries: Mapping[str, Summary], info: MetricInfo, min_n: int) -> set[str]:
+    means = {p: s.mean for p, s in summaries.items() if s.n >= min_n and not math.isnan(s.mean)}
     if not means or info.better == "":
         return set()
     target = min(means.values()) if info.better == "lower" else max(means.values())
@@ -190,31 +229,42 @@ def _number(x: float) -> str:
     return "–" if math.isnan(x) else f"{x:.2f}"
 
 
-def _cell_text(cell: Cell, *, latex: bool) -> str:
+def _cell_text(cell: Cell, n_seeds: int, *, latex: bool) -> str:
     s = cell.summary
     marks = (WELCH_MARK if cell.welch else "") + (PAIRED_MARK if cell.paired else "")
+    n_note = f" (n={s.n})" if s.n < n_seeds else ""
     if latex:
         body = f"{_number(s.mean)} \\pm {_number(s.std)}".replace("–", "\\text{--}")
         if cell.best:
             body = f"\\mathbf{{{body}}}"
         mark = marks.replace(PAIRED_MARK, "\\dagger").replace(WELCH_MARK, "\\ast")
-        return f"${'^{' + mark + '}' if mark else ''}{body}$"
+        return f"${'^{' + mark + '}' if mark else ''}{body}${n_note}"
     body = f"{_number(s.mean)} ± {_number(s.std)}"
     if cell.best:
         body = f"**{body}**"
     marks = marks.replace("*", "\\*")  # a literal asterisk, not emphasis
-    return f"{marks}{body}" if marks else body
+    return (f"{marks}{body}" if marks else body) + n_note
 
 
 def _arrow(name: str) -> str:
     return {"lower": " ↓", "higher": " ↑", "": ""}[_INFO[name].better]
 
 
-def _legend(table: BenchmarkTable) -> str:
-    text = "Mean ± sample std over seeds; bold: best mean of the column within the scenario."
+def legend(table: BenchmarkTable, *, markdown: bool = True) -> str:
+    """The rules of ``table`` in one paragraph: what a cell is, n, undefined values,
+    bolding and the significance marks (printed under every table)."""
+    s = table.n_seeds
+    text = (
+        f"Mean ± sample std over the seeds with a defined value; (n=k): only k of the {s} "
+        "seeds have one (the others are undefined, e.g. a time to goal that never "
+        "happened; counted as `undefined` in summary.json, never silently dropped). Bold: "
+        f"best mean of the column within the scenario among the cells with n ≥ {table.min_n} "
+        f"(the rule: n ≥ max(2, ⌈0.8 × {s} seeds⌉)); ↓ lower is better, ↑ higher is better."
+    )
     if table.reference is not None:
+        star = f"\\{WELCH_MARK}" if markdown else WELCH_MARK
         text += (
-            f" Significance against {table.reference} (p < {ALPHA}): \\{WELCH_MARK} Welch's "
+            f" Significance against {table.reference} (p < {ALPHA}): {star} Welch's "
             f"t-test, {PAIRED_MARK} paired t-test over the shared seeds; on "
             f"{table.reference}'s own row, significant against every other planner."
         )
@@ -222,7 +272,7 @@ def _legend(table: BenchmarkTable) -> str:
 
 
 def to_markdown(table: BenchmarkTable) -> str:
-    """The table as GitHub Markdown, with a legend line underneath."""
+    """The table as GitHub Markdown, with its rules (:func:`legend`) underneath."""
     headers = ["Scenario", "Planner"] + [f"{h}{_arrow(n)}" for n, h in table.columns]
     lines = [
         "| " + " | ".join(headers) + " |",
@@ -231,23 +281,64 @@ def to_markdown(table: BenchmarkTable) -> str:
     for scenario in table.scenarios:
         for planner in table.planners:
             row = table.cells[(scenario, planner)]
-            texts = [_cell_text(row[n], latex=False) for n, _ in table.columns]
+            texts = [_cell_text(row[n], table.n_seeds, latex=False) for n, _ in table.columns]
             lines.append("| " + " | ".join([scenario, planner, *texts]) + " |")
-    return "\n".join(lines) + "\n\n" + _legend(table) + "\n"
+    return "\n".join(lines) + "\n\n" + legend(table) + "\n"
+
+
+def to_markdown_extended(table: BenchmarkTable) -> str:
+    """Every column of ``table`` as rows, a column per planner, one block per scenario,
+    grouped as :data:`~srfm.metrics.episode.METRIC_GROUPS` (the extended table)."""
+    names = [n for n, _ in table.columns]
+    lines = [
+        "# Every metric, per scenario",
+        "",
+        "Definitions, units and sources: docs/metrics.md. " + legend(table),
+        "",
+    ]
+    for scenario in table.scenarios:
+        lines += [
+            f"## {scenario}",
+            "",
+            "| Metric | Unit | " + " | ".join(table.planners) + " |",
+            "|---|---|" + "|".join(["--:"] * len(table.planners)) + "|",
+        ]
+        for group, title in METRIC_GROUPS.items():
+            in_group = [n for n in names if _INFO[n].group == group]
+            if not in_group:
+                continue
+            lines.append(f"| *{title}* | |" + " |" * len(table.planners))
+            for name in in_group:
+                texts = [
+                    _cell_text(table.cells[(scenario, p)][name], table.n_seeds, latex=False)
+                    for p in table.planners
+                ]
+                lines.append(
+                    f"| `{name}`{_arrow(name)} | {_INFO[name].unit} | " + " | ".join(texts) + " |"
+                )
+        lines.append("")
+    return "\n".join(lines)
 
 
 def _tex_escape(text: str) -> str:
     return text.replace("\\", "\\textbackslash{}").replace("_", "\\_").replace("&", "\\&")
 
 
+_TEX_ARROWS: Final = {"lower": "$\\downarrow$", "higher": "$\\uparrow$", "": ""}
+
+
+def _tex_comment(text: str) -> str:
+    return "% " + text.replace("\\*", "*")
+
+
 def to_latex(table: BenchmarkTable) -> str:
     """The table as a LaTeX ``tabular`` (needs ``\\usepackage{multirow}``)."""
-    arrows = {"lower": "$\\downarrow$", "higher": "$\\uparrow$", "": ""}
     heads = [
-        f"\\textbf{{{_tex_escape(h)}}} {arrows[_INFO[n].better]}".rstrip() for n, h in table.columns
+        f"\\textbf{{{_tex_escape(h)}}} {_TEX_ARROWS[_INFO[n].better]}".rstrip()
+        for n, h in table.columns
     ]
     lines = [
-        "% " + _legend(table),
+        _tex_comment(legend(table, markdown=False)),
         "\\begin{tabular}{ll" + "c" * len(table.columns) + "}",
         "\\hline",
         " & \\textbf{Planner} & " + " & ".join(heads) + " \\\\",
@@ -261,11 +352,46 @@ def to_latex(table: BenchmarkTable) -> str:
                 else ""
             )
             row = table.cells[(scenario, planner)]
-            texts = [_cell_text(row[n], latex=True) for n, _ in table.columns]
+            texts = [_cell_text(row[n], table.n_seeds, latex=True) for n, _ in table.columns]
             lines.append(" & ".join([first, _tex_escape(planner), *texts]) + " \\\\")
         lines.append("\\hline")
     lines.append("\\end{tabular}")
     return "\n".join(lines) + "\n"
+
+
+def to_latex_extended(table: BenchmarkTable) -> str:
+    """The extended table as LaTeX: one ``tabular`` per scenario, a row per metric."""
+    names = [n for n, _ in table.columns]
+    cols = len(table.planners)
+    lines = [_tex_comment(legend(table, markdown=False))]
+    for scenario in table.scenarios:
+        lines += [
+            f"% {scenario}",
+            "\\begin{tabular}{ll" + "c" * cols + "}",
+            "\\hline",
+            f"\\multicolumn{{{cols + 2}}}{{l}}{{\\textbf{{{_tex_escape(scenario)}}}}} \\\\",
+            "\\textbf{Metric} & \\textbf{Unit} & "
+            + " & ".join(f"\\textbf{{{_tex_escape(p)}}}" for p in table.planners)
+            + " \\\\",
+            "\\hline",
+        ]
+        for group, title in METRIC_GROUPS.items():
+            in_group = [n for n in names if _INFO[n].group == group]
+            if not in_group:
+                continue
+            lines.append(
+                f"\\multicolumn{{{cols + 2}}}{{l}}{{\\textit{{{_tex_escape(title)}}}}} \\\\"
+            )
+            for name in in_group:
+                texts = [
+                    _cell_text(table.cells[(scenario, p)][name], table.n_seeds, latex=True)
+                    for p in table.planners
+                ]
+                head = f"\\texttt{{{_tex_escape(name)}}} {_TEX_ARROWS[_INFO[name].better]}".rstrip()
+                unit = _tex_escape(_INFO[name].unit)
+                lines.append(" & ".join([head, unit, *texts]) + " \\\\")
+        lines += ["\\hline", "\\end{tabular}", ""]
+    return "\n".join(lines)
 
 
 def _json_number(x: float) -> float | None:
@@ -273,9 +399,18 @@ def _json_number(x: float) -> float | None:
 
 
 def summary_dict(table: BenchmarkTable) -> dict[str, Any]:
-    """Every cell's n, mean, std and the tests against the reference, as plain data
-    (NaN as None) for a JSON summary."""
-    out: dict[str, Any] = {"reference": table.reference, "alpha": ALPHA, "scenarios": {}}
+    """Every cell's n, undefined count, mean, std, bold flag and the tests against the
+    reference, with the columns and the rules, as plain data (NaN as None) for a JSON
+    summary."""
+    out: dict[str, Any] = {
+        "reference": table.reference,
+        "alpha": ALPHA,
+        "n_seeds": table.n_seeds,
+        "min_n_for_best": table.min_n,
+        "columns": [[name, header] for name, header in table.columns],
+        "legend": legend(table, markdown=False),
+        "scenarios": {},
+    }
     for scenario in table.scenarios:
         per_planner: dict[str, Any] = {}
         for planner in table.planners:
@@ -284,9 +419,12 @@ def summary_dict(table: BenchmarkTable) -> dict[str, Any]:
                 cell = table.cells[(scenario, planner)][name]
                 entry: dict[str, Any] = {
                     "n": cell.summary.n,
+                    "undefined": cell.summary.undefined,
                     "mean": _json_number(cell.summary.mean),
                     "std": _json_number(cell.summary.std),
                     "best": cell.best,
+                    "marks": (WELCH_MARK if cell.welch else "")
+                    + (PAIRED_MARK if cell.paired else ""),
                 }
                 comp = table.comparisons.get((scenario, planner), {}).get(name)
                 if comp is not None:

@@ -1,0 +1,483 @@
+"""The results page: ``report.html``, one self-contained page over a results folder.
+
+The page is plain HTML with its CSS inline and no script: it opens offline from the
+folder (``file://``), and every image and link is a path relative to it (the figures,
+the tables' source files, every episode's ``.mcap`` and ``.rrd``). It is rendered from
+the folder's own files (``manifest.json``, ``summary.json``, ``episodes.csv``, the
+figures and the logs), so ``srfm report DIR`` rebuilds it from a results folder alone;
+the benchmark renders it from the reports it is about to write, in the same set.
+"""
+
+from __future__ import annotations
+
+import csv
+import html
+import io
+import json
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+from typing import Any, Final
+
+from srfm._io import MAX_DOCUMENT_BYTES, atomic_write_bytes, folder_lock, read_input_bytes
+from srfm.benchmark._runner import check_manifest_schema
+from srfm.errors import BenchmarkError
+from srfm.metrics.episode import EPISODE_METRICS, METRIC_GROUPS
+from srfm.metrics.report import MANIFEST, SUMMARY_SCHEMA
+from srfm.sim.record import ROBOT_OUTCOMES
+
+__all__ = ["REPORT", "render_report", "write_report"]
+
+REPORT: Final = "report.html"
+"""The results page of a results folder."""
+
+_INFO: Final = {m.name: m for m in EPISODE_METRICS}
+_ARROWS: Final = {"lower": "↓", "higher": "↑", "": ""}
+_OUTCOME_TITLES: Final = {
+    "goal_reached": "goal reached",
+    "collision": "collision",
+    "timeout": "timeout",
+    "out_of_bounds": "out of bounds",
+}
+_DATA_FILES: Final = (
+    ("table.md", "the paper's Table 3 layout (Markdown)"),
+    ("table.tex", "the same in LaTeX"),
+    ("outcomes.md", "robot outcomes (Markdown)"),
+    ("table_extended.md", "every metric (Markdown)"),
+    ("table_extended.tex", "every metric (LaTeX)"),
+    ("episodes.csv", "one row per episode"),
+    ("episodes.parquet", "the same as Parquet"),
+    ("pedestrians.csv", "one row per episode and pedestrian"),
+    ("pedestrians.parquet", "the same as Parquet"),
+    ("summary.json", "every cell: n, undefined, mean, std, p-values"),
+    (MANIFEST, "versions, parameters, request and command"),
+)
+
+_CSS: Final = """
+body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; margin: 0;
+  color: #1d1d1f; background: #fff; line-height: 1.45; }
+header { background: #1f3a5f; color: #fff; padding: 1.2em 2em; }
+header h1 { margin: 0 0 .2em 0; font-size: 1.6em; }
+header p { margin: 0; opacity: .9; }
+nav { background: #eef2f7; padding: .6em 2em; position: sticky; top: 0; z-index: 2;
+  border-bottom: 1px solid #d0d7e2; }
+nav a { margin-right: 1.2em; color: #1f3a5f; text-decoration: none; font-weight: 600; }
+main { padding: 0 2em 3em 2em; max-width: 1400px; }
+h2 { border-bottom: 2px solid #1f3a5f; padding-bottom: .2em; margin-top: 1.8em; }
+h3 { margin-bottom: .4em; }
+.scroll { overflow-x: auto; }
+table { border-collapse: collapse; margin: .4em 0 .6em 0; font-size: .9em; }
+th, td { border: 1px solid #d0d7e2; padding: .25em .6em; text-align: right;
+  white-space: nowrap; }
+th { background: #f3f6fa; }
+td.name, th.name { text-align: left; }
+tr.group td { background: #f9fafc; font-style: italic; text-align: left; }
+td.best { font-weight: 700; background: #e8f3e8; }
+.n { color: #8a5a00; font-size: .85em; }
+.mark { color: #a00; font-weight: 700; }
+.legend { font-size: .88em; color: #444; max-width: 70em; }
+figure { margin: 1em 0; }
+figure img { max-width: 100%; border: 1px solid #d0d7e2; }
+figcaption { font-size: .88em; color: #444; }
+details { margin: .3em 0; }
+summary { cursor: pointer; font-weight: 600; }
+.seeds a { margin-right: .35em; }
+code { background: #f3f6fa; padding: 0 .25em; }
+dl.kv { display: grid; grid-template-columns: max-content auto; gap: .1em 1em; }
+dl.kv dt { font-weight: 600; }
+dl.kv dd { margin: 0; }
+.missing { color: #a00; }
+"""
+
+
+def _esc(text: object) -> str:
+    return html.escape(str(text), quote=True)
+
+
+def _read_bytes(out: Path, name: str, files: Mapping[str, bytes]) -> bytes | None:
+    """A report file: from ``files`` (about to be written) or else from the folder."""
+    if name in files:
+        return files[name]
+    path = out / name
+    if not path.is_file():
+        return None
+    return read_input_bytes(
+        path, max_bytes=MAX_DOCUMENT_BYTES * 64, error=BenchmarkError, what="results file"
+    )
+
+
+def _json_file(out: Path, name: str, files: Mapping[str, bytes]) -> Any:
+    data = _read_bytes(out, name, files)
+    if data is None:
+        raise BenchmarkError(
+            f"{out / name} is missing: not a complete benchmark results folder (run "
+            "`srfm benchmark --out` on it to finish it)"
+        )
+    try:
+        return json.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, ValueError, RecursionError) as exc:
+        raise BenchmarkError(f"{out / name}: damaged ({exc})") from None
+
+
+def _seed_ranges(seeds: Sequence[int]) -> str:
+    """``[0, 1, 2, 5]`` as ``0–2, 5``."""
+    parts: list[str] = []
+    start = prev = None
+    for s in seeds:
+        if start is None:
+            start = prev = s
+        elif prev is not None and s == prev + 1:
+            prev = s
+        else:
+            parts.append(f"{start}" if start == prev else f"{start}–{prev}")
+            start = prev = s
+    if start is not None:
+        parts.append(f"{start}" if start == prev else f"{start}–{prev}")
+    return ", ".join(parts)
+
+
+def _number(x: float | None) -> str:
+    return "–" if x is None else f"{x:.2f}"
+
+
+def _cell(entry: Mapping[str, Any], n_seeds: int) -> str:
+    marks = str(entry.get("marks", ""))
+    body = f"{_number(entry.get('mean'))} ± {_number(entry.get('std'))}"
+    mark = f'<span class="mark">{_esc(marks)}</span>' if marks else ""
+    n = int(entry.get("n", 0))
+    note = f' <span class="n">(n={n})</span>' if n < n_seeds else ""
+    cls = ' class="best"' if entry.get("best") else ""
+    return f"<td{cls}>{mark}{_esc(body)}{note}</td>"
+
+
+def _wide_table(summary: Mapping[str, Any]) -> str:
+    """A (scenario, planner) × column table of a ``summary.json`` table entry."""
+    columns = [(str(n), str(h)) for n, h in summary["columns"]]
+    n_seeds = int(summary["n_seeds"])
+    head = "".join(
+        f"<th>{_esc(h)} {_ARROWS[_INFO[n].better] if n in _INFO else ''}</th>" for n, h in columns
+    )
+    rows = []
+    for scenario, planners in summary["scenarios"].items():
+        for k, (planner, cells) in enumerate(planners.items()):
+            first = (
+                f'<td class="name" rowspan="{len(planners)}">{_esc(scenario)}</td>'
+                if k == 0
+                else ""
+            )
+            tds = "".join(_cell(cells[n], n_seeds) for n, _ in columns)
+            rows.append(f'<tr>{first}<td class="name">{_esc(planner)}</td>{tds}</tr>')
+    return (
+        '<div class="scroll"><table><thead><tr><th class="name">Scenario</th>'
+        f'<th class="name">Planner</th>{head}</tr></thead><tbody>'
+        + "".join(rows)
+        + f'</tbody></table></div><p class="legend">{_esc(summary["legend"])}</p>'
+    )
+
+
+def _extended_tables(summary: Mapping[str, Any]) -> str:
+    """One metric × planner table per scenario, grouped, each in a ``<details>``."""
+    names = [str(n) for n, _ in summary["columns"]]
+    n_seeds = int(summary["n_seeds"])
+    out = [f'<p class="legend">{_esc(summary["legend"])}</p>']
+    for k, (scenario, planners) in enumerate(summary["scenarios"].items()):
+        head = "".join(f"<th>{_esc(p)}</th>" for p in planners)
+        rows = []
+        for group, title in METRIC_GROUPS.items():
+            in_group = [n for n in names if n in _INFO and _INFO[n].group == group]
+            if not in_group:
+                continue
+            rows.append(f'<tr class="group"><td colspan="{len(planners) + 2}">{_esc(title)}</td></tr>')
+            for name in in_group:
+                info = _INFO[name]
+                tds = "".join(_cell(cells[name], n_seeds) for cells in planners.values())
+                rows.append(
+                    f'<tr><td class="name" title="{_esc(info.definition)}"><code>{_esc(name)}'
+                    f"</code> {_ARROWS[info.better]}</td><td>{_esc(info.unit)}</td>{tds}</tr>"
+                )
+        opened = " open" if k == 0 else ""
+        out.append(
+            f"<details{opened}><summary>{_esc(scenario)}</summary>"
+            '<div class="scroll"><table><thead><tr><th class="name">Metric</th><th>Unit</th>'
+            f"{head}</tr></thead><tbody>" + "".join(rows) + "</tbody></table></div></details>"
+        )
+    return "".join(out)
+
+
+def _episodes(out: Path, files: Mapping[str, bytes]) -> list[dict[str, str]]:
+    data = _read_bytes(out, "episodes.csv", files)
+    if data is None:
+        raise BenchmarkError(f"{out / 'episodes.csv'} is missing: not a complete results folder")
+    return list(csv.DictReader(io.StringIO(data.decode("utf-8"))))
+
+
+def _outcomes(rows: Sequence[Mapping[str, str]], scenarios: Sequence[str], planners: Sequence[str]) -> str:
+    """Per planner: a sentence and a scenario × outcome table of episode counts."""
+    counts: dict[tuple[str, str], dict[str, int]] = {}
+    for r in rows:
+        cell = counts.setdefault((r["planner"], r["scenario"]), dict.fromkeys(ROBOT_OUTCOMES, 0))
+        cell[r["outcome"]] = cell.get(r["outcome"], 0) + 1
+    parts = []
+    for planner in planners:
+        totals = dict.fromkeys(ROBOT_OUTCOMES, 0)
+        body = []
+        for scenario in scenarios:
+            cell = counts.get((planner, scenario), dict.fromkeys(ROBOT_OUTCOMES, 0))
+            n = sum(cell.values())
+            for o in ROBOT_OUTCOMES:
+                totals[o] += cell[o]
+            tds = "".join(f"<td>{cell[o]}</td>" for o in ROBOT_OUTCOMES)
+            rate = f"{100.0 * cell['goal_reached'] / n:.0f} %" if n else "–"
+            body.append(
+                f'<tr><td class="name">{_esc(scenario)}</td>{tds}<td>{n}</td><td>{rate}</td></tr>'
+            )
+        total = sum(totals.values())
+        share = f"{100.0 * totals['goal_reached'] / total:.0f} %" if total else "–"
+        others = ", ".join(
+            f"{totals[o]} {_OUTCOME_TITLES[o]}" for o in ROBOT_OUTCOMES[1:] if totals[o]
+        )
+        sentence = (
+            f"<b>{_esc(planner)}</b> reached its goal in {totals['goal_reached']} of {total} "
+            f"episodes ({share})" + (f"; {_esc(others)}" if others else "; no failures") + "."
+        )
+        head = "".join(f"<th>{_esc(_OUTCOME_TITLES[o])}</th>" for o in ROBOT_OUTCOMES)
+        parts.append(
+            f"<h3>{_esc(planner)}</h3><p>{sentence}</p><div class=\"scroll\"><table><thead><tr>"
+            f'<th class="name">Scenario</th>{head}<th>episodes</th><th>success rate</th></tr>'
+            "</thead><tbody>" + "".join(body) + "</tbody></table></div>"
+        )
+    return "".join(parts)
+
+
+def _log_links(
+    out: Path, rows: Sequence[Mapping[str, str]], scenarios: Sequence[str], planners: Sequence[str]
+) -> str:
+    """Per scenario, per planner: a link to every episode's .mcap and .rrd that exists."""
+    from srfm.logs import LOGS_DIR
+
+    seeds: dict[tuple[str, str], list[int]] = {}
+    for r in rows:
+        seeds.setdefault((r["scenario"], r["planner"]), []).append(int(r["seed"]))
+    parts = [
+        "<p>MCAP files open in Foxglove and are re-scored by <code>srfm score</code>; "
+        "Rerun recordings open with <code>rerun FILE.rrd</code> (docs/logging.md). A seed "
+        "number is a link to that episode's file.</p>"
+    ]
+    any_logs = (out / LOGS_DIR).is_dir()
+    for scenario in scenarios:
+        trs = []
+        n_mcap = n_rrd = 0
+        for planner in planners:
+            cells = []
+            for suffix in (".mcap", ".rrd"):
+                links = []
+                for seed in sorted(seeds.get((scenario, planner), [])):
+                    rel = f"{LOGS_DIR}/{scenario}/{planner}/seed-{seed:06d}{suffix}"
+                    if (out / rel).is_file():
+                        links.append(f'<a href="{_esc(rel)}">{seed}</a>')
+                if suffix == ".mcap":
+                    n_mcap += len(links)
+                else:
+                    n_rrd += len(links)
+                cells.append(
+                    f'<td class="name seeds">{"".join(links) if links else "none"}</td>'
+                )
+            trs.append(f'<tr><td class="name">{_esc(planner)}</td>{"".join(cells)}</tr>')
+        parts.append(
+            f"<details><summary>{_esc(scenario)}: {n_mcap} MCAP files, {n_rrd} Rerun "
+            'recordings</summary><div class="scroll"><table><thead><tr><th class="name">'
+            'Planner</th><th class="name">MCAP (seeds)</th><th class="name">Rerun .rrd '
+            "(seeds)</th></tr></thead><tbody>" + "".join(trs) + "</tbody></table></div></details>"
+        )
+    if not any_logs:
+        parts.append("<p>This run wrote no logs (<code>--no-logs</code>).</p>")
+    return "".join(parts)
+
+
+def _kv(items: Iterable[tuple[str, str]]) -> str:
+    return (
+        '<dl class="kv">'
+        + "".join(f"<dt>{_esc(k)}</dt><dd>{v}</dd>" for k, v in items)
+        + "</dl>"
+    )
+
+
+def _manifest_section(manifest: Mapping[str, Any], files: Sequence[str]) -> str:
+    request = manifest.get("request") or {}
+    command = manifest.get("command")
+    versions = manifest.get("versions") or {}
+    params = manifest.get("params") or {}
+    metric_params = manifest.get("metric_params") or {}
+    scenarios = manifest.get("scenarios") or {}
+    run = [
+        (
+            "command",
+            f"<code>{_esc(command)}</code>" if command else "(run from Python; no command line)",
+        ),
+        ("scenarios", _esc(", ".join(request.get("scenarios", [])))),
+        ("planners", _esc(", ".join(request.get("planners", [])))),
+        (
+            "seeds",
+            _esc(
+                f"{_seed_ranges(request.get('seeds', []))} "
+                f"({len(request.get('seeds', []))} seeds)"
+            ),
+        ),
+        ("reference planner", _esc(request.get("reference") or "none (no significance tests)")),
+        ("seed of the path figures", _esc(request.get("figure_seed"))),
+    ]
+    data_links = "".join(
+        f'<li><a href="{_esc(name)}">{_esc(name)}</a>: {_esc(what)}</li>'
+        for name, what in _DATA_FILES
+        if name in files
+    )
+    return (
+        "<h3>Run</h3>"
+        + _kv(run)
+        + "<h3>Versions</h3>"
+        + _kv((k, _esc(v)) for k, v in versions.items())
+        + "<h3>SRFM parameters (factual crowd)</h3>"
+        + _kv((k, _esc(v)) for k, v in params.items())
+        + "<h3>Metric thresholds</h3>"
+        + _kv((k, _esc(v)) for k, v in metric_params.items())
+        + "<h3>Scenario content (SHA-256)</h3>"
+        + _kv((k, f"<code>{_esc(v)}</code>") for k, v in scenarios.items())
+        + "<h3>Data files</h3><ul>"
+        + data_links
+        + "</ul>"
+    )
+
+
+def _figures(out: Path, files: Mapping[str, bytes], scenarios: Sequence[str], seed: Any) -> str:
+    def exists(name: str) -> bool:
+        return name in files or (out / name).is_file()
+
+    parts = []
+    charts = (
+        ("figures/deviation.png", "Mean Fréchet deviation of the pedestrians per scenario and "
+         "planner; error bars ± one sample std over the seeds."),
+        ("figures/social_work.png", "Social work: the SRFM robot force integrated along each "
+         "pedestrian's path, mean over pedestrians; error bars ± one sample std."),
+    )
+    for name, caption in charts:
+        if exists(name):
+            parts.append(
+                f'<figure><img src="{_esc(name)}" alt="{_esc(caption)}">'
+                f"<figcaption>{_esc(caption)}</figcaption></figure>"
+            )
+    paths = []
+    for scenario in scenarios:
+        name = f"figures/paths_{scenario}.png"
+        if exists(name):
+            caption = (
+                f"{scenario}, seed {seed}: factual paths (solid), counterfactual twins (dashed, "
+                "same colour), the robot (black; square: start, star: goal)."
+            )
+            paths.append(
+                f'<figure><img src="{_esc(name)}" alt="{_esc(caption)}" loading="lazy">'
+                f"<figcaption>{_esc(caption)}</figcaption></figure>"
+            )
+    if not parts and not paths:
+        return "<p>This run drew no figures (<code>--no-figures</code>).</p>"
+    return (
+        "".join(parts)
+        + "<h3>Paths, one seed per scenario</h3>"
+        + ("".join(paths) if paths else "<p>none</p>")
+    )
+
+
+def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
+    """The bytes of ``report.html`` for the results folder ``out``.
+
+    Args:
+        out: the results folder (its manifest, logs and any file not in ``files``).
+        files: report files about to be written, by path relative to ``out``; they take
+            the place of the folder's copies.
+
+    Raises:
+        BenchmarkError: not a results folder of this srfm (no or another manifest or
+            summary schema), or a file is missing or damaged.
+    """
+    files = dict(files or {})
+    manifest = _json_file(out, MANIFEST, files)
+    check_manifest_schema(out / MANIFEST, manifest)
+    summary = _json_file(out, "summary.json", files)
+    if not isinstance(summary, dict) or summary.get("schema") != SUMMARY_SCHEMA:
+        got = summary.get("schema") if isinstance(summary, dict) else None
+        raise BenchmarkError(
+            f"{out / 'summary.json'}: summary schema {got!r}, this srfm writes "
+            f"{SUMMARY_SCHEMA!r}; run the benchmark again into a new --out folder"
+        )
+    request = summary["request"]
+    scenarios = [str(s) for s in request["scenarios"]]
+    planners = [str(p) for p in request["planners"]]
+    seeds = [int(s) for s in request["seeds"]]
+    rows = _episodes(out, files)
+    present = sorted(set(files) | {n for n, _ in _DATA_FILES if (out / n).is_file()})
+    figure_seed = (manifest.get("request") or {}).get("figure_seed", seeds[0] if seeds else "")
+    reference = summary["table"].get("reference")
+    title = "srfm benchmark results"
+    intro = (
+        f"{len(scenarios)} scenarios × {len(planners)} planners × {len(seeds)} seeds "
+        f"= {len(rows)} twin episodes. Reference planner for the significance tests: "
+        f"{reference or 'none'}."
+    )
+    nav = "".join(
+        f'<a href="#{k}">{_esc(v)}</a>'
+        for k, v in (
+            ("table", "Table 3 layout"),
+            ("outcomes", "Robot outcomes"),
+            ("extended", "Every metric"),
+            ("figures", "Figures"),
+            ("planners", "Per planner"),
+            ("logs", "Episode logs"),
+            ("manifest", "Manifest"),
+        )
+    )
+    body = [
+        f"<header><h1>{_esc(title)}</h1><p>{_esc(intro)}</p></header>",
+        f"<nav>{nav}</nav><main>",
+        '<h2 id="table">The paper\'s Table 3 layout</h2>',
+        "<p>Fréchet deviation of the pedestrians, minimum robot distance, trajectory length "
+        "of the pedestrians, and the duration of the robot's run (what the paper's Time "
+        "column measured). Definitions: docs/metrics.md.</p>",
+        _wide_table(summary["table"]),
+        '<h2 id="outcomes">Robot outcomes</h2>',
+        _wide_table(summary["outcomes"]),
+        '<h2 id="extended">Every metric</h2>',
+        "<p>One table per scenario; hover over a metric for its definition.</p>",
+        _extended_tables(summary["extended"]),
+        '<h2 id="figures">Figures</h2>',
+        _figures(out, files, scenarios, figure_seed),
+        '<h2 id="planners">Per planner: how the robot\'s episodes ended</h2>',
+        _outcomes(rows, scenarios, planners),
+        '<h2 id="logs">Episode logs</h2>',
+        _log_links(out, rows, scenarios, planners),
+        '<h2 id="manifest">Manifest</h2>',
+        _manifest_section(manifest, present),
+        "</main>",
+    ]
+    page = (
+        '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
+        '<meta name="viewport" content="width=device-width, initial-scale=1">'
+        f"<title>{_esc(title)}</title><style>{_CSS}</style></head><body>"
+        + "\n".join(body)
+        + "</body></html>\n"
+    )
+    return page.encode("utf-8")
+
+
+def write_report(out: str | Path) -> Path:
+    """Rebuild ``report.html`` of the results folder ``out`` from its files (holding the
+    folder's lock); return its path.
+
+    Raises:
+        BenchmarkError: see :func:`render_report`; also when ``out`` is not a folder.
+    """
+    out = Path(out)
+    if not out.is_dir():
+        raise BenchmarkError(f"{out} is not a folder")
+    with folder_lock(out):
+        data = render_report(out)
+        path = out / REPORT
+        atomic_write_bytes(path, data)
+    return path

@@ -62,7 +62,11 @@ nav { background: #eef2f7; padding: .6em 2em; position: sticky; top: 0; z-index:
   border-bottom: 1px solid #d0d7e2; }
 nav a { margin-right: 1.2em; color: #1f3a5f; text-decoration: none; font-weight: 600; }
 main { padding: 0 2em 3em 2em; max-width: 1400px; }
-h2 { border-bottom: 2px solid #1f3a5f; padding-bottom: .2em; margin-top: 1.8em; }
+h2 { border-bottom: 2px solid #1f3a5f; padding-bottom: .2em; margin-top: 1.8em;
+  scroll-margin-top: 3em; }
+td.ok { background: #e8f3e8; }
+td.some { background: #fdf3dc; }
+td.bad { background: #f9e0e0; }
 h3 { margin-bottom: .4em; }
 .scroll { overflow-x: auto; }
 table { border-collapse: collapse; margin: .4em 0 .6em 0; font-size: .9em; }
@@ -210,42 +214,53 @@ def _episodes(out: Path, files: Mapping[str, bytes]) -> list[dict[str, str]]:
     return list(csv.DictReader(io.StringIO(data.decode("utf-8"))))
 
 
-def _outcomes(rows: Sequence[Mapping[str, str]], scenarios: Sequence[str], planners: Sequence[str]) -> str:
-    """Per planner: a sentence and a scenario × outcome table of episode counts."""
+def _outcomes(
+    rows: Sequence[Mapping[str, str]], scenarios: Sequence[str], planners: Sequence[str]
+) -> str:
+    """A sentence per planner, and one planner × scenario table of how the episodes
+    ended: goals reached out of the episodes, then the failures by kind."""
     counts: dict[tuple[str, str], dict[str, int]] = {}
     for r in rows:
         cell = counts.setdefault((r["planner"], r["scenario"]), dict.fromkeys(ROBOT_OUTCOMES, 0))
         cell[r["outcome"]] = cell.get(r["outcome"], 0) + 1
-    parts = []
+    sentences = []
+    trs = []
     for planner in planners:
         totals = dict.fromkeys(ROBOT_OUTCOMES, 0)
-        body = []
-        for scenario in scenarios:
-            cell = counts.get((planner, scenario), dict.fromkeys(ROBOT_OUTCOMES, 0))
+        tds = []
+        for scenario in [*scenarios, ""]:
+            if scenario:
+                cell = counts.get((planner, scenario), dict.fromkeys(ROBOT_OUTCOMES, 0))
+                for o in ROBOT_OUTCOMES:
+                    totals[o] += cell[o]
+            else:
+                cell = totals
             n = sum(cell.values())
-            for o in ROBOT_OUTCOMES:
-                totals[o] += cell[o]
-            tds = "".join(f"<td>{cell[o]}</td>" for o in ROBOT_OUTCOMES)
-            rate = f"{100.0 * cell['goal_reached'] / n:.0f} %" if n else "–"
-            body.append(
-                f'<tr><td class="name">{_esc(scenario)}</td>{tds}<td>{n}</td><td>{rate}</td></tr>'
+            reached = cell["goal_reached"]
+            fails = ", ".join(
+                f"{cell[o]} {_OUTCOME_TITLES[o]}" for o in ROBOT_OUTCOMES[1:] if cell[o]
             )
+            kind = "ok" if n and reached == n else ("bad" if reached == 0 else "some")
+            note = f'<br><span class="n">{_esc(fails)}</span>' if fails else ""
+            tds.append(f'<td class="{kind}">{reached} / {n}{note}</td>')
+        trs.append(f'<tr><td class="name">{_esc(planner)}</td>{"".join(tds)}</tr>')
         total = sum(totals.values())
         share = f"{100.0 * totals['goal_reached'] / total:.0f} %" if total else "–"
         others = ", ".join(
             f"{totals[o]} {_OUTCOME_TITLES[o]}" for o in ROBOT_OUTCOMES[1:] if totals[o]
         )
-        sentence = (
-            f"<b>{_esc(planner)}</b> reached its goal in {totals['goal_reached']} of {total} "
-            f"episodes ({share})" + (f"; {_esc(others)}" if others else "; no failures") + "."
+        sentences.append(
+            f"<li><b>{_esc(planner)}</b> reached its goal in {totals['goal_reached']} of "
+            f"{total} episodes ({share})" + (f"; {_esc(others)}" if others else "") + ".</li>"
         )
-        head = "".join(f"<th>{_esc(_OUTCOME_TITLES[o])}</th>" for o in ROBOT_OUTCOMES)
-        parts.append(
-            f"<h3>{_esc(planner)}</h3><p>{sentence}</p><div class=\"scroll\"><table><thead><tr>"
-            f'<th class="name">Scenario</th>{head}<th>episodes</th><th>success rate</th></tr>'
-            "</thead><tbody>" + "".join(body) + "</tbody></table></div>"
-        )
-    return "".join(parts)
+    head = "".join(f"<th>{_esc(s)}</th>" for s in scenarios) + "<th>all</th>"
+    return (
+        "<ul>" + "".join(sentences) + "</ul>"
+        '<p class="legend">Goals reached out of the episodes of each scenario; below, '
+        "how the others ended.</p>"
+        '<div class="scroll"><table><thead><tr><th class="name">Planner</th>'
+        f"{head}</tr></thead><tbody>" + "".join(trs) + "</tbody></table></div>"
+    )
 
 
 def _log_links(
@@ -373,7 +388,7 @@ def _figures(out: Path, files: Mapping[str, bytes], scenarios: Sequence[str], se
                 "same colour), the robot (black; square: start, star: goal)."
             )
             paths.append(
-                f'<figure><img src="{_esc(name)}" alt="{_esc(caption)}" loading="lazy">'
+                f'<figure><img src="{_esc(name)}" alt="{_esc(caption)}">'
                 f"<figcaption>{_esc(caption)}</figcaption></figure>"
             )
     if not parts and not paths:

@@ -8,7 +8,14 @@ import numpy as np
 import pytest
 
 from srfm import SRFMParams, run_episode
-from srfm.metrics import EPISODE_METRICS, PEDESTRIAN_METRICS, episode_metrics, frechet_distance
+from srfm.metrics import (
+    EPISODE_METRICS,
+    METRIC_GROUPS,
+    PEDESTRIAN_METRICS,
+    MetricInfo,
+    episode_metrics,
+    frechet_distance,
+)
 
 
 @pytest.fixture(scope="module")
@@ -114,9 +121,36 @@ def test_same_record_same_numbers() -> None:
         np.testing.assert_array_equal(a.pedestrians[name], b.pedestrians[name])
 
 
-def test_every_metric_is_documented() -> None:
+def _doc_rows(text: str) -> list[list[str]]:
+    """The rows of the metric tables of docs/metrics.md (those starting with a `name`)."""
+    rows = []
+    for line in text.splitlines():
+        if line.startswith("| `"):
+            cells = [c.strip() for c in line.strip().strip("|").split(" | ")]
+            if len(cells) == 5:
+                rows.append(cells)
+    return rows
+
+
+def _code_rows(infos: tuple[MetricInfo, ...]) -> list[list[str]]:
+    return [[f"`{m.name}`", m.unit, m.better or "–", m.definition, m.source] for m in infos]
+
+
+def test_docs_list_exactly_the_metrics_of_the_registry() -> None:
     from tests.conftest import REPO
 
-    doc = (REPO / "docs" / "metrics.md").read_text(encoding="utf-8")
-    for info in (*EPISODE_METRICS, *PEDESTRIAN_METRICS):
-        assert f"`{info.name}`" in doc, info.name
+    text = (REPO / "docs" / "metrics.md").read_text(encoding="utf-8")
+    per_pedestrian = text[text.index("## Per pedestrian") : text.index("## Per episode")]
+    per_episode = text[text.index("## Per episode") : text.index("## Thresholds")]
+    assert _doc_rows(per_pedestrian) == _code_rows(PEDESTRIAN_METRICS)
+    grouped = tuple(m for g in METRIC_GROUPS for m in EPISODE_METRICS if m.group == g)
+    assert _doc_rows(per_episode) == _code_rows(grouped)
+    assert len(grouped) == len(EPISODE_METRICS)  # every episode metric has a group
+
+
+def test_the_doc_check_can_fail() -> None:
+    from tests.conftest import REPO
+
+    text = (REPO / "docs" / "metrics.md").read_text(encoding="utf-8")
+    edited = text.replace("| `delay_s` | s | lower |", "| `delay_s` | s | higher |", 1)
+    assert _doc_rows(edited) != _doc_rows(text)

@@ -10,13 +10,17 @@ from scipy import stats
 
 from srfm.errors import MetricError
 from srfm.metrics import (
+    TABLE_COLUMNS,
     EpisodeMetrics,
     benchmark_table,
     compare,
+    min_n_for_best,
     summarize,
     summary_dict,
     to_latex,
+    to_latex_extended,
     to_markdown,
+    to_markdown_extended,
 )
 
 
@@ -59,6 +63,7 @@ def _fake(scenario: str, planner: str, seed: int, frechet: float) -> EpisodeMetr
         "min_robot_distance_m": 1.0 + frechet,
         "path_length_m": 10.0,
         "time_to_goal_s": math.nan if seed == 0 else 12.0 + seed,
+        "robot_duration_s": 20.0,
     }
     return EpisodeMetrics(
         scenario=scenario,
@@ -90,6 +95,7 @@ def test_table_best_and_marks(results: list[EpisodeMetrics]) -> None:
         planners=["ours", "other", "close"],
         seeds=range(20),
         reference="ours",
+        columns=[*TABLE_COLUMNS, ("time_to_goal_s", "Pedestrian time (s)")],
     )
     ours = table.cells[("s1", "ours")]
     other = table.cells[("s1", "other")]
@@ -132,3 +138,105 @@ def test_table_rejects_missing_results_and_unknown_names(results: list[EpisodeMe
             reference=None,
             columns=[("speed", "Speed")],
         )
+
+
+def test_undefined_values_are_counted_not_dropped() -> None:
+    s = summarize([1.0, math.nan, 3.0, math.inf])
+    assert (s.n, s.undefined) == (2, 2)
+    assert summarize([1.0, 2.0]).undefined == 0
+
+
+def test_min_n_for_best() -> None:
+    assert [min_n_for_best(s) for s in (1, 2, 3, 5, 10, 100)] == [2, 2, 3, 4, 8, 80]
+
+
+def _time_results(arrived: dict[str, int], seeds: int = 10) -> list[EpisodeMetrics]:
+    """Planner p reaches its goal in the first arrived[p] seeds, faster the fewer."""
+    out = []
+    for planner, k in arrived.items():
+        for seed in range(seeds):
+            t = 10.0 + k + 0.1 * seed if seed < k else math.nan
+            out.append(
+                EpisodeMetrics(
+                    scenario="s",
+                    planner=planner,
+                    seed=seed,
+                    outcome="goal_reached" if seed < k else "timeout",
+                    end_step=10,
+                    values={"robot_time_to_goal_s": t, "robot_success": float(seed < k)},
+                    pedestrians={},
+                )
+            )
+    return out
+
+
+def test_nothing_is_bold_below_the_minimum_n_and_n_is_shown() -> None:
+    # "lucky" reaches its goal in 1 seed of 10 (fastest mean), "steady" in 9, "most" in 8.
+    results = _time_results({"lucky": 1, "steady": 9, "most": 8})
+    table = benchmark_table(
+        results,
+        scenarios=["s"],
+        planners=["lucky", "steady", "most"],
+        seeds=range(10),
+        reference=None,
+        columns=[("robot_time_to_goal_s", "Robot time (s)"), ("robot_success", "Success")],
+    )
+    cells = {p: table.cells[("s", p)]["robot_time_to_goal_s"] for p in ("lucky", "steady", "most")}
+    assert table.min_n == 8
+    assert cells["lucky"].summary.mean < cells["most"].summary.mean < cells["steady"].summary.mean
+    assert not cells["lucky"].best  # n = 1 < 8
+    assert cells["most"].best  # the best mean among n >= 8
+    assert cells["lucky"].summary.undefined == 9
+    md = to_markdown(table)
+    assert "| s | lucky | 11.00 ± – (n=1) |" in md
+    assert "**18.35 ± 0.24** (n=8)" in md
+    assert "(n=" not in md.split("| s | steady |")[1].split("|")[2]  # success: n = 10
+    assert "n ≥ 8" in md
+    assert "max(2, ⌈0.8 × 10 seeds⌉)" in md
+    tex = to_latex(table)
+    assert "$11.00 \\pm \\text{--}$ (n=1)" in tex
+    summary = summary_dict(table)
+    entry = summary["scenarios"]["s"]["lucky"]["robot_time_to_goal_s"]
+    assert (entry["n"], entry["undefined"], entry["best"]) == (1, 9, False)
+    assert summary["min_n_for_best"] == 8
+    assert summary["n_seeds"] == 10
+
+
+def test_extended_table_has_every_metric_grouped() -> None:
+    from srfm.metrics import EPISODE_METRICS, EXTENDED_COLUMNS, METRIC_GROUPS
+
+    values = {m.name: 1.0 for m in EPISODE_METRICS}
+    results = [
+        EpisodeMetrics(
+            scenario=s,
+            planner=p,
+            seed=seed,
+            outcome="goal_reached",
+            end_step=10,
+            values={**values, "frechet_m": 1.0 + seed + (p == "b")},
+            pedestrians={},
+        )
+        for s in ("s1", "s2")
+        for p in ("a", "b")
+        for seed in range(3)
+    ]
+    table = benchmark_table(
+        results,
+        scenarios=["s1", "s2"],
+        planners=["a", "b"],
+        seeds=range(3),
+        reference="a",
+        columns=EXTENDED_COLUMNS,
+    )
+    md = to_markdown_extended(table)
+    assert {n for n, _ in EXTENDED_COLUMNS} == {m.name for m in EPISODE_METRICS}
+    for m in EPISODE_METRICS:
+        assert md.count(f"| `{m.name}`") == 2  # one row per scenario
+    for title in METRIC_GROUPS.values():
+        assert md.count(f"*{title}*") == 2
+    assert "## s1" in md
+    assert "## s2" in md
+    assert "| `frechet_m` ↓ | m | **2.00 ± 1.00** | 3.00 ± 1.00 |" in md
+    tex = to_latex_extended(table)
+    assert tex.count("\\begin{tabular}") == 2
+    assert "\\texttt{frechet\\_m} $\\downarrow$ & m & $\\mathbf{2.00 \\pm 1.00}$" in tex

@@ -24,7 +24,18 @@ from srfm.metrics import episode_metrics
 from srfm.scenarios import load_scenario
 from tests.conftest import REPO, write_scenario
 
-TABLES = ("table.md", "table.tex", "outcomes.md", "summary.json", "episodes.csv", "pedestrians.csv")
+TABLES = (
+    "table.md",
+    "table.tex",
+    "outcomes.md",
+    "table_extended.md",
+    "table_extended.tex",
+    "summary.json",
+    "episodes.csv",
+    "pedestrians.csv",
+    "episodes.parquet",
+    "pedestrians.parquet",
+)
 
 SHORT = (REPO / "srfm/scenarios/crosswalk.toml").read_text(encoding="utf-8")
 SHORT = SHORT.replace('name = "crosswalk"', 'name = "short"').replace(

@@ -24,7 +24,18 @@ from srfm.logs import (
 )
 from tests.logs.conftest import files_state
 
-TABLES = ("table.md", "table.tex", "outcomes.md", "summary.json", "episodes.csv", "pedestrians.csv")
+TABLES = (
+    "table.md",
+    "table.tex",
+    "outcomes.md",
+    "table_extended.md",
+    "table_extended.tex",
+    "summary.json",
+    "episodes.csv",
+    "pedestrians.csv",
+    "episodes.parquet",
+    "pedestrians.parquet",
+)
 
 
 @pytest.fixture(scope="module")

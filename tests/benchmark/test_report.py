@@ -1,0 +1,283 @@
+"""The results folder's new files: extended tables, Parquet copies, report.html (also in
+a real headless Chromium), ``srfm report``, and the refusal of old results folders."""
+
+from __future__ import annotations
+
+import csv
+import html.parser
+import json
+import math
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from srfm.benchmark import BenchmarkRequest, run_benchmark
+from srfm.cli import main
+from srfm.errors import BenchmarkError
+from srfm.metrics import EPISODE_METRICS, PEDESTRIAN_METRICS
+from tests.benchmark.test_runner import SHORT
+from tests.conftest import write_scenario
+
+CHROMIUM = Path("/usr/bin/chromium")
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--no-first-run",
+    "--disable-sync",
+]
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A small benchmark with logs (an MCAP file per episode, .rrd for the first seed),
+    run through the CLI as a user would."""
+    scenario = write_scenario(tmp_path_factory.mktemp("scn") / "short.toml", SHORT)
+    out = tmp_path_factory.mktemp("results") / "out"
+    result = CliRunner().invoke(
+        main,
+        [
+            "benchmark",
+            "-s",
+            f"{scenario},concert",
+            "-p",
+            "straight,tests.benchmark.test_runner:Waiter",
+            "--seeds",
+            "0-2",
+            "--out",
+            str(out),
+            "-j",
+            "1",
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    return out
+
+
+def test_new_files_are_written(results: Path) -> None:
+    for name in (
+        "report.html",
+        "table_extended.md",
+        "table_extended.tex",
+        "episodes.parquet",
+        "pedestrians.parquet",
+        "figures/social_work.png",
+    ):
+        assert (results / name).is_file(), name
+    extended = (results / "table_extended.md").read_text(encoding="utf-8")
+    for m in EPISODE_METRICS:
+        assert f"| `{m.name}`" in extended
+    table = (results / "table.md").read_text(encoding="utf-8")
+    assert "Time: robot run (s)" in table
+    assert "n ≥ 3" in table
+
+
+def _same(a: str, b: object) -> bool:
+    if a == "":
+        return b is None
+    if isinstance(b, float):
+        return math.isclose(float(a), b, rel_tol=0, abs_tol=0) or repr(b) == a
+    return str(b) == a
+
+
+def test_parquet_copies_hold_the_csv_rows(results: Path) -> None:
+    import pyarrow.parquet as pq
+
+    for name, metrics in (("episodes", EPISODE_METRICS), ("pedestrians", PEDESTRIAN_METRICS)):
+        rows = list(csv.DictReader((results / f"{name}.csv").open(encoding="utf-8")))
+        table = pq.read_table(results / f"{name}.parquet").to_pylist()
+        assert len(rows) == len(table) > 0
+        assert list(rows[0]) == list(table[0])
+        for row, record in zip(rows, table, strict=True):
+            for key, text in row.items():
+                assert _same(text, record[key]), (name, key, text, record[key])
+        assert str(pq.read_schema(results / f"{name}.parquet").field("seed").type) == "int64"
+        assert {m.name for m in metrics} <= set(table[0])
+
+
+def test_srfm_report_rebuilds_the_same_page(results: Path, tmp_path: Path) -> None:
+    copy = tmp_path / "copy"
+    shutil.copytree(results, copy)
+    (copy / "report.html").unlink()
+    result = CliRunner().invoke(main, ["report", str(copy)])
+    assert result.exit_code == 0, result.output
+    assert (copy / "report.html").read_bytes() == (results / "report.html").read_bytes()
+
+
+def test_old_results_folders_are_refused_with_a_clear_error(results: Path, tmp_path: Path) -> None:
+    old = tmp_path / "old"
+    shutil.copytree(results, old)
+    manifest = json.loads((old / "manifest.json").read_text(encoding="utf-8"))
+    manifest["schema"] = "srfm.benchmark_manifest/1"
+    (old / "manifest.json").write_text(json.dumps(manifest), encoding="utf-8")
+    result = CliRunner().invoke(main, ["report", str(old)])
+    assert result.exit_code == 2
+    assert "manifest schema 'srfm.benchmark_manifest/1'" in result.output
+    assert "new --out folder" in result.output
+    request = BenchmarkRequest.create(scenarios=["concert"], planners=["straight"], seeds=[0])
+    with pytest.raises(BenchmarkError, match=r"older or newer srfm .* new --out folder"):
+        run_benchmark(request, old, jobs=1)
+    summary = json.loads((results / "summary.json").read_text(encoding="utf-8"))
+    summary["schema"] = "srfm.summary/1"
+    stale = tmp_path / "stale"
+    shutil.copytree(results, stale)
+    (stale / "summary.json").write_text(json.dumps(summary), encoding="utf-8")
+    result = CliRunner().invoke(main, ["report", str(stale)])
+    assert result.exit_code == 2
+    assert "summary schema 'srfm.summary/1'" in result.output
+
+
+class _Targets(html.parser.HTMLParser):
+    """Every href and src, and every id, of a page."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.refs: list[str] = []
+        self.ids: set[str] = set()
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        for key, value in attrs:
+            if key in ("href", "src") and value is not None:
+                self.refs.append(value)
+            if key == "id" and value is not None:
+                self.ids.add(value)
+
+
+def _missing_targets(folder: Path, refs: list[str], ids: set[str]) -> list[str]:
+    """The references of the page that lead nowhere: anchors without their element,
+    files that do not exist in the folder, and anything outside it."""
+    problems = []
+    for ref in refs:
+        if ref.startswith("#"):
+            if ref[1:] not in ids:
+                problems.append(f"anchor {ref}")
+        elif "://" in ref or ref.startswith("/") or ".." in ref.split("/"):
+            problems.append(f"not a relative path inside the folder: {ref}")
+        elif not (folder / ref).is_file():
+            problems.append(f"missing file {ref}")
+    return problems
+
+
+def test_every_link_and_image_of_the_page_exists(results: Path, tmp_path: Path) -> None:
+    page = _Targets()
+    page.feed((results / "report.html").read_text(encoding="utf-8"))
+    assert _missing_targets(results, page.refs, page.ids) == []
+    mcaps = sorted(
+        p.relative_to(results).as_posix()
+        for p in (results / "logs").rglob("*.mcap")
+        if p.parent.name != "_counterfactual"
+    )
+    rrds = sorted(p.relative_to(results).as_posix() for p in (results / "logs").rglob("*.rrd"))
+    assert len(mcaps) == 12  # 2 scenarios x 2 planners x 3 seeds
+    assert len(rrds) == 4  # the first seed of each cell
+    assert set(mcaps) | set(rrds) <= set(page.refs)  # every episode's logs are linked
+    for name in ("figures/deviation.png", "figures/paths_concert.png", "table.tex"):
+        assert name in page.refs
+    # The check sees a missing target.
+    broken = tmp_path / "broken"
+    shutil.copytree(results, broken)
+    (broken / "figures/deviation.png").unlink()
+    (broken / mcaps[0]).unlink()
+    problems = _missing_targets(broken, page.refs, page.ids)
+    assert problems == [f"missing file {mcaps[0]}", "missing file figures/deviation.png"] or set(
+        problems
+    ) == {f"missing file {mcaps[0]}", "missing file figures/deviation.png"}
+
+
+def test_the_page_names_the_run(results: Path) -> None:
+    text = (results / "report.html").read_text(encoding="utf-8")
+    manifest = json.loads((results / "manifest.json").read_text(encoding="utf-8"))
+    assert manifest["command"].startswith("srfm ")
+    assert manifest["request"]["seeds"] == [0, 1, 2]
+    for needle in ("0–2 (3 seeds)", "a_robot", "intimate_m", "numba", "test_runner:Waiter reached its goal"):
+        assert needle in text.replace("<b>", "").replace("</b>", ""), needle
+    assert "<script" not in text  # nothing to run: opens offline as it is
+
+
+# The page in a real browser ------------------------------------------------------------
+
+
+def _browser_or_skip() -> None:
+    """Chromium from Debian and the playwright package, or a skip; in CI (CI=true) their
+    absence is a failure: .ci/run installs chromium."""
+    reasons = []
+    if not CHROMIUM.is_file():
+        reasons.append(f"{CHROMIUM} is missing (apt-get install chromium)")
+    try:
+        import playwright.sync_api  # noqa: F401
+    except ImportError:
+        reasons.append("the playwright package is missing (pip install -e '.[dev]')")
+    if reasons:
+        message = "no browser for the results page test: " + "; ".join(reasons)
+        if os.environ.get("CI") == "true":
+            pytest.fail(message)
+        pytest.skip(message)
+
+
+def _load_in_chromium(page_path: Path) -> dict[str, object]:
+    """Open the page from disk in headless Chromium: console messages, page errors,
+    failed requests, the images' load state, every href and every id."""
+    from playwright.sync_api import sync_playwright
+
+    console: list[str] = []
+    failed: list[str] = []
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
+        try:
+            page = browser.new_page(viewport={"width": 1400, "height": 900})
+            page.on("console", lambda m: console.append(f"{m.type}: {m.text}"))
+            page.on("pageerror", lambda e: console.append(f"pageerror: {e}"))
+            page.on("requestfailed", lambda r: failed.append(r.url))
+            page.goto(page_path.resolve().as_uri(), wait_until="load")
+            images = page.evaluate(
+                "Array.from(document.images).map(i => "
+                "[i.getAttribute('src'), i.complete, i.naturalWidth])"
+            )
+            hrefs = page.evaluate(
+                "Array.from(document.querySelectorAll('a[href]')).map(a => a.getAttribute('href'))"
+            )
+            ids = page.evaluate("Array.from(document.querySelectorAll('[id]')).map(e => e.id)")
+            title = page.title()
+        finally:
+            browser.close()
+    return {
+        "console": console,
+        "failed": failed,
+        "images": images,
+        "hrefs": hrefs,
+        "ids": set(ids),
+        "title": title,
+    }
+
+
+def test_the_page_loads_cleanly_in_chromium(results: Path, tmp_path: Path) -> None:
+    _browser_or_skip()
+    seen = _load_in_chromium(results / "report.html")
+    assert seen["console"] == []
+    assert seen["failed"] == []
+    assert seen["title"] == "srfm benchmark results"
+    images = seen["images"]
+    assert isinstance(images, list)
+    assert len(images) == 4  # deviation, social work, two path figures
+    for src, complete, width in images:
+        assert complete and width > 0, src
+    hrefs = seen["hrefs"]
+    ids = seen["ids"]
+    assert isinstance(hrefs, list) and isinstance(ids, set)
+    assert _missing_targets(results, [str(h) for h in hrefs], ids) == []
+    # The same check on a folder with a figure gone: the browser reports it.
+    broken = tmp_path / "broken"
+    shutil.copytree(results, broken)
+    (broken / "figures/social_work.png").unlink()
+    seen = _load_in_chromium(broken / "report.html")
+    failed = seen["failed"]
+    assert isinstance(failed, list)
+    assert any(url.endswith("figures/social_work.png") for url in failed)
+    images = seen["images"]
+    assert isinstance(images, list)
+    assert [src for src, _, width in images if width == 0] == ["figures/social_work.png"]

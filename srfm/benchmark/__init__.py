@@ -18,9 +18,9 @@ from srfm.benchmark._runner import (
 
 __all__ = [
     "MANIFEST",
-    "REPORT",
     "MAX_SEEDS",
     "QUICK_SEEDS",
+    "REPORT",
     "BenchmarkRequest",
     "BenchmarkSummary",
     "EpisodeWriter",

@@ -190,7 +190,9 @@ def _extended_tables(summary: Mapping[str, Any]) -> str:
             in_group = [n for n in names if n in _INFO and _INFO[n].group == group]
             if not in_group:
                 continue
-            rows.append(f'<tr class="group"><td colspan="{len(planners) + 2}">{_esc(title)}</td></tr>')
+            rows.append(
+                f'<tr class="group"><td colspan="{len(planners) + 2}">{_esc(title)}</td></tr>'
+            )
             for name in in_group:
                 info = _INFO[name]
                 tds = "".join(_cell(cells[name], n_seeds) for cells in planners.values())
@@ -293,9 +295,7 @@ def _log_links(
                     n_mcap += len(links)
                 else:
                     n_rrd += len(links)
-                cells.append(
-                    f'<td class="name seeds">{"".join(links) if links else "none"}</td>'
-                )
+                cells.append(f'<td class="name seeds">{"".join(links) if links else "none"}</td>')
             trs.append(f'<tr><td class="name">{_esc(planner)}</td>{"".join(cells)}</tr>')
         parts.append(
             f"<details><summary>{_esc(scenario)}: {n_mcap} MCAP files, {n_rrd} Rerun "
@@ -310,9 +310,7 @@ def _log_links(
 
 def _kv(items: Iterable[tuple[str, str]]) -> str:
     return (
-        '<dl class="kv">'
-        + "".join(f"<dt>{_esc(k)}</dt><dd>{v}</dd>" for k, v in items)
-        + "</dl>"
+        '<dl class="kv">' + "".join(f"<dt>{_esc(k)}</dt><dd>{v}</dd>" for k, v in items) + "</dl>"
     )
 
 
@@ -333,8 +331,7 @@ def _manifest_section(manifest: Mapping[str, Any], files: Sequence[str]) -> str:
         (
             "seeds",
             _esc(
-                f"{_seed_ranges(request.get('seeds', []))} "
-                f"({len(request.get('seeds', []))} seeds)"
+                f"{_seed_ranges(request.get('seeds', []))} ({len(request.get('seeds', []))} seeds)"
             ),
         ),
         ("reference planner", _esc(request.get("reference") or "none (no significance tests)")),
@@ -368,10 +365,16 @@ def _figures(out: Path, files: Mapping[str, bytes], scenarios: Sequence[str], se
 
     parts = []
     charts = (
-        ("figures/deviation.png", "Mean Fréchet deviation of the pedestrians per scenario and "
-         "planner; error bars ± one sample std over the seeds."),
-        ("figures/social_work.png", "Social work: the SRFM robot force integrated along each "
-         "pedestrian's path, mean over pedestrians; error bars ± one sample std."),
+        (
+            "figures/deviation.png",
+            "Mean Fréchet deviation of the pedestrians per scenario and "
+            "planner; error bars ± one sample std over the seeds.",
+        ),
+        (
+            "figures/social_work.png",
+            "Social work: the SRFM robot force integrated along each "
+            "pedestrian's path, mean over pedestrians; error bars ± one sample std.",
+        ),
     )
     for name, caption in charts:
         if exists(name):

@@ -258,7 +258,9 @@ def check_manifest_schema(path: Path, doc: Any) -> None:
     raise BenchmarkError(f"{path}: not an srfm benchmark folder (schema {schema})")
 
 
-def _check_manifest(out: Path, request: BenchmarkRequest, command: str | None) -> dict[str, Any]:
+def _check_manifest(
+    out: Path, request: BenchmarkRequest, command: str | None = None
+) -> dict[str, Any]:
     """Create the manifest, or check that an existing one matches the request.
 
     Episodes of a folder must all come from the same parameters, scenario content and

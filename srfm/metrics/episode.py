@@ -841,7 +841,9 @@ def _social(
     return per_ped, values
 
 
-def _robot_motion(record: EpisodeRecord, params: MetricParams, robot_len: float) -> dict[str, float]:
+def _robot_motion(
+    record: EpisodeRecord, params: MetricParams, robot_len: float
+) -> dict[str, float]:
     """Path ratio, SPL, progress, stalls, speed, acceleration, jerk and irregularity."""
     end = record.end_step
     dt = record.dt_s

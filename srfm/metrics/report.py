@@ -15,9 +15,9 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any, Final
 
-from srfm._io import atomic_write_text, write_file_set
 import attrs
 
+from srfm._io import atomic_write_text, write_file_set
 from srfm.metrics.episode import (
     EPISODE_METRICS,
     PEDESTRIAN_METRICS,
@@ -52,7 +52,6 @@ MANIFEST: Final = "manifest.json"
 """The file that marks a benchmark results folder (written by the benchmark)."""
 SUMMARY_SCHEMA: Final = "srfm.summary/2"
 """Layout of ``summary.json``; 2: the extended table, n and undefined counts, the rules."""
-
 
 
 @attrs.frozen

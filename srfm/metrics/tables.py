@@ -81,6 +81,7 @@ def min_n_for_best(n_seeds: int) -> int:
     """The least n for a cell to be bold: max(2, ⌈0.8 · n_seeds⌉)."""
     return max(2, math.ceil(0.8 * n_seeds - 1e-9))
 
+
 WELCH_MARK: Final = "*"
 PAIRED_MARK: Final = "†"
 

@@ -194,7 +194,13 @@ def test_the_page_names_the_run(results: Path) -> None:
     manifest = json.loads((results / "manifest.json").read_text(encoding="utf-8"))
     assert manifest["command"].startswith("srfm ")
     assert manifest["request"]["seeds"] == [0, 1, 2]
-    for needle in ("0–2 (3 seeds)", "a_robot", "intimate_m", "numba", "test_runner:Waiter reached its goal"):
+    for needle in (
+        "0–2 (3 seeds)",
+        "a_robot",
+        "intimate_m",
+        "numba",
+        "test_runner:Waiter reached its goal",
+    ):
         assert needle in text.replace("<b>", "").replace("</b>", ""), needle
     assert "<script" not in text  # nothing to run: opens offline as it is
 
@@ -265,10 +271,12 @@ def test_the_page_loads_cleanly_in_chromium(results: Path, tmp_path: Path) -> No
     assert isinstance(images, list)
     assert len(images) == 4  # deviation, social work, two path figures
     for src, complete, width in images:
-        assert complete and width > 0, src
+        assert complete, src
+        assert width > 0, src
     hrefs = seen["hrefs"]
     ids = seen["ids"]
-    assert isinstance(hrefs, list) and isinstance(ids, set)
+    assert isinstance(hrefs, list)
+    assert isinstance(ids, set)
     assert _missing_targets(results, [str(h) for h in hrefs], ids) == []
     # The same check on a folder with a figure gone: the browser reports it.
     broken = tmp_path / "broken"

@@ -105,7 +105,7 @@ def _read_bytes(out: Path, name: str, files: Mapping[str, bytes]) -> bytes | Non
     if not path.is_file():
         return None
     return read_input_bytes(
-        path, max_bytes=MAX_DOCUMENT_BYTES * 64, error=BenchmarkError, what="results file"
+        path, max_bytes=MAX_DOCUMENT_BYTES * 4, error=BenchmarkError, what="results file"
     )
 
 

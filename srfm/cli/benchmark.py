@@ -297,6 +297,8 @@ def benchmark(
     )
     click.echo((out / "table.md").read_text(encoding="utf-8"))
     click.echo(f"results in {out}: " + ", ".join(summary.files))
+    if "report.html" in summary.files:
+        click.echo(f"results page: {out / 'report.html'} (open it in a browser)")
     if writer is not None:
         click.echo(_logs_line(out), err=True)
 

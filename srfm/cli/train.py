@@ -30,6 +30,25 @@ def _net_arch(ctx: click.Context, param: click.Parameter, value: Any) -> tuple[i
     return sizes
 
 
+def _family_weights(
+    ctx: click.Context, param: click.Parameter, value: Any
+) -> tuple[float, ...] | None:
+    """``--family-weights``: five comma-separated non-negative numbers, or None."""
+    if value is None or isinstance(value, tuple):
+        return value
+    from srfm.errors import ScenarioError
+    from srfm.scenarios.training import family_weights
+
+    try:
+        weights = tuple(float(v) for v in str(value).split(","))
+    except ValueError:
+        raise click.BadParameter(f"{value!r} is not a comma-separated list of numbers") from None
+    try:
+        return family_weights(weights)
+    except ScenarioError as error:
+        raise click.BadParameter(str(error)) from None
+
+
 def _default(name: str) -> Any:
     # TrainConfig's defaults without importing attrs classes at CLI start-up cost.
     if not _DEFAULTS:
@@ -203,6 +222,16 @@ def _default(name: str) -> Any:
     help="Hidden layer sizes of actor and critics, comma-separated.",
 )
 @click.option(
+    "--family-weights",
+    callback=_family_weights,
+    default=None,
+    help=(
+        "For --scenario mixed: relative probabilities of the layout families walkers, "
+        "streams, crossing, standing, circle, comma-separated (e.g. 1,1,1,3,1); "
+        "default: each 1/5."
+    ),
+)
+@click.option(
     "--train-freq",
     type=click.IntRange(min=1),
     default=_default("train_freq"),
@@ -285,6 +314,7 @@ def _train(
     train_freq: int,
     gradient_steps: int,
     n_envs: int,
+    family_weights: tuple[float, ...] | None,
     progress: bool,
 ) -> None:
     from srfm._io import check_writable
@@ -321,6 +351,7 @@ def _train(
         train_freq=train_freq,
         gradient_steps=gradient_steps,
         n_envs=n_envs,
+        family_weights=family_weights,
     )
     command = _command_line()
     if not progress:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, Final
 
@@ -10,7 +11,7 @@ import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm.errors import ParameterError, SimulationError
+from srfm.errors import ParameterError, ScenarioError, SimulationError
 from srfm.models import _robot_kernels as _rk
 from srfm.models.params import SRFMParams
 from srfm.models.robot import RobotState, command_pair
@@ -19,6 +20,7 @@ from srfm.rl import _kernels as _k
 from srfm.rl._core import EnvCore, resolve_scenario
 from srfm.scenarios import Scenario, load_scenario, validate_seed
 from srfm.scenarios.training import TRAINING_SCENARIO, training_layout
+from srfm.scenarios.training import family_weights as check_family_weights
 from srfm.sim.simulator import EVENT_OUTCOMES
 
 __all__ = ["MAX_EPISODE_STEPS", "SocialNavEnv"]
@@ -140,6 +142,8 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         config: reward and observation options (:class:`srfm.rl.EnvConfig`).
         params: SRFM parameters (default: the ``agrawal2024`` preset).
         render_mode: only None (use ``srfm.run_episode`` and its sinks to look at runs).
+        family_weights: for ``"mixed"`` only: relative probabilities of the layout
+            families (:func:`srfm.scenarios.training.family_weights`); None: uniform.
 
     ## Example
 
@@ -164,6 +168,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         config: EnvConfig | None = None,
         params: SRFMParams | None = None,
         render_mode: str | None = None,
+        family_weights: Sequence[float] | None = None,
     ) -> None:
         if render_mode is not None:
             raise ParameterError(f"render_mode must be None, got {render_mode!r}")
@@ -178,6 +183,15 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         # "mixed": a new training layout per episode (srfm.scenarios.training), on the
         # world, robot and time step of the random scenario.
         self.mixed = isinstance(scenario, str) and scenario == TRAINING_SCENARIO
+        if family_weights is not None and not self.mixed:
+            raise ParameterError(
+                f"family_weights apply to the {TRAINING_SCENARIO!r} scenario only, "
+                f"got scenario {scenario!r}"
+            )
+        try:
+            self.family_weights = check_family_weights(family_weights)
+        except ScenarioError as error:
+            raise ParameterError(str(error)) from None
         if not isinstance(scenario, Scenario):
             scenario = load_scenario("random" if self.mixed else scenario)
         self.render_mode = render_mode
@@ -208,7 +222,8 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         else:
             episode = int(self.np_random.integers(0, MAX_DRAWN_SEED))
         if self.mixed:
-            layout = resolve_scenario(training_layout(self.scenario, episode), self.config)
+            drawn = training_layout(self.scenario, episode, weights=self.family_weights)
+            layout = resolve_scenario(drawn, self.config)
             key = (layout.n_pedestrians, layout.random is not None)
             core = self._cores.get(key)
             if core is None:

@@ -44,7 +44,8 @@ import attrs
 import numpy as np
 
 from srfm._validate import non_negative, positive
-from srfm.errors import ParameterError, SrfmError
+from srfm.errors import ParameterError, ScenarioError, SrfmError
+from srfm.scenarios.training import family_weights
 
 __all__ = [
     "BACKENDS",
@@ -104,6 +105,17 @@ def _net(inst: Any, attribute: attrs.Attribute[tuple[int, ...]], value: Any) -> 
         raise ParameterError(f"train.net_arch must be a tuple of positive integers, got {value!r}")
 
 
+def _families(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
+    if value is None:
+        return
+    if not isinstance(value, tuple):
+        raise ParameterError(f"train.family_weights must be a tuple or None, got {value!r}")
+    try:
+        family_weights(value)
+    except ScenarioError as error:
+        raise ParameterError(f"train.family_weights: {error}") from None
+
+
 @attrs.frozen(kw_only=True)
 class TrainConfig:
     """TD3 hyperparameters and the run's schedule (defaults: the paper, DESIGN §8).
@@ -153,6 +165,9 @@ class TrainConfig:
             (SBX, JAX).
         n_envs: environments stepped together (SB3 ``DummyVecEnv``); each gets its
             own seed (``seed + i``).
+        family_weights: relative probabilities of the ``mixed`` layout families, in
+            the order of :data:`srfm.scenarios.training.TRAINING_FAMILIES` (walkers,
+            streams, crossing, standing, circle); None: each 1/5. Only for ``mixed``.
     """
 
     total_steps: int = attrs.field(default=2_000_000, validator=_count(1))
@@ -187,6 +202,7 @@ class TrainConfig:
     torch_threads: int = attrs.field(default=1, validator=_count(1))
     backend: str = attrs.field(default="sb3", validator=_backend)
     n_envs: int = attrs.field(default=1, validator=_count(1))
+    family_weights: tuple[float, ...] | None = attrs.field(default=None, validator=_families)
 
 
 @attrs.frozen(kw_only=True)
@@ -397,7 +413,7 @@ def train(
         progress_gamma=config.gamma,
         action_repeat=config.action_repeat,
     )
-    probe = SocialNavEnv(config.scenario, env_config)
+    probe = SocialNavEnv(config.scenario, env_config, family_weights=config.family_weights)
     env_config = env_config.replace(kinematics=probe.scenario.robot.kinematics)
     saved_env_config = attrs.asdict(env_config)
 
@@ -406,7 +422,7 @@ def train(
         name = "monitor.csv" if i == 0 else f"{i}.monitor.csv"
 
         def make() -> Any:
-            env = SocialNavEnv(config.scenario, env_config)
+            env = SocialNavEnv(config.scenario, env_config, family_weights=config.family_weights)
             return Monitor(env, filename=str(run / name), info_keywords=("outcome",))
 
         return make

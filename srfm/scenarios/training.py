@@ -30,6 +30,10 @@ The layouts are drawn from random geometry, never from the coordinates of the fi
 evaluation scenarios, and the benchmark's episodes are not used: training draws its
 episode seeds from its own stream (docs/rl.md, "Training scenarios").
 
+By default each family has probability 1/5; ``weights`` (``srfm train
+--family-weights``) draws them in other proportions, for example more ``standing``
+layouts for a policy that fails to cross standing crowds (docs/rl.md).
+
 Randomness is keyed by the seed only (``numpy.random.default_rng((seed, 7))``), so a
 layout never depends on what ran before it.
 """
@@ -37,7 +41,7 @@ layout never depends on what ran before it.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any, Final
 
 import numpy as np
@@ -47,7 +51,7 @@ from srfm.errors import ScenarioError
 from srfm.scenarios._schema import RandomSpec, Scenario, WorldBounds
 from srfm.scenarios._setup import validate_seed
 
-__all__ = ["TRAINING_FAMILIES", "TRAINING_SCENARIO", "training_layout"]
+__all__ = ["TRAINING_FAMILIES", "TRAINING_SCENARIO", "family_weights", "training_layout"]
 
 FloatArray = NDArray[np.float64]
 
@@ -282,7 +286,48 @@ _FAMILIES: Final[dict[str, Callable[[np.random.Generator, WorldBounds], _Layout]
 }
 
 
-def training_layout(base: Scenario, seed: int, family: str | None = None) -> Scenario:
+def family_weights(weights: Sequence[float] | None) -> tuple[float, ...] | None:
+    """Validate relative family weights, one per :data:`TRAINING_FAMILIES` entry.
+
+    Args:
+        weights: non-negative finite numbers with a positive sum, in the order of
+            :data:`TRAINING_FAMILIES`, or None (every family 1/5).
+
+    Returns:
+        The weights as a tuple of floats (not normalised), or None.
+
+    Raises:
+        ScenarioError: a wrong count, a negative, non-finite or non-numeric weight, or
+            all weights zero.
+    """
+    if weights is None:
+        return None
+    if isinstance(weights, (str, bytes)):
+        raise ScenarioError(f"family weights must be a sequence of numbers, got {weights!r}")
+    try:
+        values = tuple(float(w) for w in weights)
+    except (TypeError, ValueError):
+        raise ScenarioError(f"family weights must be numbers, got {weights!r}") from None
+    names = ", ".join(TRAINING_FAMILIES)
+    if len(values) != len(TRAINING_FAMILIES):
+        raise ScenarioError(
+            f"family weights need {len(TRAINING_FAMILIES)} values ({names}), got {len(values)}: "
+            f"{weights!r}"
+        )
+    for name, value in zip(TRAINING_FAMILIES, values, strict=True):
+        if not math.isfinite(value) or value < 0.0:
+            raise ScenarioError(f"family weight of {name!r} must be finite and >= 0, got {value!r}")
+    if sum(values) <= 0.0:
+        raise ScenarioError(f"family weights must not all be 0, got {weights!r}")
+    return values
+
+
+def training_layout(
+    base: Scenario,
+    seed: int,
+    family: str | None = None,
+    weights: Sequence[float] | None = None,
+) -> Scenario:
     """The training layout of episode ``seed``: a scenario of one of
     :data:`TRAINING_FAMILIES`, drawn from the seed alone (see the module doc).
 
@@ -290,7 +335,11 @@ def training_layout(base: Scenario, seed: int, family: str | None = None) -> Sce
         base: the scenario whose world, time step, horizon, robot and pedestrian
             radius and goal radius every layout keeps (the ``random`` scenario).
         seed: the episode seed, an integer in [0, 2³² − 1].
-        family: one family (default: drawn uniformly from the seed).
+        family: one family (default: drawn from the seed).
+        weights: relative probabilities of the families in the order of
+            :data:`TRAINING_FAMILIES` (:func:`family_weights`); None: uniform. The
+            uniform draw is kept as it always was, so None reproduces every layout
+            of earlier versions.
 
     Returns:
         A ``fixed`` scenario without noise (``walkers``: a ``random`` scenario with its
@@ -302,7 +351,14 @@ def training_layout(base: Scenario, seed: int, family: str | None = None) -> Sce
     """
     seed = validate_seed(seed)
     rng = np.random.default_rng((seed, _STREAM))
-    drawn = TRAINING_FAMILIES[int(rng.integers(len(TRAINING_FAMILIES)))]
+    probabilities = family_weights(weights)
+    if probabilities is None:
+        drawn = TRAINING_FAMILIES[int(rng.integers(len(TRAINING_FAMILIES)))]
+    else:
+        cumulative = np.cumsum(probabilities)
+        index = int(np.searchsorted(cumulative, rng.random() * cumulative[-1], side="right"))
+        last = max(i for i, w in enumerate(probabilities) if w > 0.0)  # rounding at 1
+        drawn = TRAINING_FAMILIES[min(index, last)]
     family = drawn if family is None else family
     if family not in TRAINING_FAMILIES:
         known = ", ".join(TRAINING_FAMILIES)

@@ -291,3 +291,27 @@ def attrs_evolve(config: TrainConfig, **changes: object) -> TrainConfig:
     import attrs
 
     return attrs.evolve(config, **changes)
+
+
+def test_family_weights_option(tmp_path: Path) -> None:
+    from srfm.rl import SocialNavEnv
+
+    run = tmp_path / "weighted"
+    args = ["train", "--run-dir", str(run), "--steps", "120", "--no-progress", *TINY]
+    args += ["--scenario", "mixed", "--family-weights", "0,0,0,1,0", "--net-arch", "8"]
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    meta = json.loads((run / "config.json").read_text())
+    assert meta["train_config"]["family_weights"] == [0.0, 0.0, 0.0, 1.0, 0.0]
+    assert "--family-weights 0.0,0.0,0.0,1.0,0.0" in meta["command"]
+    env = SocialNavEnv("mixed", family_weights=(0, 0, 0, 1, 0))
+    for seed in range(5):
+        env.reset(seed=seed)
+        assert env.layout.name == "mixed/standing"
+    bad = CliRunner().invoke(main, [*args[:3], str(tmp_path / "b"), "--family-weights", "1,2"])
+    assert bad.exit_code == 2
+    assert "need 5 values" in bad.output
+    with pytest.raises(ParameterError, match="'mixed' scenario only"):
+        SocialNavEnv("crosswalk", family_weights=(1, 1, 1, 1, 1))
+    with pytest.raises(ParameterError, match="'circle' must be finite"):
+        TrainConfig(family_weights=(1.0, 1.0, 1.0, 1.0, -2.0))

@@ -80,3 +80,41 @@ def test_bad_family_and_seed() -> None:
         training_layout(BASE, 0, "corridor")
     with pytest.raises(ScenarioError):
         training_layout(BASE, -1)
+
+
+def test_family_weights_change_the_mix_and_none_keeps_the_uniform_draw() -> None:
+    from collections import Counter
+
+    from srfm.scenarios.training import family_weights
+
+    seeds = range(400)
+    uniform = [training_layout(BASE, s).name for s in seeds]
+    # None is the uniform draw of earlier versions, layout for layout
+    assert uniform == [training_layout(BASE, s, weights=None).name for s in seeds]
+    weighted = Counter(training_layout(BASE, s, weights=(1, 1, 1, 6, 1)).name for s in seeds)
+    assert weighted["mixed/standing"] > 0.5 * len(seeds)  # expected 0.6
+    assert Counter(uniform)["mixed/standing"] < 0.3 * len(seeds)  # expected 0.2
+    only = {training_layout(BASE, s, weights=(0, 0, 0, 2.5, 0)).name for s in range(50)}
+    assert only == {"mixed/standing"}
+    # the same seed and weights give the same layout
+    a = episode_setup(training_layout(BASE, 7, weights=(1, 1, 1, 6, 1)), 7)
+    b = episode_setup(training_layout(BASE, 7, weights=(1, 1, 1, 6, 1)), 7)
+    assert np.array_equal(a.crowd.pos, b.crowd.pos)
+    assert family_weights(None) is None
+    assert family_weights([1, 2, 3, 4, 5]) == (1.0, 2.0, 3.0, 4.0, 5.0)
+
+
+@pytest.mark.parametrize(
+    ("weights", "message"),
+    [
+        ((1, 1, 1, 1), "need 5 values"),
+        ((1, 1, 1, -1, 1), "'standing' must be finite and >= 0, got -1.0"),
+        ((1, 1, math.nan, 1, 1), "'crossing' must be finite"),
+        ((0, 0, 0, 0, 0), "must not all be 0"),
+        ("11131", "sequence of numbers"),
+        ((1, 1, "x", 1, 1), "must be numbers"),
+    ],
+)
+def test_bad_family_weights(weights: object, message: str) -> None:
+    with pytest.raises(ScenarioError, match=message):
+        training_layout(BASE, 0, weights=weights)  # type: ignore[arg-type]

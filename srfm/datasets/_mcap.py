@@ -12,6 +12,8 @@ Layout (schema version 1; see ``datasets/README.md`` for the full description):
        "timestamp_ns": 4800000000, "frame_of_reference": "world",
        "agents": [{"id": "12", "kind": "pedestrian", "x": 3.1, "y": 7.4}, ...]}
 
+  (an agent whose source gives a heading also has ``"yaw"`` in rad, optional);
+
 - a metadata record ``srfm.datasets`` (schema, schema version, dataset, srfm version,
   number of scenes) and one ``srfm.datasets.scene`` record per scene (scene, topic,
   frame of reference, agent table as JSON lists, and the adapter's source metadata
@@ -81,6 +83,10 @@ FRAME_SCHEMA: Final[dict[str, Any]] = {
                     "kind": {"enum": list(AGENT_KINDS)},
                     "x": {"type": "number", "description": "x (m)"},
                     "y": {"type": "number", "description": "y (m)"},
+                    "yaw": {
+                        "type": "number",
+                        "description": "heading (rad), only where the source gives one",
+                    },
                 },
                 "required": ["id", "kind", "x", "y"],
                 "additionalProperties": False,
@@ -187,15 +193,7 @@ def write_mcap(
                 "frame": frame,
                 "timestamp_ns": t_ns,
                 "frame_of_reference": scene.frame_of_reference,
-                "agents": [
-                    {
-                        "id": scene.agent_ids[a],
-                        "kind": scene.kinds[a],
-                        "x": float(scene.xy[k, 0]),
-                        "y": float(scene.xy[k, 1]),
-                    }
-                    for k, a in rows
-                ],
+                "agents": [_agent_item(scene, k, a) for k, a in rows],
             }
             writer.add_message(
                 channel_id=channel_id,
@@ -227,6 +225,18 @@ def write_mcap(
     writer.add_metadata(name=FILE_RECORD, data=file_record)
     writer.finish()  # type: ignore[no-untyped-call]
     atomic_write_bytes(path, buf.getvalue())
+
+
+def _agent_item(scene: Trajectories, k: int, a: int) -> dict[str, Any]:
+    item: dict[str, Any] = {
+        "id": scene.agent_ids[a],
+        "kind": scene.kinds[a],
+        "x": float(scene.xy[k, 0]),
+        "y": float(scene.xy[k, 1]),
+    }
+    if scene.yaw is not None and not math.isnan(scene.yaw[k]):
+        item["yaw"] = float(scene.yaw[k])
+    return item
 
 
 def _frames(scene: Trajectories) -> list[tuple[int, int, list[tuple[int, int]]]]:
@@ -413,6 +423,7 @@ def _scene_from_messages(
     frame: list[int] = []
     t_ns: list[int] = []
     xy: list[tuple[float, float]] = []
+    yaw: list[float] = []
     frame_of_reference: str | None = None
     scene_name = channel_scene
     for _, _, log_time, data in messages:
@@ -462,6 +473,7 @@ def _scene_from_messages(
             frame.append(fr)
             t_ns.append(ts)
             xy.append((_json_float(item["x"], "x", at), _json_float(item["y"], "y", at)))
+            yaw.append(_json_float(item["yaw"], "yaw", at) if "yaw" in item else math.nan)
     source = {k.removeprefix("source."): v for k, v in meta.items() if k.startswith("source.")}
     try:
         return Trajectories.from_samples(
@@ -474,6 +486,7 @@ def _scene_from_messages(
             xy=np.array(xy, dtype=np.float64).reshape(-1, 2),
             frame_of_reference=frame_of_reference or meta.get("frame_of_reference", "world"),
             source=source,
+            yaw=None if all(math.isnan(v) for v in yaw) else np.array(yaw, dtype=np.float64),
         )
     except DatasetError as exc:
         raise DatasetError(f"{path}: topic {topic!r}: {exc}") from None

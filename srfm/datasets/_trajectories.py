@@ -8,6 +8,7 @@ scenes never share a frame of reference or a clock.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from typing import Any, Final, Literal
 
@@ -35,6 +36,8 @@ AgentKind = Literal["pedestrian", "robot"]
 # "world": a fixed frame (odometry, a surveyed scene). "robot": the robot's own moving
 # frame (x forward, y left), used when a robot-mounted dataset comes without odometry.
 FRAMES_OF_REFERENCE: Final = ("world", "robot")
+# Headings beyond one turn either way are not angles in radians (degrees, most likely).
+MAX_YAW_RAD: Final = 2.0 * math.pi
 
 
 def _read_only(arr: NDArray[Any]) -> NDArray[Any]:
@@ -61,6 +64,9 @@ class Trajectories:
         xy: (M, 2) float64 position (m) in the scene's frame of reference.
         frame_of_reference: ``"world"`` or ``"robot"`` (robot-centred, moving).
         source: provenance, string to string (dataset, file, dt, ...).
+        yaw: (M,) float64 heading (rad, counter-clockwise from +x) of each sample, NaN
+            where the source gives none; None when no sample has one (NavWareSet gives
+            the robot's). Finite values lie in [-2π, 2π].
     """
 
     scene: str
@@ -72,6 +78,7 @@ class Trajectories:
     xy: NDArray[np.float64]
     frame_of_reference: str = "world"
     source: Mapping[str, str] = attrs.field(factory=dict)
+    yaw: NDArray[np.float64] | None = None
 
     def __attrs_post_init__(self) -> None:
         where = f"scene {self.scene!r}"
@@ -165,6 +172,8 @@ class Trajectories:
                     f"{int(t_ns[k])} ns is not after frame {int(frame[k - 1])} at "
                     f"{int(t_ns[k - 1])} ns"
                 )
+        if self.yaw is not None:
+            object.__setattr__(self, "yaw", _read_only(_yaw_array(self.yaw, m, ids, agent, where)))
         object.__setattr__(self, "agent_ids", ids)
         object.__setattr__(self, "kinds", kinds)
         object.__setattr__(self, "agent", _read_only(agent))
@@ -186,6 +195,7 @@ class Trajectories:
         xy: Any,
         frame_of_reference: str = "world",
         source: Mapping[str, str] | None = None,
+        yaw: Any = None,
     ) -> Trajectories:
         """Sort samples by (frame, agent) and build a validated :class:`Trajectories`.
 
@@ -199,6 +209,7 @@ class Trajectories:
             xy: (M, 2) positions (m).
             frame_of_reference: ``"world"`` or ``"robot"``.
             source: provenance metadata.
+            yaw: (M,) heading (rad) of each sample, NaN where unknown, or None.
         """
         where = f"scene {scene!r}"
         agent_a = _int_array(agent, "agent", where)
@@ -211,6 +222,9 @@ class Trajectories:
         if not agent_a.shape == frame_a.shape == t_a.shape == (xy_a.shape[0],):
             raise DatasetError(f"{where}: sample arrays disagree in length")
         order = np.lexsort((agent_a, frame_a))
+        yaw_a = None
+        if yaw is not None:
+            yaw_a = _yaw_array(yaw, xy_a.shape[0], tuple(agent_ids), agent_a, where)[order]
         return cls(
             scene=scene,
             agent_ids=tuple(agent_ids),
@@ -221,6 +235,7 @@ class Trajectories:
             xy=xy_a[order],
             frame_of_reference=frame_of_reference,
             source=dict(source or {}),
+            yaw=yaw_a,
         )
 
     @property
@@ -250,12 +265,22 @@ class Trajectories:
         self, agent_id: str
     ) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
         """One agent's samples in time order: (L,) frames, (L,) timestamps (ns), (L, 2) xy (m)."""
+        mask = self._mask(agent_id)
+        return self.frame[mask].copy(), self.t_ns[mask].copy(), self.xy[mask].copy()
+
+    def track_yaw(self, agent_id: str) -> NDArray[np.float64]:
+        """One agent's headings (rad) in time order, (L,), NaN where unknown."""
+        mask = self._mask(agent_id)
+        if self.yaw is None:
+            return np.full(int(mask.sum()), np.nan)
+        return self.yaw[mask].copy()
+
+    def _mask(self, agent_id: str) -> NDArray[np.bool_]:
         try:
             idx = self.agent_ids.index(agent_id)
         except ValueError:
             raise DatasetError(f"scene {self.scene!r}: no agent {agent_id!r}") from None
-        mask = self.agent == idx
-        return self.frame[mask].copy(), self.t_ns[mask].copy(), self.xy[mask].copy()
+        return np.asarray(self.agent == idx)
 
     def summary(self) -> dict[str, Any]:
         """Headline numbers: agents, frames, duration, median frame interval and speed."""
@@ -297,7 +322,34 @@ class Trajectories:
             and np.array_equal(self.frame, other.frame)
             and np.array_equal(self.t_ns, other.t_ns)
             and np.array_equal(self.xy, other.xy)
+            and (self.yaw is None) == (other.yaw is None)
+            and (
+                self.yaw is None
+                or other.yaw is None
+                or np.array_equal(self.yaw, other.yaw, equal_nan=True)
+            )
         )
+
+
+def _yaw_array(
+    value: Any, m: int, ids: tuple[str, ...], agent: NDArray[np.int64], where: str
+) -> NDArray[np.float64]:
+    """(M,) float64 headings: NaN (unknown) or finite within [-2π, 2π] rad."""
+    try:
+        yaw = np.array(value, dtype=np.float64, order="C").reshape(-1)
+    except (TypeError, ValueError):
+        raise DatasetError(f"{where}: yaw must be a numeric (M,) array") from None
+    if yaw.shape != (m,):
+        raise DatasetError(f"{where}: yaw has {yaw.shape[0]} values for {m} samples")
+    bad = np.isinf(yaw) | (np.abs(np.nan_to_num(yaw)) > MAX_YAW_RAD)
+    if np.any(bad):
+        k = int(np.argmax(bad))
+        who = ids[agent[k]] if 0 <= agent[k] < len(ids) else "?"
+        raise DatasetError(
+            f"{where}: yaw {yaw[k]!r} of agent {who!r} is outside [-2π, 2π] rad "
+            "(a heading in degrees?)"
+        )
+    return yaw
 
 
 def _int_array(value: Any, name: str, where: str) -> NDArray[np.int64]:

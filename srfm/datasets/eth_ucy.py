@@ -7,8 +7,16 @@ ids advance by a fixed step (10 in the common copies); the time between two anno
 frames, ``dt_s``, is not in the file and must be given per file (0.4 s by convention,
 but about 0.667 s for ``biwi_eth.txt``). Every file is one scene without a robot.
 
-Timestamps: t = frame / frame_step · dt_s, frame_step the greatest common divisor of the
-differences between consecutive distinct frame ids.
+The original ETH/UCY annotations ("obsmat", e.g. ``seq_eth_obsmat.txt``) have eight
+columns, ``frame ped_id x z y vx vz vy`` in scientific notation (z and vz are 0): the
+adapter reads them too (x from column 3, y from column 5; the velocities are not
+used), recognising the layout by the column count of the first row.
+
+Timestamps: t = frame / frame_step · dt_s, frame_step the most common difference
+between consecutive distinct frame ids (the smallest of equally common ones). In the
+four-column copies every gap is a multiple of it, as the greatest common divisor; the
+original ETH annotation steps by 6 frames but has a few gaps of other lengths (395
+frames), whose divisor would be 1.
 """
 
 from __future__ import annotations
@@ -25,6 +33,7 @@ from srfm.datasets._parse import (
     frame_interval,
     integer,
     median_speed,
+    number,
     read_text_lines,
     warn_if_fast,
 )
@@ -34,17 +43,30 @@ from srfm.errors import DatasetError
 __all__ = ["DEFAULT_DT_S", "check_overrides", "dt_for", "list_sources", "read_eth_ucy", "read_file"]
 
 DEFAULT_DT_S: Final = 0.4
+OBSMAT_NAMES: Final = ("frame", "ped_id", "x", "z", "y", "vx", "vz", "vy")
+LAYOUTS: Final = {
+    4: "4 columns (frame ped_id x y)",
+    8: "8 columns (obsmat: frame ped_id x z y vx vz vy)",
+}
+_LAYOUT_TEXT: Final = "4 columns (frame ped_id x y) or 8 (obsmat: frame ped_id x z y vx vz vy)"
 NAME: Final = "eth-ucy"
 SUFFIXES: Final = (".txt", ".tsv", ".csv")
+NOT_TRACKS: Final = ("_H", "_info")  # homography and notes beside the obsmat files
 
 
 def list_sources(src: str | Path) -> list[Path]:
-    """The files to read: ``src`` itself, or the ``*.txt`` / ``*.tsv`` files of a folder."""
+    """The files to read: ``src`` itself, or the ``*.txt`` / ``*.tsv`` files of a folder,
+    except the homographies and notes that come with the original annotations
+    (``*_H.txt``, ``*_info.txt``)."""
     src = Path(src)
     if src.is_file():
         return [src]
     if src.is_dir():
-        files = sorted(p for p in src.iterdir() if p.is_file() and p.suffix in SUFFIXES)
+        files = sorted(
+            p
+            for p in src.iterdir()
+            if p.is_file() and p.suffix in SUFFIXES and not p.stem.endswith(NOT_TRACKS)
+        )
         if not files:
             raise DatasetError(f"{src}: no ETH/UCY files (*.txt) in this folder")
         return files
@@ -112,6 +134,7 @@ def read_file(path: str | Path, dt_s: float = DEFAULT_DT_S) -> Trajectories:
     ids: list[int] = []
     xy: list[tuple[float, float]] = []
     seen: dict[tuple[int, int], int] = {}
+    columns = 0  # 4 (frame ped_id x y) or 8 (obsmat), fixed by the first data row
     # Rows may come frame by frame or pedestrian by pedestrian (UCY zara03 in the
     # Trajectron++ copy): each pedestrian's frames must increase; samples are sorted by
     # (frame, id) below.
@@ -121,15 +144,26 @@ def read_file(path: str | Path, dt_s: float = DEFAULT_DT_S) -> Trajectories:
         if not fields:
             continue
         where = f"{path}:{lineno}"
-        if len(fields) != 4:
+        if not columns and len(fields) in LAYOUTS:
+            columns = len(fields)
+        if len(fields) != columns:
             raise DatasetError(
-                f"{where}: expected 4 columns (frame ped_id x y), got {len(fields)}: "
-                f"{line.strip()!r}"
+                f"{where}: expected {LAYOUTS.get(columns, _LAYOUT_TEXT)}, got {len(fields)} "
+                f"columns: {line.strip()[:120]!r}"
             )
         frame = integer(fields[0], where, "frame (column 1)")
         pid = integer(fields[1], where, "pedestrian id (column 2)")
         x = coordinate(fields[2], where, "x (column 3)")
-        y = coordinate(fields[3], where, "y (column 4)")
+        if columns == 8:
+            y = coordinate(fields[4], where, "y (column 5)")
+            for k in range(5, 8):
+                coordinate(fields[k], where, f"{OBSMAT_NAMES[k]} (column {k + 1})")
+            if number(fields[3], where, "z (column 4)") != 0.0:
+                raise DatasetError(
+                    f"{where}: z (column 4) of the obsmat layout must be 0, got {fields[3]!r}"
+                )
+        else:
+            y = coordinate(fields[3], where, "y (column 4)")
         previous = last_of.get(pid)
         if previous is not None and frame < previous[0]:
             raise DatasetError(
@@ -158,7 +192,10 @@ def read_file(path: str | Path, dt_s: float = DEFAULT_DT_S) -> Trajectories:
     xy = [xy[i] for i in order]
     frame_a = np.array(frames, dtype=np.int64)
     distinct = np.unique(frame_a)
-    step = int(np.gcd.reduce(np.diff(distinct))) if distinct.size > 1 else 1
+    step = 1
+    if distinct.size > 1:
+        gaps, counts = np.unique(np.diff(distinct), return_counts=True)
+        step = int(gaps[np.argmax(counts)])  # the first maximum: the smallest common gap
     # Integer nanoseconds per frame step, then exact integer arithmetic per frame.
     t_float = frame_a.astype(np.float64) * (dt_s * 1e9 / step)
     if t_float[-1] >= float(MAX_INT64):
@@ -193,6 +230,7 @@ def read_file(path: str | Path, dt_s: float = DEFAULT_DT_S) -> Trajectories:
             "file": path.name,
             "dt_s": repr(float(dt_s)),
             "frame_step": str(step),
+            "layout": "obsmat" if columns == 8 else "frame ped_id x y",
             "median_speed_mps": f"{speed:.3f}",
         },
     )

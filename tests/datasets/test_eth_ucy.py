@@ -150,3 +150,66 @@ def test_real_files(real_data: Path, tmp_path: Path) -> None:
     write_mcap(path, [*scenes[1:], eth], dataset="eth-ucy")
     back = read_mcap(path).scenes
     assert all(a.equals(b) for a, b in zip([*scenes[1:], eth], back, strict=True))
+
+
+OBSMAT = (
+    "   7.8000000e+02   1.0000000e+00   8.4568443e+00   0.0000000e+00   3.5880664e+00"
+    "   1.6717144e+00   0.0000000e+00   1.7629183e-01\n"
+    "   7.8600000e+02   1.0000000e+00   9.1255301e+00   0.0000000e+00   3.6585832e+00"
+    "   1.6628772e+00   0.0000000e+00   3.2672255e-01\n"
+    "   1.1810000e+03   1.0000000e+00   9.5000000e+00   0.0000000e+00   3.7000000e+00"
+    "   1.0000000e+00   0.0000000e+00   3.0000000e-01\n"
+    "   1.1870000e+03   1.0000000e+00   9.9000000e+00   0.0000000e+00   3.8000000e+00"
+    "   1.0000000e+00   0.0000000e+00   3.0000000e-01\n"
+)
+
+
+def test_obsmat_layout(tmp_path: Path) -> None:
+    """Eight columns: x from column 3, y from column 5; the frame step is the most common
+    gap (6), not the divisor of all gaps (the 395-frame gap would make it 1)."""
+    path = tmp_path / "seq_obsmat.txt"
+    path.write_text(OBSMAT)
+    scene = eth_ucy.read_file(path, dt_s=0.4)
+    assert scene.track("1")[2].tolist() == [
+        [8.4568443, 3.5880664],
+        [9.1255301, 3.6585832],
+        [9.5, 3.7],
+        [9.9, 3.8],
+    ]
+    assert scene.source["frame_step"] == "6"
+    assert scene.source["layout"] == "obsmat"
+    assert np.diff(scene.t_ns).tolist() == [400_000_000, round(395 / 6 * 0.4e9), 400_000_000]
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        (OBSMAT.replace("0.0000000e+00   3.5880664e+00", "1.0000000e+00   3.5880664e+00"),
+         r"o\.txt:1: z \(column 4\) of the obsmat layout must be 0"),
+        (OBSMAT.replace("1.6628772e+00", "nan"), r"o\.txt:2: vx \(column 6\) must be finite"),
+        (OBSMAT + "1190 1 2.0 3.0\n", r"o\.txt:5: expected 8 columns \(obsmat"),
+        ("1 2 3 4 5 6\n", r"o\.txt:1: expected 4 columns \(frame ped_id x y\) or 8"),
+    ],
+)  # fmt: skip
+def test_malformed_obsmat(tmp_path: Path, text: str, match: str) -> None:
+    path = tmp_path / "o.txt"
+    path.write_text(text)
+    with pytest.raises(DatasetError, match=match):
+        eth_ucy.read_file(path)
+
+
+def test_real_obsmat_files(real_data: Path) -> None:
+    folder = real_data / "eth_ucy_obsmat"
+    if not folder.is_dir():
+        pytest.skip(f"{folder} not found: the original ETH/UCY annotations are not shared")
+    eth = eth_ucy.read_file(folder / "seq_eth_obsmat.txt", dt_s=0.4)
+    # The original annotation at 0.4 s per 6 frames: plausible walking speeds, and the
+    # same pedestrians as the resampled biwi_eth.txt read at 0.6667 s per row.
+    assert eth.source["frame_step"] == "6"
+    assert 1.3 < float(eth.source["median_speed_mps"]) < 1.6
+    assert len(eth.agent_ids) == 360
+    files = [p.name for p in eth_ucy.list_sources(folder)]
+    assert files == ["seq_eth_obsmat.txt", "zara02_obsmat.txt"]  # not *_H.txt, *_info.txt
+    zara = eth_ucy.read_file(folder / "zara02_obsmat.txt", dt_s=0.4)
+    assert len(zara.agent_ids) == 204
+    assert 0.8 < float(zara.source["median_speed_mps"]) < 1.4

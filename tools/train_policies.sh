@@ -5,10 +5,10 @@
 # Every run trains SBX TD3 ([64, 64], 50 gradient steps every 50 actions, learning rate
 # 3e-4) on the mixed training layouts (srfm.scenarios.training), each action held for
 # 4 simulation steps (action repeat 4: 0.27 s), with the paper's reward plus the
-# potential-based progress term (k_progress = 10). Training never sees the benchmark's
-# seeds 0-99 nor the evaluation scenarios' layouts; every run is evaluated every 25,000
-# actions on the five evaluation scenarios with seeds 10000-10009 and keeps its best
-# checkpoint (best.zip; for the SRFM-aware runs only evaluations at the final k2).
+# potential-based progress term (k_progress = 10 in stage 1, 5 in stage 2). Training
+# never sees the benchmark's seeds 0-99 nor the evaluation scenarios' layouts; every
+# run is evaluated every 25,000 actions on the five evaluation scenarios with seeds
+# 10000-10009 and keeps its best checkpoint (best.zip; for the SRFM-aware runs only evaluations at the final k2).
 #
 # Stage 1, pre-training: three RL_base runs (k2 = 0, success and timeout 25, training
 # seeds 1-3), 300,000 actions each. The best.zip of the seed whose best evaluation
@@ -16,7 +16,10 @@
 # tools/select_policy.py) is the starting point of stage 2 ($RUNS/stage1_base.zip).
 #
 # Stage 2, the two variants: six runs continue from that checkpoint (an empty replay
-# buffer) to 300,000 actions with success and timeout 50 (collision 100): RL_base
+# buffer) to 300,000 actions with success and timeout 50 (collision 100) and the
+# progress term at half its stage-1 weight (k_progress = 5: with 10 and gamma = 0.99 the
+# term pays a robot that stands still exactly what k1 = 0.1 charges it, so waiting in
+# front of a crowd costs nothing; with 5 it costs 0.05 d/d0 per step): RL_base
 # (k2 = 0) and SRFM-aware (k2 = 0 until 125,000 actions, then rising linearly to 2 by
 # 150,000), each with training seeds 1-3. Both variants start from the same network
 # and differ only in k2: the stage-2 RL_base runs are the SRFM-aware runs' control in
@@ -75,6 +78,10 @@ evaluate() {
     done
     mkdir -p tools/policies/stage1
     for seed in $SEEDS; do
+        if [ ! -d "$RUNS/stage1-seed$seed" ]; then
+            echo "no $RUNS/stage1-seed$seed: keeping tools/policies/stage1/td3_base_seed$seed" >&2
+            continue
+        fi
         "$SRFM" export-policy "$RUNS/stage1-seed$seed/best.zip" \
             "tools/policies/stage1/td3_base_seed$seed" \
             --note "RL_base, training seed $seed: best.zip of stage 1 of tools/train_policies.sh"
@@ -128,13 +135,14 @@ if [ "${EVALUATE_ONLY:-0}" = 1 ]; then
     exit 0
 fi
 
-common=(--scenario mixed --k-progress 10 --action-repeat 4 --backend sbx --net-arch 64,64
+common=(--scenario mixed --action-repeat 4 --backend sbx --net-arch 64,64
     --train-freq 50 --gradient-steps 50 --learning-rate 3e-4 --steps "$STEPS" --eval-every 25000
     --eval-seeds 10 --no-progress)
 
 if [ "$STAGE" = 1 ]; then
     for seed in $SEEDS; do
-        train "$RUNS/stage1-seed$seed" --seed "$seed" --k-div 0 --checkpoint-every 50000 "${common[@]}"
+        train "$RUNS/stage1-seed$seed" --seed "$seed" --k-div 0 --checkpoint-every 50000 \
+            --k-progress 10 "${common[@]}"
     done
     wait
     best=$("$PYTHON" tools/select_policy.py "$RUNS"/stage1-seed*/)
@@ -142,7 +150,8 @@ if [ "$STAGE" = 1 ]; then
     echo "stage 1: $best is the start of stage 2"
 fi
 
-stage2=(--success-reward 50 --timeout-penalty 50 --checkpoint-every 25000 "${common[@]}")
+stage2=(--success-reward 50 --timeout-penalty 50 --k-progress 5 --checkpoint-every 25000
+    "${common[@]}")
 for seed in $SEEDS; do
     # a fresh stage-2 run starts from stage 1; RESUME=1 continues a started one instead
     from=(--resume "$RUNS/stage1_base.zip")

@@ -20,12 +20,20 @@ __all__ = ["INSTALL_HINT", "MissingDependencyError", "require"]
 INSTALL_HINT: Final = "pip install 'srfm[rl]' -c constraints.txt"
 
 
-def require(module: str) -> ModuleType:
+# What each extra is for, in the error that names it.
+_EXTRA_PURPOSE: Final = {
+    "rl": "srfm's RL environment, training and policies",
+    "dask": "running benchmarks on a Dask cluster (--executor dask)",
+}
+
+
+def require(module: str, extra: str = "rl") -> ModuleType:
     """Import ``module`` or raise :class:`MissingDependencyError` naming the extra."""
     try:
         return importlib.import_module(module)
     except ImportError as exc:
+        hint = INSTALL_HINT if extra == "rl" else f"pip install 'srfm[{extra}]'"
         raise MissingDependencyError(
-            f"{module} is needed for srfm's RL environment, training and policies "
-            f"({exc}); install the rl extra: {INSTALL_HINT}"
+            f"{module} is needed for {_EXTRA_PURPOSE[extra]} ({exc}); install the "
+            f"{extra} extra: {hint}"
         ) from None

@@ -83,6 +83,7 @@ QUICK_SEEDS: Final = (0, 1, 2)
 """Seeds of ``--quick``: enough for a mean, a standard deviation and the tests."""
 MAX_SEEDS: Final = 100_000
 """Most seeds in one request (each is a file per scenario and planner)."""
+EXECUTORS: Final = ("process", "dask")
 _CHUNK: Final = 5  # seeds per worker task: small enough for a smooth progress bar
 
 
@@ -338,6 +339,18 @@ def _run_task(task: _Task) -> int:
     return len(task.seeds)
 
 
+def one_thread() -> None:
+    """Limit this process's BLAS/OpenMP pools and numba's pool to one thread (see
+    :func:`_init_worker`; a Dask worker's task calls it too)."""
+    import numba
+    from threadpoolctl import threadpool_limits  # type: ignore[import-untyped]
+
+    for var in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"):
+        os.environ[var] = "1"
+    threadpool_limits(limits=1)
+    numba.set_num_threads(1)
+
+
 def _init_worker() -> None:
     """Set up a worker process: one thread, and Ctrl-C left to the parent.
 
@@ -347,13 +360,7 @@ def _init_worker() -> None:
     :func:`numba.set_num_threads`. The variables still cover libraries loaded later
     (e.g. torch for a policy) and spawned workers.
     """
-    import numba
-    from threadpoolctl import threadpool_limits  # type: ignore[import-untyped]
-
-    for var in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"):
-        os.environ[var] = "1"
-    threadpool_limits(limits=1)
-    numba.set_num_threads(1)
+    one_thread()
     # Ctrl-C reaches the whole process group: the parent stops the pool, the workers
     # should not each print a traceback.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -451,6 +458,9 @@ def run_benchmark(
     writer: EpisodeWriter | None = None,
     force: bool = False,
     command: str | None = None,
+    executor: str = "process",
+    scheduler: str | None = None,
+    scheduler_file: str | Path | None = None,
 ) -> BenchmarkSummary:
     """Run (or finish) a benchmark into ``out`` and write its reports.
 
@@ -471,6 +481,12 @@ def run_benchmark(
         force: write into a non-empty folder srfm did not create.
         command: the command line that asked for this run, kept in the manifest and
             shown on the results page.
+        executor: ``"process"`` (a local process pool of ``jobs`` workers) or
+            ``"dask"`` (a Dask cluster: a ``distributed.LocalCluster`` of ``jobs``
+            workers, or the running one at ``scheduler`` / ``scheduler_file``; see
+            :mod:`srfm.benchmark._dask`). The results are the same bytes either way.
+        scheduler: address of a running Dask scheduler (``executor="dask"``).
+        scheduler_file: scheduler file of a running Dask scheduler (``executor="dask"``).
 
     Returns:
         A :class:`BenchmarkSummary`.
@@ -491,6 +507,10 @@ def run_benchmark(
         jobs = os.cpu_count() or 1
     if jobs < 1:
         raise BenchmarkError(f"jobs must be at least 1, got {jobs}")
+    if executor not in EXECUTORS:
+        raise BenchmarkError(f"unknown executor {executor!r}; known: {', '.join(EXECUTORS)}")
+    if executor != "dask" and (scheduler is not None or scheduler_file is not None):
+        raise BenchmarkError("--scheduler and --scheduler-file need --executor dask")
     logs = _log_options(writer)
     for scenario in request.scenarios:
         jobs = check_episode_memory(scenario, jobs=jobs, **logs)
@@ -507,7 +527,18 @@ def run_benchmark(
         if on_progress is not None:
             on_progress(total - pending)
         start = time.perf_counter()
-        if tasks and jobs == 1:
+        if tasks and executor == "dask":
+            from srfm.benchmark._dask import run_on_dask
+
+            run_on_dask(
+                _run_task,
+                tasks,
+                workers=min(jobs, len(tasks)),
+                scheduler=scheduler,
+                scheduler_file=scheduler_file,
+                on_progress=on_progress,
+            )
+        elif tasks and jobs == 1:
             for task in tasks:
                 done = _run_task(task)
                 if on_progress is not None:

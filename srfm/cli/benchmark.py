@@ -169,6 +169,26 @@ def _split(values: tuple[str, ...]) -> list[str]:
     help="Worker processes. Default: one per CPU.",
 )
 @click.option(
+    "--executor",
+    type=click.Choice(["process", "dask"]),
+    default=None,
+    help="Where the episodes run: 'process' (a local process pool, the default) or "
+    "'dask' (a Dask LocalCluster of --jobs workers, or the cluster of --scheduler / "
+    "--scheduler-file). Same results, byte for byte. Needs srfm[dask] for 'dask'.",
+)
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="ADDRESS",
+    help="A running Dask scheduler, e.g. tcp://HOST:8786 (implies --executor dask).",
+)
+@click.option(
+    "--scheduler-file",
+    type=click.Path(path_type=Path, dir_okay=False),
+    default=None,
+    help="The scheduler file of a running Dask scheduler (implies --executor dask).",
+)
+@click.option(
     "--params",
     "params_spec",
     default=None,
@@ -214,6 +234,9 @@ def benchmark(
     quick: bool,
     out: Path,
     jobs: int | None,
+    executor: str | None,
+    scheduler: str | None,
+    scheduler_file: Path | None,
     params_spec: str | None,
     reference: str | None,
     no_figures: bool,
@@ -237,6 +260,10 @@ def benchmark(
     """
     from srfm.benchmark import BenchmarkRequest, run_benchmark
 
+    remote = scheduler is not None or scheduler_file is not None
+    if executor == "process" and remote:
+        raise click.UsageError("--scheduler and --scheduler-file need --executor dask")
+    executor = executor or ("dask" if remote else "process")
     request = BenchmarkRequest.create(
         scenarios=_split(scenarios) or None,
         planners=_split(planners) or None,
@@ -267,6 +294,9 @@ def benchmark(
                 writer=writer,
                 force=force,
                 command=shlex.join(["srfm", *sys.argv[1:]]),
+                executor=executor,
+                scheduler=scheduler,
+                scheduler_file=scheduler_file,
             )
         except KeyboardInterrupt:
             done = len(list((out / "episodes").rglob("seed-*.json")))

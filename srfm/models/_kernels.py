@@ -66,8 +66,19 @@ def _agent_forces(
     robot_on: bool,
     segments: np.ndarray,
     circles: np.ndarray,
+    cut: np.ndarray,
+    cells: np.ndarray,
+    grid: np.ndarray,
+    xyr: np.ndarray,
 ) -> tuple[float, float, float, float, float, float, float, float]:
-    """The four force components on agent i: goal, pedestrians, robot, obstacles (x, y each)."""
+    """The four force components on agent i: goal, pedestrians, robot, obstacles (x, y each).
+
+    ``cut`` = (pedestrian cut-off, obstacle cut-off) in m, ``inf`` for none. With a
+    finite pedestrian cut-off the pedestrians come from the cell list ``cells`` /
+    ``grid`` (:func:`build_cells`) and only those closer than the cut-off push; with
+    ``inf`` every other pedestrian pushes, summed in index order (the exact kernel).
+    Obstacles beyond the obstacle cut-off are skipped.
+    """
     px = pos[i, 0]
     py = pos[i, 1]
     vx = vel[i, 0]
@@ -86,7 +97,8 @@ def _agent_forces(
     lam_p = params.lambda_ped
     pfx = 0.0
     pfy = 0.0
-    if a_p != 0.0:
+    ped_cut = cut[0]
+    if a_p != 0.0 and ped_cut == np.inf:
         for j in range(pos.shape[0]):
             if j == i:
                 continue
@@ -95,6 +107,31 @@ def _agent_forces(
             )
             pfx += fx
             pfy += fy
+    elif a_p != 0.0:
+        # Cell list: the 3 × 3 cells around i's cell hold every pedestrian closer than
+        # the cut-off (cells are at least the cut-off wide). In row-major order the three
+        # cells of a row are one contiguous run of the cell-ordered copy ``xyr``.
+        cut2 = ped_cut * ped_cut
+        nx = int(grid[3])
+        ny = int(grid[4])
+        n_cells = nx * ny
+        col, row_i = _cell_of(px, py, grid)
+        for gy in range(max(row_i - 1, 0), min(row_i + 2, ny)):
+            row = gy * nx
+            for k in range(cells[row + max(col - 1, 0)], cells[row + min(col + 1, nx - 1) + 1]):
+                if cells[n_cells + 1 + k] == i:
+                    continue
+                qx = xyr[k, 0]
+                qy = xyr[k, 1]
+                dx = px - qx
+                dy = py - qy
+                if dx * dx + dy * dy >= cut2:
+                    continue
+                fx, fy = disc_repulsion(
+                    px, py, qx, qy, ri + xyr[k, 2], a_p, b_p, hx, hy, has_h, lam_p
+                )
+                pfx += fx
+                pfy += fy
 
     # Robot repulsion (absent in the counterfactual twin, or when A_r = 0).
     rfx = 0.0
@@ -112,6 +149,7 @@ def _agent_forces(
     ofy = 0.0
     a_o = params.a_obs
     b_o = params.b_obs
+    obs_cut = cut[1]
     if a_o != 0.0:
         for k in range(segments.shape[0]):
             cx, cy = closest_on_segment(
@@ -120,7 +158,7 @@ def _agent_forces(
             dx = px - cx
             dy = py - cy
             d = math.sqrt(dx * dx + dy * dy)
-            if d < EPS:
+            if d < EPS or d >= obs_cut:
                 continue
             mag = a_o * capped_exp((ri - d) / b_o)
             ofx += mag * dx / d
@@ -132,10 +170,90 @@ def _agent_forces(
             if dc < EPS:
                 continue
             d = dc - circles[k, 2]  # distance to the pillar's surface
+            if d >= obs_cut:
+                continue
             mag = a_o * capped_exp((ri - d) / b_o)
             ofx += mag * dx / dc
             ofy += mag * dy / dc
     return gfx, gfy, pfx, pfy, rfx, rfy, ofx, ofy
+
+
+# Most cells a cell list may have per agent (plus a floor): a crowd spread far apart gets
+# wider cells instead of a huge, mostly empty grid.
+MAX_CELLS_PER_AGENT = 4
+MIN_CELLS = 64
+
+
+@njit(cache=True, inline="always")
+def exact_cut() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``(cut, cells, grid, xyr)`` of the exact kernel (no cut-off, every pair in index
+    order) for callers of :func:`_agent_forces` that keep the paper's exact sums."""
+    return np.full(2, np.inf), np.zeros(0, dtype=np.int64), np.zeros(5), np.zeros((0, 3))
+
+
+@njit(cache=True)
+def build_cells(
+    pos: np.ndarray, radius: np.ndarray, cell_size: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A cell list of the positions ``pos`` for cells at least ``cell_size`` wide.
+
+    Returns ``(cells, grid, xyr)``: ``grid`` (5,) = (x0, y0, size, nx, ny), the lower
+    left corner, the cell width and the number of cells along x and y; ``cells``
+    (nx·ny + 1 + N,) int64, first the start of each cell's run in row-major order
+    (counting sort, agents in index order within a cell), then the agent indices of
+    every run; ``xyr`` (N, 3) the agents' (x, y, radius) in that order. With
+    ``cell_size = inf`` (no cut-off), a size <= 0 or no agents both are empty
+    placeholders.
+    """
+    n = pos.shape[0]
+    if n == 0 or not 0.0 < cell_size < np.inf:
+        return np.zeros(0, dtype=np.int64), np.zeros(5), np.zeros((0, 3))
+    x0 = pos[0, 0]
+    y0 = pos[0, 1]
+    x1 = x0
+    y1 = y0
+    for i in range(1, n):
+        x0 = min(x0, pos[i, 0])
+        x1 = max(x1, pos[i, 0])
+        y0 = min(y0, pos[i, 1])
+        y1 = max(y1, pos[i, 1])
+    size = cell_size
+    max_cells = max(MAX_CELLS_PER_AGENT * n, MIN_CELLS)
+    # widen the cells until the grid has at most max_cells cells
+    while (np.floor((x1 - x0) / size) + 1.0) * (np.floor((y1 - y0) / size) + 1.0) > max_cells:
+        size *= 2.0  # (in float64: no integer overflow for a tiny cut-off)
+    nx = math.floor((x1 - x0) / size) + 1
+    ny = math.floor((y1 - y0) / size) + 1
+    grid = np.array([x0, y0, size, float(nx), float(ny)])
+    n_cells = nx * ny
+    cells = np.zeros(n_cells + 1 + n, dtype=np.int64)
+    for i in range(n):
+        cx, cy = _cell_of(pos[i, 0], pos[i, 1], grid)
+        cells[cy * nx + cx + 1] += 1
+    for c in range(n_cells):
+        cells[c + 1] += cells[c]
+    fill = cells[:n_cells].copy()
+    xyr = np.empty((n, 3))
+    for i in range(n):
+        cx, cy = _cell_of(pos[i, 0], pos[i, 1], grid)
+        c = cy * nx + cx
+        k = fill[c]
+        cells[n_cells + 1 + k] = i
+        xyr[k, 0] = pos[i, 0]
+        xyr[k, 1] = pos[i, 1]
+        xyr[k, 2] = radius[i]
+        fill[c] = k + 1
+    return cells, grid, xyr
+
+
+@njit(cache=True, inline="always")
+def _cell_of(x: float, y: float, grid: np.ndarray) -> tuple[int, int]:
+    """The (column, row) of the cell of (x, y), clipped to the grid."""
+    nx = int(grid[3])
+    ny = int(grid[4])
+    cx = min(max(math.floor((x - grid[0]) / grid[2]), 0), nx - 1)
+    cy = min(max(math.floor((y - grid[1]) / grid[2]), 0), ny - 1)
+    return cx, cy
 
 
 @njit(cache=True)
@@ -150,12 +268,29 @@ def force_components_kernel(
     robot_on: bool,
     segments: np.ndarray,
     circles: np.ndarray,
+    cut: np.ndarray,
     out: np.ndarray,
 ) -> None:
-    """Write the components into ``out`` (4, N, 2): goal, pedestrians, robot, obstacles."""
+    """Write the components into ``out`` (4, N, 2): goal, pedestrians, robot, obstacles;
+    ``cut`` as in :func:`step_serial`."""
+    cells, grid, xyr = build_cells(pos, radius, cut[0])
     for i in range(pos.shape[0]):
         g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(
-            i, pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles
+            i,
+            pos,
+            vel,
+            goal,
+            radius,
+            v0,
+            params,
+            robot,
+            robot_on,
+            segments,
+            circles,
+            cut,
+            cells,
+            grid,
+            xyr,
         )
         out[0, i, 0] = g0
         out[0, i, 1] = g1
@@ -180,11 +315,29 @@ def _agent_total(
     robot_on: bool,
     segments: np.ndarray,
     circles: np.ndarray,
+    cut: np.ndarray,
+    cells: np.ndarray,
+    grid: np.ndarray,
+    xyr: np.ndarray,
     out: np.ndarray,
 ) -> None:
     """Total force F_i on agent i into ``out[i]``: goal + pedestrians + robot + obstacles."""
     g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(
-        i, pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles
+        i,
+        pos,
+        vel,
+        goal,
+        radius,
+        v0,
+        params,
+        robot,
+        robot_on,
+        segments,
+        circles,
+        cut,
+        cells,
+        grid,
+        xyr,
     )
     out[i, 0] = g0 + p0 + r0 + o0
     out[i, 1] = g1 + p1 + r1 + o1
@@ -224,12 +377,34 @@ def step_serial(
     circles: np.ndarray,
     dt: float,
     force_buf: np.ndarray,
+    cut: np.ndarray,
 ) -> None:
     """One crowd step in place: the total force on every agent from one snapshot into
-    ``force_buf`` (N, 2), one agent after another, then :func:`integrate`."""
+    ``force_buf`` (N, 2), one agent after another, then :func:`integrate`.
+
+    ``cut`` (2,) = (pedestrian cut-off, obstacle cut-off) in m: ``inf`` for none (the
+    exact kernel: every pair, in index order); a finite pedestrian cut-off builds a
+    cell list of the snapshot (:func:`build_cells`) and sums only the pairs closer than it.
+    """
+    cells, grid, xyr = build_cells(pos, radius, cut[0])
     for i in range(pos.shape[0]):
         _agent_total(
-            i, pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles, force_buf
+            i,
+            pos,
+            vel,
+            goal,
+            radius,
+            v0,
+            params,
+            robot,
+            robot_on,
+            segments,
+            circles,
+            cut,
+            cells,
+            grid,
+            xyr,
+            force_buf,
         )
     integrate(pos, vel, force_buf, vmax, dt)
 
@@ -249,12 +424,29 @@ def step_parallel(
     circles: np.ndarray,
     dt: float,
     force_buf: np.ndarray,
+    cut: np.ndarray,
 ) -> None:
     """As :func:`step_serial` with the agents of the force pass split over threads (for
     large crowds); bit-identical results."""
+    cells, grid, xyr = build_cells(pos, radius, cut[0])
     for i in prange(pos.shape[0]):
         _agent_total(
-            i, pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles, force_buf
+            i,
+            pos,
+            vel,
+            goal,
+            radius,
+            v0,
+            params,
+            robot,
+            robot_on,
+            segments,
+            circles,
+            cut,
+            cells,
+            grid,
+            xyr,
+            force_buf,
         )
     integrate(pos, vel, force_buf, vmax, dt)
 
@@ -364,6 +556,7 @@ def twin_step_serial(
     c_arrived: np.ndarray,
     f_new: np.ndarray,
     c_new: np.ndarray,
+    cut: np.ndarray,
 ) -> int:
     """Step the factual (robot on) and counterfactual (robot off) crowds, then flag
     new arrivals of each twin (see :func:`mark_arrivals`); return how many in total."""
@@ -381,6 +574,7 @@ def twin_step_serial(
         circles,
         dt,
         force_buf,
+        cut,
     )
     step_serial(
         c_pos,
@@ -396,6 +590,7 @@ def twin_step_serial(
         circles,
         dt,
         force_buf,
+        cut,
     )
     return _twin_arrivals(
         f_pos, f_goal, c_pos, c_goal, goal_radius, f_arrived, c_arrived, f_new, c_new
@@ -424,6 +619,7 @@ def twin_step_parallel(
     c_arrived: np.ndarray,
     f_new: np.ndarray,
     c_new: np.ndarray,
+    cut: np.ndarray,
 ) -> int:
     """As :func:`twin_step_serial` with the threaded force pass (identical results)."""
     step_parallel(
@@ -440,6 +636,7 @@ def twin_step_parallel(
         circles,
         dt,
         force_buf,
+        cut,
     )
     step_parallel(
         c_pos,
@@ -455,6 +652,7 @@ def twin_step_parallel(
         circles,
         dt,
         force_buf,
+        cut,
     )
     return _twin_arrivals(
         f_pos, f_goal, c_pos, c_goal, goal_radius, f_arrived, c_arrived, f_new, c_new

@@ -17,7 +17,6 @@ from srfm.models.state import CrowdState, Obstacles
 __all__ = [
     "CELL_LIST_MIN_AGENTS",
     "FORCE_TOLERANCE_MPS2",
-    "PARALLEL_MIN_AGENTS",
     "Cutoff",
     "ForceComponents",
     "RobotBody",
@@ -27,11 +26,9 @@ __all__ = [
     "step_crowd",
 ]
 
-# From this many pedestrians on the threaded kernel is used by default; below it the
-# serial kernel is as fast or faster (tools/bench_crowd_step.py, docs/performance.md).
-# The threaded kernel needs idle cores: run parallel workers with parallel=False or
-# NUMBA_NUM_THREADS=1.
-PARALLEL_MIN_AGENTS: Final = 50
+# The serial kernel is the default at every crowd size: with the other core busy the
+# threaded kernel ran 0.02-0.6x as fast as the serial one (docs/performance.md,
+# "Threading under load"). parallel=True asks for it where cores are known to be idle.
 
 # The interaction cut-off (docs/performance.md, "Neighbour search"). Beyond
 #   d_ped = 2 r_max + B_p ln(A_p / tol)   (pedestrians; r_max the largest radius)
@@ -193,7 +190,7 @@ def step_crowd(
     robot: RobotBody | None = None,
     obstacles: Obstacles | None = None,
     *,
-    parallel: bool | None = None,
+    parallel: bool = False,
     cutoff: Cutoff = "auto",
 ) -> None:
     """Advance ``crowd`` in place by one step of ``dt`` seconds.
@@ -204,8 +201,8 @@ def step_crowd(
 
     Args:
         dt: step (s), in (0, 1].
-        parallel: use the threaded kernel; by default for crowds of at least
-            ``PARALLEL_MIN_AGENTS`` pedestrians. Both kernels give identical results.
+        parallel: use the threaded kernel (for idle cores only; the serial kernel is
+            the default). Both kernels give identical results.
         cutoff: interaction cut-off, see :func:`kernel_cutoffs`.
     """
     if not 0.0 < dt <= MAX_DT_S:  # also false for NaN
@@ -214,8 +211,7 @@ def step_crowd(
     obstacles = obstacles or _NO_OBSTACLES
     robot_arr, robot_on = _robot_args(robot)
     cut = kernel_cutoffs(cutoff, params, crowd.radius)
-    use_parallel = crowd.n >= PARALLEL_MIN_AGENTS if parallel is None else parallel
-    kernel = _kernels.step_parallel if use_parallel else _kernels.step_serial
+    kernel = _kernels.step_parallel if parallel else _kernels.step_serial
     kernel(
         crowd.pos,
         crowd.vel,

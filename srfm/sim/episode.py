@@ -192,7 +192,7 @@ def run_episode(
     planner: Planner | str = "straight",
     params: SRFMParams | None = None,
     *,
-    parallel: bool | None = None,
+    parallel: bool = False,
     cutoff: Cutoff = "auto",
 ) -> EpisodeRecord:
     """Simulate one twin episode and return its record.

@@ -90,7 +90,7 @@ def replay_windows(
     v0 = np.zeros(n_buf)
     vmax = np.zeros(1)
     force = np.zeros((1, 2))
-    cut, cells, grid, xyr = exact_cut()
+    cut, ped = exact_cut()
     robot = np.zeros(3)
     robot[2] = robot_radius
     segments = np.zeros((0, 4))
@@ -136,9 +136,7 @@ def replay_windows(
                     segments,
                     circles,
                     cut,
-                    cells,
-                    grid,
-                    xyr,
+                    ped,
                 )
                 force[0, 0] = g0 + p0 + r0 + o0
                 force[0, 1] = g1 + p1 + r1 + o1

@@ -33,6 +33,7 @@ from numba import njit, prange
 
 from srfm.models._primitives import (
     EPS,
+    anisotropy,
     capped_exp,
     closest_on_segment,
     desired_velocity,
@@ -67,17 +68,14 @@ def _agent_forces(
     segments: np.ndarray,
     circles: np.ndarray,
     cut: np.ndarray,
-    cells: np.ndarray,
-    grid: np.ndarray,
-    xyr: np.ndarray,
+    ped: np.ndarray,
 ) -> tuple[float, float, float, float, float, float, float, float]:
     """The four force components on agent i: goal, pedestrians, robot, obstacles (x, y each).
 
-    ``cut`` = (pedestrian cut-off, obstacle cut-off) in m, ``inf`` for none. With a
-    finite pedestrian cut-off the pedestrians come from the cell list ``cells`` /
-    ``grid`` (:func:`build_cells`) and only those closer than the cut-off push; with
-    ``inf`` every other pedestrian pushes, summed in index order (the exact kernel).
-    Obstacles beyond the obstacle cut-off are skipped.
+    ``cut`` = (pedestrian cut-off, obstacle cut-off) in m, ``inf`` for none. With
+    ``inf`` every other pedestrian pushes, summed in index order (the exact kernel);
+    with a finite pedestrian cut-off the pedestrian force is ``ped[i]``, from
+    :func:`cell_pair_forces`. Obstacles beyond the obstacle cut-off are skipped.
     """
     px = pos[i, 0]
     py = pos[i, 1]
@@ -108,30 +106,10 @@ def _agent_forces(
             pfx += fx
             pfy += fy
     elif a_p != 0.0:
-        # Cell list: the 3 × 3 cells around i's cell hold every pedestrian closer than
-        # the cut-off (cells are at least the cut-off wide). In row-major order the three
-        # cells of a row are one contiguous run of the cell-ordered copy ``xyr``.
-        cut2 = ped_cut * ped_cut
-        nx = int(grid[3])
-        ny = int(grid[4])
-        n_cells = nx * ny
-        col, row_i = _cell_of(px, py, grid)
-        for gy in range(max(row_i - 1, 0), min(row_i + 2, ny)):
-            row = gy * nx
-            for k in range(cells[row + max(col - 1, 0)], cells[row + min(col + 1, nx - 1) + 1]):
-                if cells[n_cells + 1 + k] == i:
-                    continue
-                qx = xyr[k, 0]
-                qy = xyr[k, 1]
-                dx = px - qx
-                dy = py - qy
-                if dx * dx + dy * dy >= cut2:
-                    continue
-                fx, fy = disc_repulsion(
-                    px, py, qx, qy, ri + xyr[k, 2], a_p, b_p, hx, hy, has_h, lam_p
-                )
-                pfx += fx
-                pfy += fy
+        # With a cut-off the pedestrian forces were summed pair by pair beforehand
+        # (cell_pair_forces).
+        pfx = ped[i, 0]
+        pfy = ped[i, 1]
 
     # Robot repulsion (absent in the counterfactual twin, or when A_r = 0).
     rfx = 0.0
@@ -185,10 +163,10 @@ MIN_CELLS = 64
 
 
 @njit(cache=True, inline="always")
-def exact_cut() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """``(cut, cells, grid, xyr)`` of the exact kernel (no cut-off, every pair in index
-    order) for callers of :func:`_agent_forces` that keep the paper's exact sums."""
-    return np.full(2, np.inf), np.zeros(0, dtype=np.int64), np.zeros(5), np.zeros((0, 3))
+def exact_cut() -> tuple[np.ndarray, np.ndarray]:
+    """``(cut, ped)`` of the exact kernel (no cut-off, every pair in index order) for
+    callers of :func:`_agent_forces` that keep the paper's exact sums."""
+    return np.full(2, np.inf), np.zeros((0, 2))
 
 
 @njit(cache=True)
@@ -257,6 +235,90 @@ def _cell_of(x: float, y: float, grid: np.ndarray) -> tuple[int, int]:
 
 
 @njit(cache=True)
+def cell_pair_forces(
+    pos: np.ndarray,
+    vel: np.ndarray,
+    goal: np.ndarray,
+    radius: np.ndarray,
+    v0: np.ndarray,
+    params: SRFMKernelParams,
+    cutoff: float,
+) -> np.ndarray:
+    """The pedestrian repulsion on every agent (N, 2), over the pairs closer than
+    ``cutoff``, found with a cell list (:func:`build_cells`); empty (0, 2) without a
+    cut-off (``inf``) or with A_p = 0.
+
+    Each pair is visited once, cell by cell in row-major order (its own cell, then the
+    right neighbour and the three cells above: every neighbouring pair of cells once):
+    the exponential A exp((r_i + r_j − d) / B) is shared, each agent gets its own ψ
+    (:func:`disc_repulsion`'s terms, as a pair). Sums follow that visiting order, so the
+    result is deterministic but not bit for bit the exact kernel's index-order sum.
+    """
+    n = pos.shape[0]
+    a_p = params.a_ped
+    if n == 0 or a_p == 0.0 or not 0.0 < cutoff < np.inf:
+        return np.zeros((0, 2))
+    b_p = params.b_ped
+    lam = params.lambda_ped
+    cells, grid, xyr = build_cells(pos, radius, cutoff)
+    nx = int(grid[3])
+    ny = int(grid[4])
+    n_cells = nx * ny
+    # headings in cell order: (hx, hy, 1 if the agent has a heading else 0)
+    head = np.empty((n, 3))
+    for k in range(n):
+        i = cells[n_cells + 1 + k]
+        dvx, dvy = desired_velocity(pos[i, 0], pos[i, 1], goal[i, 0], goal[i, 1], v0[i])
+        hx, hy, has_h = _heading(vel[i, 0], vel[i, 1], dvx, dvy)
+        head[k, 0] = hx
+        head[k, 1] = hy
+        head[k, 2] = 1.0 if has_h else 0.0
+    acc = np.zeros((n, 2))
+    cut2 = cutoff * cutoff
+    for cy in range(ny):
+        for cx in range(nx):
+            c = cy * nx + cx
+            # the runs after cell c: the rest of c and its right neighbour (contiguous),
+            # then the row above from cx - 1 to cx + 1
+            r0_end = cells[c + 2] if cx + 1 < nx else cells[c + 1]
+            r1_start = 0
+            r1_end = 0
+            if cy + 1 < ny:
+                r1_start = cells[(cy + 1) * nx + max(cx - 1, 0)]
+                r1_end = cells[(cy + 1) * nx + min(cx + 1, nx - 1) + 1]
+            for k in range(cells[c], cells[c + 1]):
+                for run in range(2):
+                    lo = k + 1 if run == 0 else r1_start
+                    hi = r0_end if run == 0 else r1_end
+                    for q in range(lo, hi):
+                        dx = xyr[k, 0] - xyr[q, 0]
+                        dy = xyr[k, 1] - xyr[q, 1]
+                        d2 = dx * dx + dy * dy
+                        if d2 >= cut2:
+                            continue
+                        d = math.sqrt(d2)
+                        if d < EPS:
+                            continue
+                        e = a_p * capped_exp((xyr[k, 2] + xyr[q, 2] - d) / b_p)
+                        ux = dx / d  # unit vector from q to k
+                        uy = dy / d
+                        psi_k = anisotropy(head[k, 0], head[k, 1], head[k, 2] > 0.0, -ux, -uy, lam)
+                        psi_q = anisotropy(head[q, 0], head[q, 1], head[q, 2] > 0.0, ux, uy, lam)
+                        mk = e * psi_k
+                        mq = e * psi_q
+                        acc[k, 0] += mk * ux
+                        acc[k, 1] += mk * uy
+                        acc[q, 0] -= mq * ux
+                        acc[q, 1] -= mq * uy
+    out = np.empty((n, 2))
+    for k in range(n):
+        i = cells[n_cells + 1 + k]
+        out[i, 0] = acc[k, 0]
+        out[i, 1] = acc[k, 1]
+    return out
+
+
+@njit(cache=True)
 def force_components_kernel(
     pos: np.ndarray,
     vel: np.ndarray,
@@ -273,7 +335,7 @@ def force_components_kernel(
 ) -> None:
     """Write the components into ``out`` (4, N, 2): goal, pedestrians, robot, obstacles;
     ``cut`` as in :func:`step_serial`."""
-    cells, grid, xyr = build_cells(pos, radius, cut[0])
+    ped = cell_pair_forces(pos, vel, goal, radius, v0, params, cut[0])
     for i in range(pos.shape[0]):
         g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(
             i,
@@ -288,9 +350,7 @@ def force_components_kernel(
             segments,
             circles,
             cut,
-            cells,
-            grid,
-            xyr,
+            ped,
         )
         out[0, i, 0] = g0
         out[0, i, 1] = g1
@@ -316,9 +376,7 @@ def _agent_total(
     segments: np.ndarray,
     circles: np.ndarray,
     cut: np.ndarray,
-    cells: np.ndarray,
-    grid: np.ndarray,
-    xyr: np.ndarray,
+    ped: np.ndarray,
     out: np.ndarray,
 ) -> None:
     """Total force F_i on agent i into ``out[i]``: goal + pedestrians + robot + obstacles."""
@@ -335,9 +393,7 @@ def _agent_total(
         segments,
         circles,
         cut,
-        cells,
-        grid,
-        xyr,
+        ped,
     )
     out[i, 0] = g0 + p0 + r0 + o0
     out[i, 1] = g1 + p1 + r1 + o1
@@ -386,7 +442,7 @@ def step_serial(
     exact kernel: every pair, in index order); a finite pedestrian cut-off builds a
     cell list of the snapshot (:func:`build_cells`) and sums only the pairs closer than it.
     """
-    cells, grid, xyr = build_cells(pos, radius, cut[0])
+    ped = cell_pair_forces(pos, vel, goal, radius, v0, params, cut[0])
     for i in range(pos.shape[0]):
         _agent_total(
             i,
@@ -401,9 +457,7 @@ def step_serial(
             segments,
             circles,
             cut,
-            cells,
-            grid,
-            xyr,
+            ped,
             force_buf,
         )
     integrate(pos, vel, force_buf, vmax, dt)
@@ -428,7 +482,7 @@ def step_parallel(
 ) -> None:
     """As :func:`step_serial` with the agents of the force pass split over threads (for
     large crowds); bit-identical results."""
-    cells, grid, xyr = build_cells(pos, radius, cut[0])
+    ped = cell_pair_forces(pos, vel, goal, radius, v0, params, cut[0])
     for i in prange(pos.shape[0]):
         _agent_total(
             i,
@@ -443,9 +497,7 @@ def step_parallel(
             segments,
             circles,
             cut,
-            cells,
-            grid,
-            xyr,
+            ped,
             force_buf,
         )
     integrate(pos, vel, force_buf, vmax, dt)

@@ -143,7 +143,7 @@ def one_step_deviation(
     radius = agent[AGENT_RADIUS]
     v0 = agent[AGENT_V0]
     vmax = agent[AGENT_VMAX]
-    cut, cells, grid, xyr = exact_cut()
+    cut, ped = exact_cut()
     z2 = zone * zone
     total = 0.0
     for i in range(pos.shape[0]):
@@ -164,9 +164,7 @@ def one_step_deviation(
             segments,
             circles,
             cut,
-            cells,
-            grid,
-            xyr,
+            ped,
         )
         px = pos[i, 0]
         py = pos[i, 1]

@@ -27,8 +27,9 @@ __all__ = [
 ]
 
 # The serial kernel is the default at every crowd size: with the other core busy the
-# threaded kernel ran 0.02-0.6x as fast as the serial one (docs/performance.md,
-# "Threading under load"). parallel=True asks for it where cores are known to be idle.
+# threaded kernel ran 0.002-0.5x as fast as the serial one up to N = 1000 and 1.0x at
+# N = 10,000 (docs/performance.md, "Threading under load"). parallel=True asks for it
+# where cores are known to be idle.
 
 # The interaction cut-off (docs/performance.md, "Neighbour search"). Beyond
 #   d_ped = 2 r_max + B_p ln(A_p / tol)   (pedestrians; r_max the largest radius)

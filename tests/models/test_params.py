@@ -177,14 +177,15 @@ def test_kernel_reads_the_tuple_by_name_like_its_python_body() -> None:
     args = (pos, vel, goal, radius, v0, p.for_kernels(), robot, True, segments, circles)
     jit_out = np.zeros((4, 3, 2))
     py_out = np.zeros((4, 3, 2))
-    _kernels.force_components_kernel(*args, jit_out)
-    _kernels.force_components_kernel.py_func(*args, py_out)
+    exact = np.full(2, np.inf)
+    _kernels.force_components_kernel(*args, exact, jit_out)
+    _kernels.force_components_kernel.py_func(*args, exact, py_out)
     np.testing.assert_allclose(py_out, jit_out, rtol=1e-13, atol=0.0)
     assert np.all(np.linalg.norm(jit_out, axis=2) > 0.0)  # every component on every agent
     for name in FIELDS:  # each field is read (a change of it changes the forces)
         other = np.zeros((4, 3, 2))
         changed = p.replace(**{name: getattr(p, name) * 0.9})
-        _kernels.force_components_kernel(*args[:5], changed.for_kernels(), *args[6:], other)
+        _kernels.force_components_kernel(*args[:5], changed.for_kernels(), *args[6:], exact, other)
         assert not np.array_equal(other, jit_out), name
 
 

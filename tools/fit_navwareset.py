@@ -25,6 +25,7 @@ from typing import Any
 import attrs
 import numpy as np
 
+from srfm.cli._common import load_params_option
 from srfm.datasets.navwareset import SCENARIOS, drop_supersets, read_navwareset
 from srfm.fitting import (
     EVAL_WINDOWS,
@@ -42,7 +43,7 @@ from srfm.fitting import (
     predict,
     scene_groups,
 )
-from srfm.models import SRFMParams, load_params
+from srfm.models import SRFMParams
 
 REPO = Path(__file__).resolve().parents[1]
 LABELS = {
@@ -271,7 +272,7 @@ def main() -> None:
     ap.add_argument(
         "--pedestrian",
         required=True,
-        help="parameter file of the pedestrian part (srfm fit --stage pedestrian)",
+        help="pedestrian part: a parameter file (srfm fit --stage pedestrian) or a preset",
     )
     ap.add_argument(
         "--data", default=None, help="NavWareSet folder (default $SRFM_DATA_DIR/navwareset_quant)"
@@ -297,7 +298,7 @@ def main() -> None:
         / "navwareset_quant"
     )
     t_start = time.perf_counter()
-    ped = load_params(args.pedestrian)
+    ped = load_params_option(args.pedestrian)
     scenes, dropped = drop_supersets(read_navwareset(data))
     log(f"{len(scenes)} recordings (dropped {dropped})")
     w_fit = build_windows(scenes, FIT_WINDOWS)
@@ -314,7 +315,14 @@ def main() -> None:
     t_fits = time.perf_counter() - t0
     t0 = time.perf_counter()
     per_group = leave_one_scene_out(
-        w_fit, g_fit, ped, n_folds=args.folds or None, start=full, tolerance=1e-4, log=log
+        w_fit,
+        g_fit,
+        ped,
+        n_folds=args.folds or None,
+        start=full,
+        multi_start=False,
+        tolerance=1e-4,
+        log=log,
     )
     t_cv = time.perf_counter() - t0
     assert g_fit.keys == g_eval.keys

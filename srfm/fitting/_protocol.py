@@ -159,6 +159,7 @@ def leave_one_scene_out(
     *,
     n_folds: int | None = None,
     start: SRFMParams | None = None,
+    multi_start: bool = True,
     tolerance: float = 1e-6,
     log: Callable[[str], None] | None = None,
 ) -> list[SRFMParams]:
@@ -166,8 +167,9 @@ def leave_one_scene_out(
 
     Scene g (in group order) belongs to fold g mod ``n_folds`` (every scene its own
     fold when None: leave one scene out). Each fold's robot part is fitted on the
-    windows of every other fold, from ``start`` (e.g. the fit on all scenes), ``base``
-    and the published presets, keeping the lowest cost.
+    windows of every other fold, from ``base``, the published presets and ``start``
+    (e.g. the fit on all scenes), keeping the lowest cost; without ``multi_start``,
+    from ``base`` with ``start``'s robot part alone (when ``start`` is given).
 
     Returns:
         G parameter sets, in group order: entry g is the fit that held scene g out.
@@ -182,11 +184,13 @@ def leave_one_scene_out(
     for fold in range(k):
         held = [g for g in range(groups.n_groups) if g % k == fold]
         train = groups.windows_of([g for g in range(groups.n_groups) if g % k != fold])
+        first = base if multi_start or start is None else base.replace(**_robot(start))
         params = fit_robot_part(
             windows,
-            base,
+            first,
             train,
-            extra_starts=(start,) if start is not None else (),
+            multi_start=multi_start,
+            extra_starts=(start,) if start is not None and multi_start else (),
             tolerance=tolerance,
         )
         for g in held:

@@ -8,6 +8,7 @@ the paper; :func:`evaluate_ade` reports the paper's ADE table. See ``docs/fittin
 """
 
 from srfm.fitting._ade import ADE_ROWS, AdeRow, evaluate_ade, window_errors
+from srfm.fitting._encounters import Encounter, replay_encounter
 from srfm.fitting._fit import BOUNDS, STAGE_FIELDS, FitResult, StageResult, fit_params
 from srfm.fitting._predict import MODES, displacement_errors, predict
 from srfm.fitting._protocol import (
@@ -36,6 +37,7 @@ __all__ = [
     "STAGE_FIELDS",
     "TABLE2_MODES",
     "AdeRow",
+    "Encounter",
     "FitResult",
     "PairedTest",
     "SceneGroups",
@@ -52,6 +54,7 @@ __all__ = [
     "leave_one_scene_out",
     "paired_test",
     "predict",
+    "replay_encounter",
     "scene_groups",
     "window_errors",
 ]

@@ -4,6 +4,7 @@ the paired test, and bad input."""
 
 from __future__ import annotations
 
+import functools
 import math
 from pathlib import Path
 
@@ -25,8 +26,10 @@ from srfm.fitting import (
     heldout_errors,
     leave_one_scene_out,
     paired_test,
+    replay_encounter,
     scene_groups,
 )
+from srfm.metrics.frechet import frechet_distance
 from tests.datasets._synthetic import resimulate_pedestrian, simulate_scene
 
 # A pedestrian part that reaches its goal (short τ) and a robot part that is none of the
@@ -83,7 +86,8 @@ def test_resimulated_tracks_follow_the_force(excerpt: list[Trajectories]) -> Non
     assert np.max(np.linalg.norm(with_force.xy - without.xy, axis=1)) > 0.05
 
 
-def _scenes() -> list[Trajectories]:
+@functools.cache
+def _scenes() -> tuple[Trajectories, ...]:
     out = []
     for i, seed in enumerate((40, 41, 42)):
         s = simulate_scene(TRUE, seed, name=f"s{seed}", robot=True, n_per_side=2)
@@ -106,7 +110,7 @@ def _scenes() -> list[Trajectories]:
                 source=src,
             )
         )
-    return out
+    return tuple(out)
 
 
 def test_scene_groups_and_holdout() -> None:
@@ -155,7 +159,7 @@ def test_bootstrap_is_deterministic_and_resamples() -> None:
     with pytest.raises(ParameterError, match="one parameter set per scene"):
         heldout_errors(windows, groups, TRUE, [TRUE])
     with pytest.raises(ParameterError, match="2 scenes given"):
-        scene_groups(windows, scenes[:2])
+        scene_groups(windows, list(scenes[:2]))
 
 
 def test_fit_params_bad_fields_and_subset() -> None:
@@ -208,3 +212,35 @@ def test_real_navwareset_groups(real_data: Path) -> None:
     assert groups.robot == ("jackal", "hsr")
     assert groups.compliant == (False, False)
     assert windows.n_windows > 0
+
+
+def test_replay_encounter_deviation_and_observed_measures() -> None:
+    scene = _scenes()[0]
+    # the pedestrian that passes closest to the robot
+    peds = [a for a, k in zip(scene.agent_ids, scene.kinds, strict=True) if k == "pedestrian"]
+    found = [replay_encounter(scene, a, TRUE) for a in peds]
+    encounters = [e for e in found if e is not None]
+    enc = min(encounters, key=lambda e: e.min_distance_m)
+    ped = enc.agent_id
+    assert enc.min_distance_m < 3.0
+    n = enc.observed.shape[0]
+    assert enc.factual.shape == enc.counterfactual.shape == enc.robot.shape == (n, 2)
+    # same start, and the deviation is the Fréchet distance of the two simulations
+    np.testing.assert_array_equal(enc.factual[0], enc.observed[0])
+    assert enc.deviation_m == pytest.approx(frechet_distance(enc.factual, enc.counterfactual))
+    # the observed measures, recomputed
+    d = np.linalg.norm(enc.observed - enc.robot, axis=1)
+    assert enc.min_distance_m == pytest.approx(d.min())
+    path = np.sum(np.linalg.norm(np.diff(enc.observed, axis=0), axis=1))
+    chord = np.linalg.norm(enc.observed[-1] - enc.observed[0])
+    assert enc.detour == pytest.approx(path / chord - 1.0)
+    assert 0.0 <= enc.slowdown <= 1.0
+    # without the robot force, factual = counterfactual: no deviation
+    off = replay_encounter(scene, ped, TRUE.replace(a_robot=0.0))
+    assert off is not None
+    assert off.deviation_m == 0.0
+    np.testing.assert_array_equal(off.counterfactual, enc.counterfactual)
+    with pytest.raises(ParameterError, match="not a pedestrian"):
+        replay_encounter(scene, "robot", TRUE)
+    with pytest.raises(ParameterError, match="no robot"):
+        replay_encounter(simulate_scene(TRUE, 1, name="x", n_per_side=1), "p0", TRUE)

@@ -164,24 +164,68 @@ def table2(
     return {"rows": rows, "scene_level": scene_test, "errors": err}
 
 
-def fmt_cell(row: dict[str, Any]) -> str:
-    parts = [
-        row["cell"],
-        row["windows"],
-        f"{row['n']} ({row['scenes']}/{row['tracks']})",
-    ]
-    for mode in (*TABLE2_MODES, "srfm_agrawal"):
-        a, f = row[f"ade_{mode}"], row[f"fde_{mode}"]
-        parts.append("-" if math.isnan(a) else f"{a:.3f} / {f:.3f}")
-    t = row["srfm_vs_robot_as_pedestrian"]
-    parts.append(
-        "-" if math.isnan(t["p"]) else f"{t['median_diff'] * 100:+.1f} cm, p = {t['p']:.2g}"
+def print_tables(payload: dict[str, Any]) -> None:
+    """The markdown tables of docs/fitting.md, from the results payload."""
+    labels = [LABELS[m] for m in (*TABLE2_MODES, "srfm_agrawal")]
+    print(
+        "| cell | windows | n (scenes/tracks) | "
+        + " | ".join(labels)
+        + " | SRFM − robot as ped.: mean, median (mm), p | SRFM − SFM robot ignored |"
     )
-    t = row["srfm_vs_sfm"]
-    parts.append(
-        "-" if math.isnan(t["p"]) else f"{t['median_diff'] * 100:+.1f} cm, p = {t['p']:.2g}"
+    print("|" + "---|" * (4 + len(labels) + 1))
+    for row in payload["table2"]:
+        parts = [
+            row["cell"].replace("_", " "),
+            row["windows"],
+            f"{row['n']} ({row['scenes']}/{row['tracks']})",
+        ]
+        for mode in (*TABLE2_MODES, "srfm_agrawal"):
+            a, f = row[f"ade_{mode}"], row[f"fde_{mode}"]
+            parts.append("–" if math.isnan(a) else f"{a:.3f} / {f:.3f}")
+        for other in ("robot_as_pedestrian", "sfm"):
+            t = row[f"srfm_vs_{other}"]
+            mean = (row["ade_srfm"] - row[f"ade_{other}"]) * 1e3
+            parts.append(
+                "–"
+                if math.isnan(t["p"])
+                else f"{mean:+.2f}, {t['median_diff'] * 1e3:+.2f}, p = {t['p']:.2g}"
+            )
+        print("| " + " | ".join(parts) + " |")
+    print()
+    print("Scene level (mean ADE of each scene's interaction windows, Wilcoxon over scenes):")
+    print()
+    print("| SRFM against | scenes | other (m) | SRFM (m) | median difference (mm) | p |")
+    print("|---|---|---|---|---|---|")
+    for other, t in payload["scene_level"].items():
+        print(
+            f"| {LABELS[other]} | {t['n']} | {t['mean_a']:.4f} | {t['mean_b']:.4f} "
+            f"| {t['median_diff'] * 1e3:+.2f} | {t['p']:.2g} |"
+        )
+    print()
+    print(
+        "| condition | scenes | interaction windows | A_r (m/s²) | B_r (m) | λ_r "
+        "| bootstrap resamples |"
     )
-    return "| " + " | ".join(parts) + " |"
+    print("|---|---|---|---|---|---|---|")
+    for name in CONDITIONS:
+        c = payload["per_condition"][name]
+        cols = []
+        for f in ROBOT_FIELDS:
+            sd, lo, hi = c["bootstrap_sd_ci95"][f]
+            cols.append(f"{c['params'][f]:.3g} (sd {sd:.2g}; {lo:.3g}–{hi:.3g})")
+        print(
+            f"| {name} | {c['scenes']} | {c['interaction_windows']} | "
+            + " | ".join(cols)
+            + f" | {c['bootstrap_n']} |"
+        )
+    print()
+    folds = np.array([[v[f] for f in ROBOT_FIELDS] for v in payload["cross_validation"].values()])
+    print(f"Cross-validation: {folds.shape[0]} folds; min / median / max of the held-out fits:")
+    for i, f in enumerate(ROBOT_FIELDS):
+        lo, med, hi = np.percentile(folds[:, i], [0, 50, 100])
+        print(f"- {f}: {lo:.3g} / {med:.3g} / {hi:.3g}")
+    print()
+    print("wall times (s):", payload["wall_times"])
 
 
 def figure(
@@ -260,9 +304,16 @@ def figure(
         "NavWareSet: observed vs simulated 4.8 s windows (closest two passes per condition)",
         fontsize=10,
     )
-    fig.tight_layout()
+    fig.tight_layout(rect=(0.0, 0.0, 1.0, 0.985))
     fig.savefig(path, dpi=90)
     plt.close(fig)
+
+
+def data_folder(arg: str | None) -> Path:
+    if arg:
+        return Path(arg)
+    root = Path(os.environ.get("SRFM_DATA_DIR", REPO.parent / "shared" / "data"))
+    return root / "navwareset_quant"
 
 
 def main() -> None:
@@ -271,7 +322,7 @@ def main() -> None:
     )
     ap.add_argument(
         "--pedestrian",
-        required=True,
+        default=None,
         help="pedestrian part: a parameter file (srfm fit --stage pedestrian) or a preset",
     )
     ap.add_argument(
@@ -290,13 +341,25 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", type=Path, default=None, help="JSON results")
     ap.add_argument("--figure", type=Path, default=None, help="PNG of observed vs simulated paths")
-    args = ap.parse_args()
-    data = (
-        Path(args.data)
-        if args.data
-        else Path(os.environ.get("SRFM_DATA_DIR", REPO.parent / "shared" / "data"))
-        / "navwareset_quant"
+    ap.add_argument(
+        "--tables-from", type=Path, default=None, help="only print the tables of a saved JSON"
     )
+    args = ap.parse_args()
+    if args.tables_from is not None:
+        payload = json.loads(args.tables_from.read_text())
+        print_tables(payload)
+        if args.figure:  # the figure again, from the saved fits
+            scenes, _ = drop_supersets(read_navwareset(data_folder(args.data)))
+            w_eval = build_windows(scenes, EVAL_WINDOWS)
+            g_eval = scene_groups(w_eval, scenes)
+            ped = SRFMParams().replace(**payload["pedestrian_part"])
+            cv = payload["cross_validation"]
+            per_group = [ped.replace(**cv[key]) for key in g_eval.keys]
+            figure(args.figure, w_eval, g_eval, ped, per_group)
+        return
+    data = data_folder(args.data)
+    if args.pedestrian is None:
+        ap.error("--pedestrian is required (unless --tables-from)")
     t_start = time.perf_counter()
     ped = load_params_option(args.pedestrian)
     scenes, dropped = drop_supersets(read_navwareset(data))
@@ -331,56 +394,33 @@ def main() -> None:
     t_tab = time.perf_counter() - t0
     if args.figure:
         figure(args.figure, w_eval, g_eval, ped, per_group)
-    head = (
-        "| cell | windows | n (scenes/tracks) | "
-        + " | ".join(LABELS[m] for m in (*TABLE2_MODES, "srfm_agrawal"))
-        + " | SRFM − robot-as-ped. (median, Wilcoxon p) | SRFM − SFM robot ignored |"
-    )
-    print(head)
-    print("|" + "---|" * (head.count("|") - 1))
-    for row in tab["rows"]:
-        print(fmt_cell(row))
-    print()
-    print("scene level (interaction windows, mean per scene):", json.dumps(tab["scene_level"]))
-    print()
-    print("| condition | scenes | interaction windows | A_r (m/s²) | B_r (m) | λ_r |")
-    print("|---|---|---|---|---|---|")
-    for name, c in per_condition.items():
-        cols = []
-        for f in ROBOT_FIELDS:
-            sd, lo, hi = c["bootstrap_sd_ci95"][f]
-            cols.append(f"{c['params'][f]:.3g} (sd {sd:.2g}; {lo:.3g}–{hi:.3g})")
-        print(f"| {name} | {c['scenes']} | {c['interaction_windows']} | " + " | ".join(cols) + " |")
-    print()
-    print("cross-validation folds:", sorted({json.dumps(robot_dict(p)) for p in per_group}))
     timing = {
         "fits_and_bootstrap_s": round(t_fits, 1),
         "cross_validation_s": round(t_cv, 1),
         "table2_s": round(t_tab, 1),
         "total_s": round(time.perf_counter() - t_start, 1),
     }
-    print("wall times:", timing)
+    payload = {
+        "pedestrian_part": {f: getattr(ped, f) for f in ("a_ped", "b_ped", "lambda_ped", "tau")},
+        "robot_part": robot_dict(full),
+        "per_condition": per_condition,
+        "cross_validation": {g_fit.keys[g]: robot_dict(p) for g, p in enumerate(per_group)},
+        "folds": args.folds,
+        "table2": tab["rows"],
+        "scene_level": tab["scene_level"],
+        "windows": {
+            "fit": w_fit.n_windows,
+            "fit_interaction": int(w_fit.interaction.sum()),
+            "test": w_eval.n_windows,
+            "test_interaction": int(w_eval.interaction.sum()),
+        },
+        "seed": args.seed,
+        "wall_times": timing,
+    }
+    payload = json.loads(json.dumps(payload, default=float))
+    print_tables(payload)
     if args.out:
-        payload = {
-            "pedestrian_part": {
-                f: getattr(ped, f) for f in ("a_ped", "b_ped", "lambda_ped", "tau")
-            },
-            "robot_part": robot_dict(full),
-            "per_condition": per_condition,
-            "cross_validation": {g_fit.keys[g]: robot_dict(p) for g, p in enumerate(per_group)},
-            "folds": args.folds,
-            "table2": tab["rows"],
-            "scene_level": tab["scene_level"],
-            "windows": {
-                "fit": w_fit.n_windows,
-                "fit_interaction": int(w_fit.interaction.sum()),
-                "test": w_eval.n_windows,
-                "test_interaction": int(w_eval.interaction.sum()),
-            },
-            "seed": args.seed,
-            "wall_times": timing,
-        }
-        args.out.write_text(json.dumps(payload, indent=1, sort_keys=True, default=float) + "\n")
+        args.out.write_text(json.dumps(payload, indent=1, sort_keys=True) + "\n")
 
 
 if __name__ == "__main__":

@@ -145,7 +145,7 @@ def main() -> None:
                     "rows": rows,
                     "encounters": records,
                 },
-                indent=1,
+                separators=(",", ":"),
                 default=float,
             )
             + "\n"

@@ -362,6 +362,7 @@ def fit(
         "start": start_spec or "agrawal2024",
         **{k: float(v) for k, v in window.items()},
         "fit_time_s": round(elapsed, 1),
+        "fit_lambda_robot": fit_lambda_robot,
     }
     for s in result.stages:
         meta[f"{s.stage}_stage"] = "skipped" if s.skipped else "fitted"

@@ -4,8 +4,8 @@ Two stages, as in the paper (Agrawal et al. 2024, Sec. III-B):
 
 1. *pedestrian*: A_p, B_p, λ, τ from the non-interaction windows (the pedestrian stays
    farther than 3 m from the robot), with the robot ignored (SFM: f_a + f_p);
-2. *robot*: A_r, B_r from the interaction windows, with the pedestrian part held at the
-   stage-1 values (SRFM: f_a + f_p + f_r).
+2. *robot*: A_r, B_r (and λ_r when asked: ``fields``) from the interaction windows,
+   with the pedestrian part held at the stage-1 values (SRFM: f_a + f_p + f_r).
 
 Residual of a window w with H_w predicted samples: r_w = (x̂_w(t_k) − x_w(t_k)) / √H_w
 for k = 1..H_w, both coordinates, where x̂ is the replayed simulation

@@ -228,6 +228,7 @@ def test_fit_robot_stage_with_lambda_robot_and_walking_starts(tmp_path: Path) ->
     assert fitted.lambda_robot != srfm.SRFMParams().lambda_robot  # fitted, not kept
     meta = tomllib.loads(out.read_text())["meta"]
     assert meta["min_start_speed_mps"] == 0.5
+    assert meta["fit_lambda_robot"] is True
     # Without the flag λ_r keeps the start value.
     code, text = run(*args, "--max-nfev", "5")
     assert code == 0, text

@@ -52,8 +52,7 @@ class _Rate:
     "--out",
     type=click.Path(file_okay=False, path_type=Path),
     required=True,
-    help="Results folder (a Parquet dataset in OUT/data); an interrupted sweep there "
-    "is resumed.",
+    help="Results folder (a Parquet dataset in OUT/data); an interrupted sweep there is resumed.",
 )
 @click.option("--force", is_flag=True, help="Write into a non-empty folder srfm did not make.")
 @click.option(

@@ -342,7 +342,9 @@ def load_spec(path: str | Path) -> SweepSpec:
             raise where.error("params", str(exc)) from None
     per_task = data.get("seeds_per_task", 10)
     if isinstance(per_task, bool) or not isinstance(per_task, int) or not 1 <= per_task <= 1000:
-        raise where.error("seeds_per_task", f"must be a whole number in [1, 1000], got {per_task!r}")
+        raise where.error(
+            "seeds_per_task", f"must be a whole number in [1, 1000], got {per_task!r}"
+        )
     design = data["design"]
     if not isinstance(design, dict):
         raise where.error("design", f"must be a table, got {design!r}")

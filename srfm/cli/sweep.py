@@ -35,15 +35,23 @@ def sweep() -> None:
 
 
 class _Rate:
-    """The progress bar's text after the bar: episodes per second over this run."""
+    """The progress bar's text after the bar: this run's episodes per second and the
+    time left at that rate (episodes found done when it started do not count)."""
 
-    def __init__(self) -> None:
+    def __init__(self, total: int) -> None:
+        self.total = total
         self.start = time.monotonic()
         self.done = 0
+        self.present = 0
 
     def text(self, _item: Any) -> str:
         elapsed = time.monotonic() - self.start
-        return f"{self.done / elapsed:.1f} ep/s" if elapsed > 0 and self.done else ""
+        if elapsed <= 0 or not self.done:
+            return ""
+        rate = self.done / elapsed
+        left = (self.total - self.present - self.done) / rate
+        hours, rest = divmod(int(left), 3600)
+        return f"{rate:.1f} ep/s, {hours}:{rest // 60:02d}:{rest % 60:02d} left"
 
 
 @sweep.command("run")
@@ -96,13 +104,13 @@ def run(
         f"episodes -> {out}",
         err=True,
     )
-    rate = _Rate()
+    rate = _Rate(spec.episodes)
     with click.progressbar(
         length=spec.episodes,
         label="episodes",
         file=sys.stderr,
         show_pos=True,
-        show_eta=True,
+        show_eta=False,
         item_show_func=rate.text,
     ) as bar:
         first = True
@@ -112,6 +120,7 @@ def run(
             if first:  # the episodes already there: not part of this run's rate
                 first = False
                 rate.start = time.monotonic()
+                rate.present = n
             else:
                 rate.done += n
             bar.update(n, None)

@@ -317,6 +317,8 @@ class _Ranking:
 
     def text(self, planners: Sequence[str]) -> str:
         """Best first; ``=`` between planners with the same mean."""
+        if all(math.isnan(m) for m in self.means):
+            return "(no episodes yet)"
         order = self.order(planners)
         out = order[0]
         for prev, name in itertools.pairwise(order):

@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import hashlib
 import os
+import resource
 import statistics
 import tempfile
 import time
@@ -48,6 +49,17 @@ def _digest(out: Path) -> str:
         h.update(str(path.relative_to(out)).encode())
         h.update(path.read_bytes())
     return h.hexdigest()
+
+
+def _cpu_s() -> float:
+    """User + system CPU time of this process and of its reaped descendants (the pool's
+    workers; the LocalCluster's nannies and their workers, which are waited for when
+    the cluster closes)."""
+    total = 0.0
+    for who in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN):
+        usage = resource.getrusage(who)
+        total += usage.ru_utime + usage.ru_stime
+    return total
 
 
 def _cluster_start_stop(jobs: int) -> float:
@@ -97,27 +109,36 @@ def main() -> None:
         startup = _cluster_start_stop(args.jobs)
         print(f"LocalCluster of {args.jobs} workers, start + stop alone: {startup:.2f} s")
         rates: dict[str, list[float]] = {"process": [], "dask": []}
+        per_cpu: dict[str, list[float]] = {"process": [], "dask": []}
         first_digest = None
         for k in range(args.repeats):
             for executor in ("process", "dask"):
                 out = Path(tmp) / f"{executor}{k}"
                 load = os.getloadavg()[0]
-                start = time.perf_counter()
+                start, cpu0 = time.perf_counter(), _cpu_s()
                 summary = run_sweep(spec, out, executor=executor, jobs=args.jobs)
-                wall = time.perf_counter() - start
+                wall, cpu = time.perf_counter() - start, _cpu_s() - cpu0
                 digest = _digest(out)
                 first_digest = first_digest or digest
                 rate = summary.simulated / wall
                 rates[executor].append(rate)
+                per_cpu[executor].append(summary.simulated / cpu)
                 print(
                     f"{executor:8s} run {k}: {wall:7.1f} s, {rate:6.2f} episodes/s, "
-                    f"{rate / args.jobs:6.2f} per worker; load {load:.2f} before; "
-                    f"same bytes as the first run: {digest == first_digest}"
+                    f"{rate / args.jobs:6.2f} per worker; CPU {cpu:7.1f} s, "
+                    f"{summary.simulated / cpu:6.2f} episodes per CPU-second; load "
+                    f"{load:.2f} before; same bytes as the first run: {digest == first_digest}",
+                    flush=True,
                 )
         p, d = statistics.median(rates["process"]), statistics.median(rates["dask"])
         print(
             f"median episodes/s per worker: process {p / args.jobs:.2f}, dask "
             f"{d / args.jobs:.2f} (dask / process = {d / p:.3f})"
+        )
+        p, d = statistics.median(per_cpu["process"]), statistics.median(per_cpu["dask"])
+        print(
+            f"median episodes per CPU-second: process {p:.2f}, dask {d:.2f} "
+            f"(dask / process = {d / p:.3f})"
         )
 
 

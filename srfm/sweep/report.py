@@ -317,6 +317,8 @@ class _Ranking:
 
     def text(self, planners: Sequence[str]) -> str:
         """Best first; ``=`` between planners with the same mean."""
+        if all(math.isnan(m) for m in self.means):
+            return "(no episodes yet)"
         order = self.order(planners)
         out = order[0]
         for prev, name in itertools.pairwise(order):
@@ -450,7 +452,7 @@ def _stability(data: SweepData, metric: str) -> tuple[str, str]:
                         f"{_fmt(a, 3)} vs {_fmt(b, 3)} | {_fmt(pv, 3)}"
                         f"{' *' if pv < ALPHA else ''} |"
                     )
-    lines += ["", f"{flips} flips in all."]
+    lines += ["", f"{flips} flips in all.", "", *_pairwise(data, ranks, metric)]
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(["scope", "cell", *data.factors, "planner", f"mean_{metric}", "rank"])
@@ -470,6 +472,44 @@ def _stability(data: SweepData, metric: str) -> tuple[str, str]:
                     ]
                 )
     return "\n".join(lines) + "\n", buf.getvalue()
+
+
+def _pairwise(data: SweepData, ranks: dict[tuple[str, str], _Ranking], metric: str) -> list[str]:
+    """Across every (cell, scenario) where the planners are not all tied: how often each
+    planner has the lowest mean, and for each pair how often the first is
+    significantly lower, significantly higher (paired t-test), or neither."""
+    pairs = [(p, q) for i, p in enumerate(data.planners) for q in data.planners[i + 1 :]]
+    lowest = dict.fromkeys(data.planners, 0)
+    counts = {pair: [0, 0, 0] for pair in pairs}
+    total = 0
+    for cell in data.cells:
+        for scenario in data.scenarios:
+            means = ranks[(scenario, cell)].means
+            finite = [m for m in means if not math.isnan(m)]
+            if len(finite) < len(means) or max(finite) == min(finite):
+                continue
+            total += 1
+            lowest[data.planners[int(np.argmin(means))]] += 1
+            for i, (p, q) in enumerate(pairs):
+                pv = _paired_p(data, cell, scenario, p, q, metric)
+                a, b = means[data.planners.index(p)], means[data.planners.index(q)]
+                counts[pairs[i]][2 if not pv < ALPHA else (0 if a < b else 1)] += 1
+    lines = [
+        "### Head to head",
+        "",
+        f"Over the {total} (cell, scenario) pairs where the planners are not all tied: "
+        "how often each planner has the lowest mean, and for each pair how often the "
+        f"first is significantly lower or higher than the second (paired t-test, p < {ALPHA}).",
+        "",
+        "| planner | lowest mean in |",
+        "|---|--:|",
+        *[f"| {p} | {lowest[p]} |" for p in data.planners],
+        "",
+        "| pair | first lower | first higher | not significant |",
+        "|---|--:|--:|--:|",
+        *[f"| {p} vs {q} | {c[0]} | {c[1]} | {c[2]} |" for (p, q), c in counts.items()],
+    ]
+    return lines
 
 
 def _factor_table(data: SweepData, factor: str, metric: str) -> list[str]:

@@ -24,6 +24,7 @@ from tests.benchmark.test_runner import SHORT, SLOW
 from tests.conftest import REPO, write_scenario
 
 BIN = Path(sys.executable).parent
+WAITER = "tests.benchmark.test_runner:Waiter"  # differs from SLOW (a straight line)
 ENV = {**os.environ, "PYTHONPATH": str(REPO)}
 HAS_DASK = True
 try:
@@ -38,7 +39,7 @@ SPEC = """
 schema_version = 1
 name = "tiny"
 scenarios = ["short.toml"]
-planners = ["straight", "{slow}"]
+planners = ["{waiter}", "{slow}"]
 seeds = "{seeds}"
 seeds_per_task = 2
 
@@ -53,7 +54,7 @@ b_robot = [0.6, 1.2]
 def _spec(folder: Path, seeds: str = "0-3", name: str = "spec.toml") -> Path:
     write_scenario(folder / "short.toml", SHORT)
     path = folder / name
-    path.write_text(SPEC.format(slow=SLOW, seeds=seeds), encoding="utf-8")
+    path.write_text(SPEC.format(waiter=WAITER, slow=SLOW, seeds=seeds), encoding="utf-8")
     return path
 
 
@@ -83,7 +84,7 @@ def test_dataset_one_row_per_episode_with_the_cell(spec_file: Path, reference: P
     rows = table.to_pylist()
     cells = {(r["a_robot"], r["b_robot"]) for r in rows}
     assert cells == {(3.0, 0.6), (3.0, 1.2), (8.0, 0.6), (8.0, 1.2)}
-    assert {r["planner"] for r in rows} == {"straight", SLOW}
+    assert {r["planner"] for r in rows} == {WAITER, SLOW}
     assert all(r["frechet_m"] is not None and r["frechet_m"] >= 0 for r in rows)
     # the robot force matters: a stronger A_r pushes people further (same seeds)
     mean = {a: sum(r["frechet_m"] for r in rows if r["a_robot"] == a) / 16 for a in (3.0, 8.0)}
@@ -232,7 +233,7 @@ def test_spec_errors_name_the_file_and_key(tmp_path: Path) -> None:
             good.replace("b_robot = [0.6, 1.2]", "crowd_size = [5, 10]"),
             "design.factors.crowd_size: the crowd size of a scenario of kind 'fixed'",
         ),
-        "unknown planner": (good.replace('"straight"', '"nope"'), "planners: unknown planner"),
+        "unknown planner": (good.replace(f'"{WAITER}"', '"nope"'), "planners: unknown planner"),
         "no design": (good.split("[design]")[0], "design: is required"),
     }
     for what, (text, message) in cases.items():
@@ -304,6 +305,11 @@ def test_report(reference: Path) -> None:
     text = (reference / "report" / "report.md").read_text()
     assert "32 of 32 episodes (complete)" in text
     assert f"Reference cell: `{ref}`" in text
+    head = text.split("### Head to head")[1]
+    total = int(head.split("Over the ")[1].split(" ")[0])
+    assert total == 4  # 4 cells × 1 scenario: the two planners differ in each
+    row = next(line for line in head.splitlines() if line.startswith(f"| {WAITER} vs {SLOW} |"))
+    assert sum(int(x) for x in row.strip("|").split("|")[1:]) == total
     rankings = (reference / "report" / "rankings.csv").read_text().splitlines()
     assert len(rankings) == 1 + 2 * 4 * 2  # (scenario + all) × cells × planners
     with pytest.raises(SweepError, match="unknown metric 'nope'"):

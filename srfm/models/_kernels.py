@@ -307,8 +307,9 @@ def fast_exp(arg: float) -> float:
     p = p * t + 1.0
     # nf + 1.5·2^52 is exact and holds nf in its low bits: n without a float-to-int64
     # conversion (AVX2 has none)
-    n = _float_bits(nf + _ROUND_SHIFT) - _float_bits(_ROUND_SHIFT)
-    return p * _bits_float((n + 1023) << 52)
+    n: int = _float_bits(nf + _ROUND_SHIFT) - _float_bits(_ROUND_SHIFT)  # type: ignore[call-arg]
+    scale: float = _bits_float((n + 1023) << 52)
+    return p * scale
 
 
 @njit(cache=True, fastmath=PAIR_FASTMATH)

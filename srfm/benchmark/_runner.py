@@ -351,30 +351,53 @@ def one_thread() -> None:
     numba.set_num_threads(1)
 
 
-def _compile_in_parent(tasks: Sequence[_Task]) -> None:
-    """Compile, before the workers are forked, the kernels the tasks will call.
-
-    One two-step episode of each planner the tasks name (on the scenario of its first
-    task, with its parameters) and its metrics: the crowd, robot, event, planner and
-    metric kernels are then compiled (or loaded from numba's cache) once, here, and
-    every forked worker inherits them instead of compiling its own copies, which with
-    an empty cache cost each worker as much as the whole set. Only the kernels of the
-    requested planners are compiled. Nothing is written. An error here is left for the
-    worker to report in its own words.
-    """
+def _warm_up(task: _Task) -> None:
+    """One two-step episode of ``task``'s planner on its scenario, with its parameters,
+    and its metrics: compiles (or loads from numba's cache) every kernel such an episode
+    calls. Nothing is written. An error is left for the worker to report in its own
+    words."""
     from srfm.errors import SrfmError
     from srfm.sim.episode import run_episode
 
+    short = attrs.evolve(task.scenario, horizon_steps=min(2, task.scenario.horizon_steps))
+    try:
+        record = run_episode(short, task.seeds[0], build_planner(task.planner), task.params)
+        episode_metrics(record)
+    except SrfmError:
+        return
+
+
+def _compile_in_parent(
+    tasks: Sequence[_Task], jobs: int = 1, context: Any | None = None
+) -> None:
+    """Compile, before the workers are forked, the kernels the tasks will call.
+
+    :func:`_warm_up` of each planner the tasks name (on the scenario of its first
+    task): the crowd, robot, event, planner and metric kernels are then compiled (or
+    loaded from numba's cache) once, here, and every forked worker inherits them
+    instead of compiling its own copies, which with an empty cache cost each worker as
+    much as the whole set. Only the kernels of the requested planners are compiled.
+
+    With ``jobs`` > 1 and a fork ``context``, the first planner's warm-up runs here (the
+    kernels every planner shares: crowd, robot, metrics), the other planners' warm-ups
+    in up to ``jobs`` forked processes at once, which write their kernels to numba's
+    on-disk cache; the warm-ups here then load them from it. On a first run that spreads
+    the compilation of the planners' kernels over the cores. Nothing is written but
+    numba's cache.
+    """
     first: dict[str, _Task] = {}
     for task in tasks:
         first.setdefault(task.planner, task)
-    for planner, task in first.items():
-        short = attrs.evolve(task.scenario, horizon_steps=min(2, task.scenario.horizon_steps))
-        try:
-            record = run_episode(short, task.seeds[0], build_planner(planner), task.params)
-            episode_metrics(record)
-        except SrfmError:
-            continue
+    order = list(first.values())
+    if not order:
+        return
+    _warm_up(order[0])
+    rest = order[1:]
+    if jobs > 1 and len(rest) > 1 and context is not None:
+        with context.Pool(min(jobs, len(rest)), initializer=_init_worker) as pool:
+            pool.map(_warm_up, rest, chunksize=1)
+    for task in rest:
+        _warm_up(task)
 
 
 def _init_worker() -> None:
@@ -572,7 +595,7 @@ def run_benchmark(
         elif tasks:
             context = multiprocessing.get_context("fork" if sys.platform != "win32" else "spawn")
             if context.get_start_method() == "fork":
-                _compile_in_parent(tasks)
+                _compile_in_parent(tasks, jobs, context)
             with context.Pool(min(jobs, len(tasks)), initializer=_init_worker) as pool:
                 for done in pool.imap_unordered(_run_task, tasks):
                     if on_progress is not None:

@@ -597,6 +597,51 @@ def step_serial(
     integrate(pos, vel, force_buf, vmax, dt)
 
 
+@njit(cache=True)
+def step_exact(
+    pos: np.ndarray,
+    vel: np.ndarray,
+    goal: np.ndarray,
+    radius: np.ndarray,
+    v0: np.ndarray,
+    vmax: np.ndarray,
+    params: SRFMKernelParams,
+    robot: np.ndarray,
+    robot_on: bool,
+    segments: np.ndarray,
+    circles: np.ndarray,
+    dt: float,
+    force_buf: np.ndarray,
+    cut: np.ndarray,
+) -> None:
+    """:func:`step_serial` with every pedestrian pair, in index order (the exact kernel),
+    whatever ``cut[0]``; obstacles cut at ``cut[1]`` as there.
+
+    A kernel of its own so that runs without a cut-off (every built-in scenario but the
+    large ones) never compile the cell list: a first run compiles seconds less.
+    """
+    ped = np.zeros((0, 2))
+    cut = np.array([np.inf, cut[1]])
+    for i in range(pos.shape[0]):
+        _agent_total(
+            i,
+            pos,
+            vel,
+            goal,
+            radius,
+            v0,
+            params,
+            robot,
+            robot_on,
+            segments,
+            circles,
+            cut,
+            ped,
+            force_buf,
+        )
+    integrate(pos, vel, force_buf, vmax, dt)
+
+
 @njit(cache=True, parallel=True)
 def step_parallel(
     pos: np.ndarray,
@@ -721,6 +766,17 @@ def _twin_arrivals(
 
 
 @njit(cache=True)
+def plain_bool(flag: int) -> bool:
+    """``flag != 0`` typed as a plain bool. numba types a constant argument such as ``True``
+    as a literal and compiles the callee once per literal value (a literal passed
+    straight through stays one); the robot switch of the twin step, computed by this
+    comparison, lets its two ``step_serial`` calls share one compiled specialisation
+    (several seconds of compilation each on a first run).
+    """
+    return flag != 0
+
+
+@njit(cache=True)
 def twin_step_serial(
     f_pos: np.ndarray,
     f_vel: np.ndarray,
@@ -755,7 +811,7 @@ def twin_step_serial(
         vmax,
         params,
         robot,
-        True,
+        plain_bool(1),
         segments,
         circles,
         dt,
@@ -771,7 +827,69 @@ def twin_step_serial(
         vmax,
         params,
         robot,
-        False,
+        plain_bool(0),
+        segments,
+        circles,
+        dt,
+        force_buf,
+        cut,
+    )
+    return _twin_arrivals(
+        f_pos, f_goal, c_pos, c_goal, goal_radius, f_arrived, c_arrived, f_new, c_new
+    )
+
+
+@njit(cache=True)
+def twin_step_exact(
+    f_pos: np.ndarray,
+    f_vel: np.ndarray,
+    f_goal: np.ndarray,
+    c_pos: np.ndarray,
+    c_vel: np.ndarray,
+    c_goal: np.ndarray,
+    radius: np.ndarray,
+    v0: np.ndarray,
+    vmax: np.ndarray,
+    params: SRFMKernelParams,
+    robot: np.ndarray,
+    segments: np.ndarray,
+    circles: np.ndarray,
+    dt: float,
+    force_buf: np.ndarray,
+    goal_radius: float,
+    f_arrived: np.ndarray,
+    c_arrived: np.ndarray,
+    f_new: np.ndarray,
+    c_new: np.ndarray,
+    cut: np.ndarray,
+) -> int:
+    """As :func:`twin_step_serial` with :func:`step_exact` (no cell list compiled)."""
+    step_exact(
+        f_pos,
+        f_vel,
+        f_goal,
+        radius,
+        v0,
+        vmax,
+        params,
+        robot,
+        plain_bool(1),
+        segments,
+        circles,
+        dt,
+        force_buf,
+        cut,
+    )
+    step_exact(
+        c_pos,
+        c_vel,
+        c_goal,
+        radius,
+        v0,
+        vmax,
+        params,
+        robot,
+        plain_bool(0),
         segments,
         circles,
         dt,
@@ -817,7 +935,7 @@ def twin_step_parallel(
         vmax,
         params,
         robot,
-        True,
+        plain_bool(1),
         segments,
         circles,
         dt,
@@ -833,7 +951,7 @@ def twin_step_parallel(
         vmax,
         params,
         robot,
-        False,
+        plain_bool(0),
         segments,
         circles,
         dt,

@@ -214,7 +214,12 @@ def step_crowd(
     obstacles = obstacles or _NO_OBSTACLES
     robot_arr, robot_on = _robot_args(robot)
     cut = kernel_cutoffs(cutoff, params, crowd.radius)
-    kernel = _kernels.step_parallel if parallel else _kernels.step_serial
+    if parallel:
+        kernel = _kernels.step_parallel
+    elif math.isinf(cut[0]):
+        kernel = _kernels.step_exact  # the same sums, without compiling the cell list
+    else:
+        kernel = _kernels.step_serial
     kernel(
         crowd.pos,
         crowd.vel,

@@ -36,13 +36,17 @@ def _commit() -> str:
         out = subprocess.run(
             ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True
         ).stdout.strip()
-        dirty = subprocess.run(["git", "status", "--porcelain", "srfm"], capture_output=True, text=True)
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "srfm"], capture_output=True, text=True
+        )
         return out + (" + uncommitted changes" if dirty.stdout.strip() else "")
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
 
 
-def run_once(cache: Path, out: Path, jobs: int | None, extra: list[str]) -> tuple[float, float, float]:
+def run_once(
+    cache: Path, out: Path, jobs: int | None, extra: list[str]
+) -> tuple[float, float, float]:
     """(simulation phase s, command wall s, CPU s of the command and its workers)."""
     srfm = Path(sys.executable).with_name("srfm")
     cmd = [str(srfm), "benchmark", "--quick", "--out", str(out), *extra]
@@ -65,17 +69,24 @@ def run_once(cache: Path, out: Path, jobs: int | None, extra: list[str]) -> tupl
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--jobs", type=int, default=None, help="-j of srfm benchmark (default: its own)")
+    parser.add_argument(
+        "--jobs", type=int, default=None, help="-j of srfm benchmark (default: its own)"
+    )
     parser.add_argument(
         "--extra", nargs=argparse.REMAINDER, default=[], help="further srfm benchmark options"
     )
     args = parser.parse_args()
-    print(f"date: {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC, srfm commit {_commit()}")
+    print(
+        f"date: {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC, srfm commit {_commit()}"
+    )
     print(f"cores: {os.cpu_count()}, load average at start: {os.getloadavg()}")
     with tempfile.TemporaryDirectory(prefix="srfm-cold-") as tmp:
         cache = Path(tmp) / "numba-cache"
         cache.mkdir()
-        print("| run | simulation phase (s, as printed) | whole command, wall (s) | CPU time, all processes (s) |")
+        print(
+            "| run | simulation phase (s, as printed) | whole command, wall (s)"
+            " | CPU time, all processes (s) |"
+        )
         print("|---|---:|---:|---:|")
         for label, folder in (("empty numba cache", "cold"), ("warm numba cache", "warm")):
             sim, wall, cpu = run_once(cache, Path(tmp) / folder, args.jobs, args.extra)

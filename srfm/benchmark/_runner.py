@@ -367,9 +367,7 @@ def _warm_up(task: _Task) -> None:
         return
 
 
-def _compile_in_parent(
-    tasks: Sequence[_Task], jobs: int = 1, context: Any | None = None
-) -> None:
+def _compile_in_parent(tasks: Sequence[_Task]) -> None:
     """Compile, before the workers are forked, the kernels the tasks will call.
 
     :func:`_warm_up` of each planner the tasks name (on the scenario of its first
@@ -377,26 +375,14 @@ def _compile_in_parent(
     loaded from numba's cache) once, here, and every forked worker inherits them
     instead of compiling its own copies, which with an empty cache cost each worker as
     much as the whole set. Only the kernels of the requested planners are compiled.
-
-    With ``jobs`` > 1 and a fork ``context``, the first planner's warm-up runs here (the
-    kernels every planner shares: crowd, robot, metrics), the other planners' warm-ups
-    in up to ``jobs`` forked processes at once, which write their kernels to numba's
-    on-disk cache; the warm-ups here then load them from it. On a first run that spreads
-    the compilation of the planners' kernels over the cores. Nothing is written but
-    numba's cache.
+    Nothing is written but numba's cache. (Warming the planners up in forked processes
+    at once, through numba's cache, was tried: loading the kernels back from the cache
+    and the forks cost more CPU time than the parallel compilation saved.)
     """
     first: dict[str, _Task] = {}
     for task in tasks:
         first.setdefault(task.planner, task)
-    order = list(first.values())
-    if not order:
-        return
-    _warm_up(order[0])
-    rest = order[1:]
-    if jobs > 1 and len(rest) > 1 and context is not None:
-        with context.Pool(min(jobs, len(rest)), initializer=_init_worker) as pool:
-            pool.map(_warm_up, rest, chunksize=1)
-    for task in rest:
+    for task in first.values():
         _warm_up(task)
 
 
@@ -595,7 +581,7 @@ def run_benchmark(
         elif tasks:
             context = multiprocessing.get_context("fork" if sys.platform != "win32" else "spawn")
             if context.get_start_method() == "fork":
-                _compile_in_parent(tasks, jobs, context)
+                _compile_in_parent(tasks)
             with context.Pool(min(jobs, len(tasks)), initializer=_init_worker) as pool:
                 for done in pool.imap_unordered(_run_task, tasks):
                     if on_progress is not None:

@@ -389,32 +389,3 @@ def test_kernels_are_compiled_in_the_parent_before_forking(
     assert _dwa_kernels.dwa_unicycle.signatures  # the planner's kernel is compiled
     assert list(tmp_path.iterdir()) == []
 
-
-def test_planner_kernels_are_compiled_in_forked_processes_then_loaded(
-    short_scenario: Path, tmp_path: Path
-) -> None:
-    # issue 19: with jobs > 1 the planners after the first are warmed up in forked
-    # processes (through numba's on-disk cache), then again here; every requested
-    # planner's kernel ends up compiled in this process and nothing is written
-    import multiprocessing
-
-    from srfm.benchmark._runner import _compile_in_parent, _Task
-    from srfm.planners import _social_force_kernels, _vo_kernels
-
-    scenario = load_scenario(short_scenario)
-    tasks = [
-        _Task(
-            scenario=scenario,
-            planner=planner,
-            seeds=(0,),
-            params=SRFMParams(),
-            out=str(tmp_path),
-            writer=None,
-            figure_seed=None,
-        )
-        for planner in ("straight", "vo", "social-force")
-    ]
-    _compile_in_parent(tasks, 2, multiprocessing.get_context("fork"))
-    assert _vo_kernels.vo_command.signatures
-    assert _social_force_kernels.social_force_command.signatures
-    assert list(tmp_path.iterdir()) == []

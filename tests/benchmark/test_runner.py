@@ -388,4 +388,3 @@ def test_kernels_are_compiled_in_the_parent_before_forking(
     _compile_in_parent([task])
     assert _dwa_kernels.dwa_unicycle.signatures  # the planner's kernel is compiled
     assert list(tmp_path.iterdir()) == []
-

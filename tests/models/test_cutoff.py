@@ -179,3 +179,20 @@ def test_coincident_and_stacked_agents_get_no_pair_force() -> None:
     cut = force_components(c, PARAMS, cutoff=13.5).pedestrians
     assert np.all(np.isfinite(cut))
     np.testing.assert_allclose(cut, exact, rtol=1e-13, atol=1e-15)
+
+
+def test_agents_without_heading_are_isotropic_in_the_cell_list() -> None:
+    # agents at rest on their goal have no heading (ψ = 1); mixed with walking ones
+    rng = np.random.default_rng(11)
+    pos = rng.uniform(0.0, 40.0, (120, 2))
+    goal = pos + rng.uniform(-10.0, 10.0, (120, 2))
+    vel = rng.uniform(-1.0, 1.0, (120, 2))
+    goal[::3] = pos[::3]
+    vel[::3] = 0.0
+    c = srfm.CrowdState.create(pos=pos, goal=goal, vel=vel, v0=1.25, radius=0.3)
+    d_ped, _ = interaction_cutoffs(PARAMS, 0.3)
+    assert_within_tolerance(c, d_ped, srfm.Obstacles())
+    assert_within_tolerance(c, 40.0 * math.sqrt(2.0) + 1.0, srfm.Obstacles())  # none left out
+    everyone = force_components(c, PARAMS, cutoff=60.0).pedestrians
+    exact = force_components(c, PARAMS, cutoff="exact").pedestrians
+    np.testing.assert_allclose(everyone, exact, rtol=1e-12, atol=1e-13)

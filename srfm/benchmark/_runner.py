@@ -353,30 +353,39 @@ def one_thread() -> None:
     numba.set_num_threads(1)
 
 
-def _compile_in_parent(tasks: Sequence[_Task]) -> None:
-    """Compile, before the workers are forked, the kernels the tasks will call.
-
-    One two-step episode of each planner the tasks name (on the scenario of its first
-    task, with its parameters) and its metrics: the crowd, robot, event, planner and
-    metric kernels are then compiled (or loaded from numba's cache) once, here, and
-    every forked worker inherits them instead of compiling its own copies, which with
-    an empty cache cost each worker as much as the whole set. Only the kernels of the
-    requested planners are compiled. Nothing is written. An error here is left for the
-    worker to report in its own words.
-    """
+def _warm_up(task: _Task) -> None:
+    """One two-step episode of ``task``'s planner on its scenario, with its parameters,
+    and its metrics: compiles (or loads from numba's cache) every kernel such an episode
+    calls. Nothing is written. An error is left for the worker to report in its own
+    words."""
     from srfm.errors import SrfmError
     from srfm.sim.episode import run_episode
 
+    short = attrs.evolve(task.scenario, horizon_steps=min(2, task.scenario.horizon_steps))
+    try:
+        record = run_episode(short, task.seeds[0], build_planner(task.planner), task.params)
+        episode_metrics(record)
+    except SrfmError:
+        return
+
+
+def _compile_in_parent(tasks: Sequence[_Task]) -> None:
+    """Compile, before the workers are forked, the kernels the tasks will call.
+
+    :func:`_warm_up` of each planner the tasks name (on the scenario of its first
+    task): the crowd, robot, event, planner and metric kernels are then compiled (or
+    loaded from numba's cache) once, here, and every forked worker inherits them
+    instead of compiling its own copies, which with an empty cache cost each worker as
+    much as the whole set. Only the kernels of the requested planners are compiled.
+    Nothing is written but numba's cache. (Warming the planners up in forked processes
+    at once, through numba's cache, was tried: loading the kernels back from the cache
+    and the forks cost more CPU time than the parallel compilation saved.)
+    """
     first: dict[str, _Task] = {}
     for task in tasks:
         first.setdefault(task.planner, task)
-    for planner, task in first.items():
-        short = attrs.evolve(task.scenario, horizon_steps=min(2, task.scenario.horizon_steps))
-        try:
-            record = run_episode(short, task.seeds[0], build_planner(planner), task.params)
-            episode_metrics(record)
-        except SrfmError:
-            continue
+    for task in first.values():
+        _warm_up(task)
 
 
 def _init_worker() -> None:

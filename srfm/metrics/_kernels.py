@@ -73,6 +73,39 @@ def coupling_bound_sq(p: np.ndarray, q: np.ndarray) -> float:
 
 
 @njit(cache=True)
+def _order_decreasing(values: np.ndarray) -> np.ndarray:
+    """Indices of ``values`` in decreasing order of value (heapsort; the order of ties
+    is unspecified). Written out because numba's ``np.argsort`` costs seconds of
+    compilation on a first run; the callers' results do not depend on the order of ties.
+    """
+    m = values.shape[0]
+    idx = np.arange(m)
+    # a min-heap on values: popping the smallest to the end leaves them in decreasing order
+    for start in range(m // 2 - 1, -1, -1):
+        _sift_down(values, idx, start, m)
+    for end in range(m - 1, 0, -1):
+        idx[0], idx[end] = idx[end], idx[0]
+        _sift_down(values, idx, 0, end)
+    return idx
+
+
+@njit(cache=True, inline="always")
+def _sift_down(values: np.ndarray, idx: np.ndarray, root: int, size: int) -> None:
+    """Restore the min-heap property of ``idx[:size]`` (keyed by ``values``) below ``root``."""
+    while True:
+        child = 2 * root + 1
+        if child >= size:
+            return
+        if child + 1 < size and values[idx[child + 1]] < values[idx[child]]:
+            child += 1
+        if values[idx[child]] < values[idx[root]]:
+            idx[root], idx[child] = idx[child], idx[root]
+            root = child
+        else:
+            return
+
+
+@njit(cache=True)
 def hausdorff_lower_sq(p: np.ndarray, q: np.ndarray) -> float:
     """max over j of min over i of the squared distance from q_j to p_i (m = len(q)).
 
@@ -88,7 +121,7 @@ def hausdorff_lower_sq(p: np.ndarray, q: np.ndarray) -> float:
     for j in range(m):
         i0 = (j * (n - 1)) // (m - 1) if m > 1 else 0
         partner[j] = _dist_sq(p, i0, q, j)
-    order = np.argsort(-partner)
+    order = _order_decreasing(partner)
     h = 0.0
     for k in range(m):
         j = order[k]

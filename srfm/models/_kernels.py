@@ -29,11 +29,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from llvmlite import ir
+from numba import njit, prange, types
+from numba.extending import intrinsic
 
 from srfm.models._primitives import (
     EPS,
-    anisotropy,
+    EXP_ARG_MAX,
     capped_exp,
     closest_on_segment,
     desired_velocity,
@@ -234,6 +236,136 @@ def _cell_of(x: float, y: float, grid: np.ndarray) -> tuple[int, int]:
     return cx, cy
 
 
+# Cells per cut-off: the cells are cut-off / CELL_SPLIT wide, and a pedestrian's
+# neighbours lie within CELL_SPLIT cells of its own. Narrower cells test fewer pairs
+# beyond the cut-off (the stencil covers (2·CELL_SPLIT + 1)² / CELL_SPLIT² cut-off
+# squares instead of 9) at the price of shorter runs.
+CELL_SPLIT = 2
+# Flags of the pair pass only (never of the exact kernel): reassociation and contraction
+# let LLVM vectorise the inner loop (a reduction, fused multiply-adds). The pass stays
+# deterministic (same input, same machine, same bits); it is not bit for bit the
+# index-order sum of the exact kernel anyway.
+PAIR_FASTMATH = {"reassoc", "contract", "nsz"}
+
+
+@intrinsic
+def _float_bits(typingctx, x):  # type: ignore[no-untyped-def]
+    """The IEEE 754 bits of a float64 as an int64 (a bit cast, no conversion)."""
+    sig = types.int64(types.float64)
+
+    def codegen(context, builder, signature, args):  # type: ignore[no-untyped-def]
+        return builder.bitcast(args[0], ir.IntType(64))
+
+    return sig, codegen
+
+
+@intrinsic
+def _bits_float(typingctx, i):  # type: ignore[no-untyped-def]
+    """The float64 whose IEEE 754 bits are the int64 ``i`` (a bit cast, no conversion)."""
+    sig = types.float64(types.int64)
+
+    def codegen(context, builder, signature, args):  # type: ignore[no-untyped-def]
+        return builder.bitcast(args[0], ir.DoubleType())
+
+    return sig, codegen
+
+
+_LOG2E = 1.4426950408889634
+_LN2_HI = 0.693147180369123816490  # ln 2 split in two (Cody and Waite): n·_LN2_HI is exact
+_LN2_LO = 1.90821492927058770002e-10
+_ROUND_SHIFT = 6755399441055744.0  # 1.5·2^52: an integer added to it lands in the low bits
+
+
+@njit(cache=True, fastmath=PAIR_FASTMATH)
+def fast_exp(arg: float) -> float:
+    """exp(arg), arg clipped to [−EXP_ARG_MAX, EXP_ARG_MAX], branch-free so that the pair
+    loop vectorises (numba's math.exp is a libm call per element).
+
+    arg = n ln 2 + t with n = round(arg / ln 2) and |t| <= ln 2 / 2; e^t from its Taylor
+    polynomial of degree 12 (truncation below 2e-17 relative), 2^n written straight into
+    the exponent bits. Agrees with math.exp to a few units in the last place. Compiled
+    with the pair loop's fastmath flags, set here explicitly: numba lets a callee without
+    flags of its own inherit its caller's, so that otherwise its bits would depend on
+    who compiled it first. n comes from ``floor``, not from the add-and-subtract
+    rounding trick, which reassociation would fold away.
+    """
+    x = min(max(arg, -EXP_ARG_MAX), EXP_ARG_MAX)
+    nf = math.floor(x * _LOG2E + 0.5)
+    t = (x - nf * _LN2_HI) - nf * _LN2_LO
+    p = 1.0 / 479001600.0
+    p = p * t + 1.0 / 39916800.0
+    p = p * t + 1.0 / 3628800.0
+    p = p * t + 1.0 / 362880.0
+    p = p * t + 1.0 / 40320.0
+    p = p * t + 1.0 / 5040.0
+    p = p * t + 1.0 / 720.0
+    p = p * t + 1.0 / 120.0
+    p = p * t + 1.0 / 24.0
+    p = p * t + 1.0 / 6.0
+    p = p * t + 0.5
+    p = p * t + 1.0
+    p = p * t + 1.0
+    # nf + 1.5·2^52 is exact and holds nf in its low bits: n without a float-to-int64
+    # conversion (AVX2 has none)
+    n: int = _float_bits(nf + _ROUND_SHIFT) - _float_bits(_ROUND_SHIFT)  # type: ignore[call-arg]
+    scale: float = _bits_float((n + 1023) << 52)
+    return p * scale
+
+
+@njit(cache=True, fastmath=PAIR_FASTMATH)
+def _pair_run(
+    k: int,
+    lo: int,
+    hi: int,
+    dat: np.ndarray,
+    cut2: float,
+    inv_b: float,
+    a_p: float,
+    acc: np.ndarray,
+) -> tuple[float, float]:
+    """The pairs (k, q) for q in [lo, hi) of the cell-ordered agents ``dat`` (columns x,
+    y, r, hx', hy', c: ψ = c ± (hx', hy')·u, see :func:`cell_pair_forces`): q's share
+    goes into ``acc[q]``, k's share is returned. Pairs at or beyond the cut-off (``cut2``
+    its square) or closer than EPS get no force; branch-free, so it vectorises.
+    """
+    xk = dat[0, k]
+    yk = dat[1, k]
+    rk = dat[2, k]
+    hxk = dat[3, k]
+    hyk = dat[4, k]
+    ck = dat[5, k]
+    # row slices of the run, indexed from 0: a loop index known to be >= 0 lets LLVM
+    # drop numba's negative-index wraparound and vectorise the loop
+    xs = dat[0, lo:hi]
+    ys = dat[1, lo:hi]
+    rs = dat[2, lo:hi]
+    hxs = dat[3, lo:hi]
+    hys = dat[4, lo:hi]
+    cs = dat[5, lo:hi]
+    ax = acc[0, lo:hi]
+    ay = acc[1, lo:hi]
+    eps2 = EPS * EPS
+    fx = 0.0
+    fy = 0.0
+    for q in range(hi - lo):
+        dx = xk - xs[q]
+        dy = yk - ys[q]
+        d2 = dx * dx + dy * dy
+        d = math.sqrt(max(d2, eps2))
+        inv_d = 1.0 / d
+        ux = dx * inv_d  # unit vector from q to k
+        uy = dy * inv_d
+        e = a_p * fast_exp((rk + rs[q] - d) * inv_b)
+        e = e if (d2 < cut2) & (d2 >= eps2) else 0.0
+        mk = e * (ck + (hxk * ux + hyk * uy))
+        mq = e * (cs[q] - (hxs[q] * ux + hys[q] * uy))
+        fx += mk * ux
+        fy += mk * uy
+        ax[q] -= mq * ux
+        ay[q] -= mq * uy
+    return fx, fy
+
+
 @njit(cache=True)
 def cell_pair_forces(
     pos: np.ndarray,
@@ -245,76 +377,78 @@ def cell_pair_forces(
     cutoff: float,
 ) -> np.ndarray:
     """The pedestrian repulsion on every agent (N, 2), over the pairs closer than
-    ``cutoff``, found with a cell list (:func:`build_cells`); empty (0, 2) without a
-    cut-off (``inf``) or with A_p = 0.
+    ``cutoff``, found with a cell list (:func:`build_cells`, cells cutoff / CELL_SPLIT
+    wide); empty (0, 2) without a cut-off (``inf``) or with A_p = 0.
 
-    Each pair is visited once, cell by cell in row-major order (its own cell, then the
-    right neighbour and the three cells above: every neighbouring pair of cells once):
-    the exponential A exp((r_i + r_j − d) / B) is shared, each agent gets its own ψ
-    (:func:`disc_repulsion`'s terms, as a pair). Sums follow that visiting order, so the
-    result is deterministic but not bit for bit the exact kernel's index-order sum.
+    Each pair is visited once, cell by cell in row-major order: the rest of the agent's
+    own cell and the CELL_SPLIT cells to its right (one contiguous run of the cell
+    order), then CELL_SPLIT rows above, each from CELL_SPLIT cells left to CELL_SPLIT
+    cells right (one run per row). The exponential A exp((r_i + r_j − d) / B)
+    (:func:`fast_exp`) is shared, each agent gets its own ψ, written as
+    ψ = (λ + w) − w e·u with w = (1 − λ)/2 (ψ = 1 without a heading), the terms of
+    :func:`disc_repulsion`. Sums follow that visiting order, so the result is
+    deterministic and equals the exact kernel's up to rounding (a few units in the last place).
     """
     n = pos.shape[0]
     a_p = params.a_ped
     if n == 0 or a_p == 0.0 or not 0.0 < cutoff < np.inf:
         return np.zeros((0, 2))
-    b_p = params.b_ped
     lam = params.lambda_ped
-    cells, grid, xyr = build_cells(pos, radius, cutoff)
+    w = (1.0 - lam) * 0.5
+    cells, grid, xyr = build_cells(pos, radius, cutoff / CELL_SPLIT)
     nx = int(grid[3])
     ny = int(grid[4])
     n_cells = nx * ny
-    # headings in cell order: (hx, hy, 1 if the agent has a heading else 0)
-    head = np.empty((n, 3))
+    # per agent in cell order: x, y, r, then (hx', hy', c) with ψ_k = c + (hx', hy')·u for
+    # u the unit vector from the source to k
+    dat = np.empty((6, n))
     for k in range(n):
         i = cells[n_cells + 1 + k]
         dvx, dvy = desired_velocity(pos[i, 0], pos[i, 1], goal[i, 0], goal[i, 1], v0[i])
         hx, hy, has_h = _heading(vel[i, 0], vel[i, 1], dvx, dvy)
-        head[k, 0] = hx
-        head[k, 1] = hy
-        head[k, 2] = 1.0 if has_h else 0.0
-    acc = np.zeros((n, 2))
+        dat[0, k] = xyr[k, 0]
+        dat[1, k] = xyr[k, 1]
+        dat[2, k] = xyr[k, 2]
+        if has_h:
+            dat[3, k] = -w * hx
+            dat[4, k] = -w * hy
+            dat[5, k] = lam + w
+        else:
+            dat[3, k] = 0.0
+            dat[4, k] = 0.0
+            dat[5, k] = 1.0
+    acc = np.zeros((2, n))
     cut2 = cutoff * cutoff
+    inv_b = 1.0 / params.b_ped
+    reach = CELL_SPLIT
     for cy in range(ny):
         for cx in range(nx):
             c = cy * nx + cx
-            # the runs after cell c: the rest of c and its right neighbour (contiguous),
-            # then the row above from cx - 1 to cx + 1
-            r0_end = cells[c + 2] if cx + 1 < nx else cells[c + 1]
-            r1_start = 0
-            r1_end = 0
-            if cy + 1 < ny:
-                r1_start = cells[(cy + 1) * nx + max(cx - 1, 0)]
-                r1_end = cells[(cy + 1) * nx + min(cx + 1, nx - 1) + 1]
+            own_end = cells[cy * nx + min(cx + reach, nx - 1) + 1]
+            left = max(cx - reach, 0)
+            right = min(cx + reach, nx - 1)
             for k in range(cells[c], cells[c + 1]):
-                for run in range(2):
-                    lo = k + 1 if run == 0 else r1_start
-                    hi = r0_end if run == 0 else r1_end
-                    for q in range(lo, hi):
-                        dx = xyr[k, 0] - xyr[q, 0]
-                        dy = xyr[k, 1] - xyr[q, 1]
-                        d2 = dx * dx + dy * dy
-                        if d2 >= cut2:
-                            continue
-                        d = math.sqrt(d2)
-                        if d < EPS:
-                            continue
-                        e = a_p * capped_exp((xyr[k, 2] + xyr[q, 2] - d) / b_p)
-                        ux = dx / d  # unit vector from q to k
-                        uy = dy / d
-                        psi_k = anisotropy(head[k, 0], head[k, 1], head[k, 2] > 0.0, -ux, -uy, lam)
-                        psi_q = anisotropy(head[q, 0], head[q, 1], head[q, 2] > 0.0, ux, uy, lam)
-                        mk = e * psi_k
-                        mq = e * psi_q
-                        acc[k, 0] += mk * ux
-                        acc[k, 1] += mk * uy
-                        acc[q, 0] -= mq * ux
-                        acc[q, 1] -= mq * uy
+                fx, fy = _pair_run(k, k + 1, own_end, dat, cut2, inv_b, a_p, acc)
+                for ry in range(cy + 1, min(cy + reach, ny - 1) + 1):
+                    gx, gy = _pair_run(
+                        k,
+                        cells[ry * nx + left],
+                        cells[ry * nx + right + 1],
+                        dat,
+                        cut2,
+                        inv_b,
+                        a_p,
+                        acc,
+                    )
+                    fx += gx
+                    fy += gy
+                acc[0, k] += fx
+                acc[1, k] += fy
     out = np.empty((n, 2))
     for k in range(n):
         i = cells[n_cells + 1 + k]
-        out[i, 0] = acc[k, 0]
-        out[i, 1] = acc[k, 1]
+        out[i, 0] = acc[0, k]
+        out[i, 1] = acc[1, k]
     return out
 
 
@@ -463,6 +597,51 @@ def step_serial(
     integrate(pos, vel, force_buf, vmax, dt)
 
 
+@njit(cache=True)
+def step_exact(
+    pos: np.ndarray,
+    vel: np.ndarray,
+    goal: np.ndarray,
+    radius: np.ndarray,
+    v0: np.ndarray,
+    vmax: np.ndarray,
+    params: SRFMKernelParams,
+    robot: np.ndarray,
+    robot_on: bool,
+    segments: np.ndarray,
+    circles: np.ndarray,
+    dt: float,
+    force_buf: np.ndarray,
+    cut: np.ndarray,
+) -> None:
+    """:func:`step_serial` with every pedestrian pair, in index order (the exact kernel),
+    whatever ``cut[0]``; obstacles cut at ``cut[1]`` as there.
+
+    A kernel of its own so that runs without a cut-off (every built-in scenario but the
+    large ones) never compile the cell list: a first run compiles seconds less.
+    """
+    ped = np.zeros((0, 2))
+    cut = np.array([np.inf, cut[1]])
+    for i in range(pos.shape[0]):
+        _agent_total(
+            i,
+            pos,
+            vel,
+            goal,
+            radius,
+            v0,
+            params,
+            robot,
+            robot_on,
+            segments,
+            circles,
+            cut,
+            ped,
+            force_buf,
+        )
+    integrate(pos, vel, force_buf, vmax, dt)
+
+
 @njit(cache=True, parallel=True)
 def step_parallel(
     pos: np.ndarray,
@@ -587,6 +766,17 @@ def _twin_arrivals(
 
 
 @njit(cache=True)
+def plain_bool(flag: int) -> bool:
+    """``flag != 0`` typed as a plain bool. numba types a constant argument such as ``True``
+    as a literal and compiles the callee once per literal value (a literal passed
+    straight through stays one); the robot switch of the twin step, computed by this
+    comparison, lets its two ``step_serial`` calls share one compiled specialisation
+    (several seconds of compilation each on a first run).
+    """
+    return flag != 0
+
+
+@njit(cache=True)
 def twin_step_serial(
     f_pos: np.ndarray,
     f_vel: np.ndarray,
@@ -621,7 +811,7 @@ def twin_step_serial(
         vmax,
         params,
         robot,
-        True,
+        plain_bool(1),
         segments,
         circles,
         dt,
@@ -637,7 +827,69 @@ def twin_step_serial(
         vmax,
         params,
         robot,
-        False,
+        plain_bool(0),
+        segments,
+        circles,
+        dt,
+        force_buf,
+        cut,
+    )
+    return _twin_arrivals(
+        f_pos, f_goal, c_pos, c_goal, goal_radius, f_arrived, c_arrived, f_new, c_new
+    )
+
+
+@njit(cache=True)
+def twin_step_exact(
+    f_pos: np.ndarray,
+    f_vel: np.ndarray,
+    f_goal: np.ndarray,
+    c_pos: np.ndarray,
+    c_vel: np.ndarray,
+    c_goal: np.ndarray,
+    radius: np.ndarray,
+    v0: np.ndarray,
+    vmax: np.ndarray,
+    params: SRFMKernelParams,
+    robot: np.ndarray,
+    segments: np.ndarray,
+    circles: np.ndarray,
+    dt: float,
+    force_buf: np.ndarray,
+    goal_radius: float,
+    f_arrived: np.ndarray,
+    c_arrived: np.ndarray,
+    f_new: np.ndarray,
+    c_new: np.ndarray,
+    cut: np.ndarray,
+) -> int:
+    """As :func:`twin_step_serial` with :func:`step_exact` (no cell list compiled)."""
+    step_exact(
+        f_pos,
+        f_vel,
+        f_goal,
+        radius,
+        v0,
+        vmax,
+        params,
+        robot,
+        plain_bool(1),
+        segments,
+        circles,
+        dt,
+        force_buf,
+        cut,
+    )
+    step_exact(
+        c_pos,
+        c_vel,
+        c_goal,
+        radius,
+        v0,
+        vmax,
+        params,
+        robot,
+        plain_bool(0),
         segments,
         circles,
         dt,
@@ -683,7 +935,7 @@ def twin_step_parallel(
         vmax,
         params,
         robot,
-        True,
+        plain_bool(1),
         segments,
         circles,
         dt,
@@ -699,7 +951,7 @@ def twin_step_parallel(
         vmax,
         params,
         robot,
-        False,
+        plain_bool(0),
         segments,
         circles,
         dt,

@@ -40,8 +40,10 @@ __all__ = [
 FORCE_TOLERANCE_MPS2: Final = 1e-6
 # "auto" (the default) uses the cut-off and a cell list from this many pedestrians on,
 # and the exact kernel (every pair, in index order) below: the paper's 10-pedestrian
-# scenarios stay bit for bit what they were.
-CELL_LIST_MIN_AGENTS: Final = 200
+# scenarios (every built-in scenario but the large ones has 10 or fewer) stay bit for
+# bit what they were. From about 30 pedestrians on the vectorised cell-list pass is the
+# faster one (docs/performance.md).
+CELL_LIST_MIN_AGENTS: Final = 32
 # A cut-off: "auto", "exact" (no cut-off), or the pedestrian cut-off distance in m.
 Cutoff = float | Literal["auto", "exact"]
 
@@ -212,7 +214,12 @@ def step_crowd(
     obstacles = obstacles or _NO_OBSTACLES
     robot_arr, robot_on = _robot_args(robot)
     cut = kernel_cutoffs(cutoff, params, crowd.radius)
-    kernel = _kernels.step_parallel if parallel else _kernels.step_serial
+    if parallel:
+        kernel = _kernels.step_parallel
+    elif math.isinf(cut[0]):
+        kernel = _kernels.step_exact  # the same sums, without compiling the cell list
+    else:
+        kernel = _kernels.step_serial
     kernel(
         crowd.pos,
         crowd.vel,

@@ -1,7 +1,7 @@
 """numba kernels of the gymnasium environment: one fused call per environment step.
 
 Nothing of the simulation is re-implemented here: :func:`env_step` calls the crowd
-kernels of :mod:`srfm.models._kernels` (the same ``twin_step_serial`` / ``step_serial``
+kernels of :mod:`srfm.models._kernels` (the same ``twin_step_exact`` / ``step_exact``
 and ``mark_arrivals`` that :class:`srfm.TwinSimulator` calls), the robot kernels of
 :mod:`srfm.models._robot_kernels` (``move_robot``, ``robot_event``, which the simulator
 calls too) and the observation kernels of :mod:`srfm.planners._observation`, so that
@@ -39,8 +39,9 @@ from srfm.models._kernels import (
     _agent_forces,
     exact_cut,
     mark_arrivals,
-    step_serial,
-    twin_step_serial,
+    plain_bool,
+    step_exact,
+    twin_step_exact,
 )
 from srfm.models._robot_kernels import (
     EVENT_GOAL,
@@ -295,7 +296,7 @@ def env_step(
        state is computed (:func:`move_robot`);
     2. the crowds take one SRFM step with the robot where it is at sample k: the
        factual and, with ``options.counterfactual_twin``, the counterfactual crowd,
-       through the core ``twin_step_serial`` / ``step_serial`` kernels; new arrivals
+       through the core ``twin_step_exact`` / ``step_exact`` kernels; new arrivals
        are flagged;
     3. in scenarios without re-goaling new arrivals are marked arrived;
     4. the robot event at k + 1 (:func:`robot_event`, an ``EVENT_*`` code);
@@ -321,7 +322,7 @@ def env_step(
     goal_radius = options.ped_goal_radius_m
     radius = agent[AGENT_RADIUS]
     if options.counterfactual_twin:
-        twin_step_serial(
+        twin_step_exact(
             crowd[FACTUAL_POS],
             crowd[FACTUAL_VEL],
             crowd[FACTUAL_GOAL],
@@ -345,7 +346,7 @@ def env_step(
             exact_cut()[0],
         )
     else:
-        step_serial(
+        step_exact(
             crowd[FACTUAL_POS],
             crowd[FACTUAL_VEL],
             crowd[FACTUAL_GOAL],
@@ -354,7 +355,7 @@ def env_step(
             agent[AGENT_VMAX],
             params,
             body,
-            True,
+            plain_bool(1),
             segments,
             circles,
             dt,

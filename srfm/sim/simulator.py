@@ -26,6 +26,7 @@ environment call), the crowd step the SRFM kernels; each is called through
 
 from __future__ import annotations
 
+import math
 from typing import Any, Final
 
 import numpy as np
@@ -151,10 +152,13 @@ class TwinSimulator:
             self._new_arrivals["counterfactual"],
             self._cut,
         )
-        self._twin_step = specialize(
-            _kernels.twin_step_parallel if parallel else _kernels.twin_step_serial,
-            *self._twin_step_args,
-        )
+        if parallel:
+            twin_kernel = _kernels.twin_step_parallel
+        elif math.isinf(self._cut[0]):
+            twin_kernel = _kernels.twin_step_exact  # no cell list to compile
+        else:
+            twin_kernel = _kernels.twin_step_serial
+        self._twin_step = specialize(twin_kernel, *self._twin_step_args)
         self._move_robot = specialize(_rk.move_robot, self._robot, 0.0, 0.0, self._limits, dt)
         # robot_event's arguments but the sample index
         self._event_args = (

@@ -150,3 +150,49 @@ def test_bad_cutoff_is_named(bad: object) -> None:
         srfm.step_crowd(c, DT, cutoff=bad)  # type: ignore[arg-type]
     with pytest.raises(SimulationError, match="tolerance"):
         interaction_cutoffs(PARAMS, 0.3, tolerance=0.0)
+
+
+def test_builtin_scenarios_below_the_threshold_keep_the_exact_kernel() -> None:
+    from srfm.scenarios import BUILTIN_SCENARIOS, load_scenario
+
+    for name in BUILTIN_SCENARIOS:
+        n = load_scenario(name).n_pedestrians
+        assert n < CELL_LIST_MIN_AGENTS, name
+        assert np.all(np.isinf(kernel_cutoffs("auto", PARAMS, np.full(n, 0.3))))
+
+
+def test_fast_exp_matches_math_exp() -> None:
+    xs = np.concatenate([np.linspace(-60.0, 60.0, 20001), [-0.0, 1e-300, -1e-300, 0.3466]])
+    for x in xs:
+        assert _kernels.fast_exp(float(x)) == pytest.approx(math.exp(x), rel=4e-15, abs=0.0)
+    # clipped at ±EXP_ARG_MAX like capped_exp, never inf or 0
+    assert _kernels.fast_exp(1e300) == pytest.approx(math.exp(60.0), rel=4e-15)
+    assert _kernels.fast_exp(-1e300) == pytest.approx(math.exp(-60.0), rel=4e-15)
+
+
+def test_coincident_and_stacked_agents_get_no_pair_force() -> None:
+    # three agents on one point and one 1 m away: the coincident pairs push nothing
+    # (direction undefined), as in the exact kernel
+    pos = np.array([[5.0, 5.0], [5.0, 5.0], [5.0, 5.0], [6.0, 5.0]])
+    c = crowd(pos, seed=5)
+    exact = force_components(c, PARAMS, cutoff="exact").pedestrians
+    cut = force_components(c, PARAMS, cutoff=13.5).pedestrians
+    assert np.all(np.isfinite(cut))
+    np.testing.assert_allclose(cut, exact, rtol=1e-13, atol=1e-15)
+
+
+def test_agents_without_heading_are_isotropic_in_the_cell_list() -> None:
+    # agents at rest on their goal have no heading (ψ = 1); mixed with walking ones
+    rng = np.random.default_rng(11)
+    pos = rng.uniform(0.0, 40.0, (120, 2))
+    goal = pos + rng.uniform(-10.0, 10.0, (120, 2))
+    vel = rng.uniform(-1.0, 1.0, (120, 2))
+    goal[::3] = pos[::3]
+    vel[::3] = 0.0
+    c = srfm.CrowdState.create(pos=pos, goal=goal, vel=vel, v0=1.25, radius=0.3)
+    d_ped, _ = interaction_cutoffs(PARAMS, 0.3)
+    assert_within_tolerance(c, d_ped, srfm.Obstacles())
+    assert_within_tolerance(c, 40.0 * math.sqrt(2.0) + 1.0, srfm.Obstacles())  # none left out
+    everyone = force_components(c, PARAMS, cutoff=60.0).pedestrians
+    exact = force_components(c, PARAMS, cutoff="exact").pedestrians
+    np.testing.assert_allclose(everyone, exact, rtol=1e-12, atol=1e-13)

@@ -25,7 +25,7 @@ from srfm.models.robot import RobotState
 from srfm.planners._observation import EnvConfig, build_observation, obs_size
 from srfm.rl import _kernels as _k
 from srfm.scenarios import EpisodeSetup, Scenario, episode_setup, next_goal
-from srfm.sim.routes import PedestrianRoutes, RobotRoute, pedestrian_waypoints
+from srfm.sim.routes import PedestrianRoutes, RobotRoute
 from srfm.sim.simulator import EVENT_OUTCOMES
 
 __all__ = ["REWARD_TERMS", "EnvCore", "resolve_scenario"]
@@ -258,11 +258,8 @@ class EnvCore:
             self._robot_route = RobotRoute(scenario, setup.robot_start, goal)
             self.steer = self._steer_task(self._robot_route.update(r[_rk.X], r[_rk.Y]))
         if not scenario.obstacles.empty or setup.ped_routes is not None:
-            waypoints = pedestrian_waypoints(setup)
             for row in (_k.FACTUAL_GOAL, _k.COUNTERFACTUAL_GOAL):
-                routes = PedestrianRoutes(
-                    waypoints, scenario.ped_waits_s, scenario.ped_switch_radius_m, scenario.dt_s
-                )
+                routes = PedestrianRoutes(setup)
                 if routes.any:
                     c[row] = routes.targets()
                     self._ped_routes.append(routes)

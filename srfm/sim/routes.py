@@ -48,7 +48,7 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
-ROBOT_CLEARANCE_MARGIN_M: Final = 0.1
+ROBOT_CLEARANCE_MARGIN_M: Final = 0.3
 ROBOT_SWITCH_RADIUS_M: Final = 0.75
 _CACHE_SIZE: Final = 64
 _routers: dict[tuple[int, int, float], tuple[Obstacles, WorldBounds, Router]] = {}
@@ -80,16 +80,18 @@ def _open_world(world: WorldBounds, margin: float) -> WorldBounds:
 class RobotRoute:
     """The waypoint the robot's planner steers to (see the module doc).
 
-    When no path joins the start and the goal (the router's clearance is the robot
-    radius plus a margin, then the radius alone), the route is the goal itself: the
-    planner steers straight at it, as without routing.
+    The router's clearance is the robot radius plus ``ROBOT_CLEARANCE_MARGIN_M``, or a
+    third of that margin, or none, the first that finds a path (a narrow door). When no
+    path joins the start and the goal, the route is the goal itself: the planner steers
+    straight at it, as without routing.
     """
 
     def __init__(self, scenario: Scenario, start: FloatArray, goal: FloatArray) -> None:
         radius = scenario.robot.radius_m
         self.router: Router | None = None
         self.waypoints: FloatArray = np.array(goal, dtype=np.float64).reshape(1, 2)
-        for clearance in (radius + ROBOT_CLEARANCE_MARGIN_M, radius):
+        margin = ROBOT_CLEARANCE_MARGIN_M
+        for clearance in (radius + margin, radius + margin / 3.0, radius):
             try:
                 router = router_for(scenario.obstacles, scenario.world, clearance)
                 self.waypoints = router.route(tuple(start), tuple(goal))
@@ -119,29 +121,49 @@ class RobotRoute:
 
 def pedestrian_waypoints(setup: EpisodeSetup) -> list[FloatArray]:
     """Each pedestrian's waypoints, its goal last (see the module doc)."""
+    return [w for w, _ in _pedestrian_plans(setup)]
+
+
+def _pedestrian_plans(setup: EpisodeSetup) -> list[tuple[FloatArray, NDArray[np.bool_]]]:
+    """Each pedestrian's waypoints (goal last) and which of them the router computed
+    (those may be skipped once the next one is in sight; given ones may not)."""
     scenario = setup.scenario
     crowd = setup.crowd
-    n = crowd.n
     given = setup.ped_routes
-    out: list[FloatArray] = []
-    for i in range(n):
+    out: list[tuple[FloatArray, NDArray[np.bool_]]] = []
+    for i in range(crowd.n):
         goal = crowd.goal[i]
         if given is not None and len(given[i]):
-            out.append(np.vstack([given[i], goal[None]]))
+            wps = np.vstack([given[i], goal[None]])
+            out.append((wps, np.zeros(len(wps), dtype=bool)))
         elif scenario.obstacles.empty or i in scenario.ped_standing:
-            out.append(goal[None].copy())
+            out.append((goal[None].copy(), np.zeros(1, dtype=bool)))
         else:
-            out.append(_computed_route(scenario, crowd.pos[i], goal, float(crowd.radius[i])))
+            wps = _computed_route(scenario, crowd.pos[i], goal, float(crowd.radius[i]))
+            skip = np.ones(len(wps), dtype=bool)
+            skip[-1] = False
+            out.append((wps, skip))
     return out
+
+
+def _ped_routers(scenario: Scenario, r: float) -> tuple[Router, ...]:
+    """The routers a pedestrian of radius ``r`` uses: clearance r, then r / 2."""
+    world = _open_world(scenario.world, r)
+    out = []
+    for clearance in (r, 0.5 * r):
+        try:
+            out.append(router_for(scenario.obstacles, world, clearance))
+        except PlannerError:
+            continue
+    return tuple(out)
 
 
 def _computed_route(scenario: Scenario, start: FloatArray, goal: FloatArray, r: float) -> FloatArray:
     """The router's path for a pedestrian (clearance its radius, then half of it; the
     straight line to the goal when neither finds one: the wall force then acts)."""
-    world = _open_world(scenario.world, r)
-    for clearance in (r, 0.5 * r):
+    for router in _ped_routers(scenario, r):
         try:
-            return router_for(scenario.obstacles, world, clearance).route(tuple(start), tuple(goal))
+            return router.route(tuple(start), tuple(goal))
         except PlannerError:
             continue
     return goal[None].copy()
@@ -150,38 +172,50 @@ def _computed_route(scenario: Scenario, start: FloatArray, goal: FloatArray, r: 
 class PedestrianRoutes:
     """One twin's progress along the pedestrians' routes.
 
+    Every ``REPLAN_STEPS`` steps, a walking pedestrian that has lost sight of its
+    current waypoint behind a wall (pushed off its path by others) gets the router's
+    path to that waypoint in front of the rest of its route; a router-made waypoint is
+    skipped as soon as the next one is in sight.
+
     Args:
-        waypoints: per pedestrian (K_i, 2), goal last (:func:`pedestrian_waypoints`).
-        waits_s: per pedestrian (K_i − 1,) seconds to wait at each waypoint, or None.
-        switch_radius_m: distance at which a waypoint counts as reached (m).
-        dt_s: the step (s).
+        setup: the episode's set-up (its scenario, starts, goals and given routes).
     """
 
-    def __init__(
-        self,
-        waypoints: list[FloatArray],
-        waits_s: tuple[FloatArray, ...] | None,
-        switch_radius_m: float,
-        dt_s: float,
-    ) -> None:
-        self.waypoints = waypoints
-        self.switch_radius_m = float(switch_radius_m)
-        n = len(waypoints)
+    REPLAN_STEPS: Final = 15
+
+    def __init__(self, setup: EpisodeSetup) -> None:
+        scenario = setup.scenario
+        plans = _pedestrian_plans(setup)
+        self.waypoints = [w for w, _ in plans]
+        self.skippable = [k for _, k in plans]
+        self.switch_radius_m = float(scenario.ped_switch_radius_m)
+        n = len(plans)
         self.index = np.zeros(n, dtype=np.int64)
         self.wait_steps: list[NDArray[np.int64]] = []
-        for i, wps in enumerate(waypoints):
+        waits = setup.scenario.ped_waits_s
+        for i, wps in enumerate(self.waypoints):
             w = np.zeros(len(wps), dtype=np.int64)
-            if waits_s is not None and len(waits_s[i]) == len(wps) - 1:
-                w[:-1] = np.round(np.asarray(waits_s[i]) / dt_s).astype(np.int64)
+            if waits is not None and len(waits[i]) == len(wps) - 1:
+                w[:-1] = np.round(np.asarray(waits[i]) / scenario.dt_s).astype(np.int64)
             self.wait_steps.append(w)
         self.left = np.full(n, -1, dtype=np.int64)  # steps still to wait (-1: not there)
         # The pedestrians still on their way to an intermediate waypoint.
-        self.active = [i for i, wps in enumerate(waypoints) if len(wps) > 1]
+        self.active = [i for i, wps in enumerate(self.waypoints) if len(wps) > 1]
+        # Replanning needs obstacles; standing pedestrians never replan.
+        standing = set(scenario.ped_standing)
+        self._walkers = (
+            [] if scenario.obstacles.empty else [i for i in range(n) if i not in standing]
+        )
+        self._routers = {
+            r: _ped_routers(scenario, r) for r in {float(x) for x in setup.crowd.radius}
+        }
+        self._radius = setup.crowd.radius.copy()
+        self._steps = 0
 
     @property
     def any(self) -> bool:
-        """True when some pedestrian has an intermediate waypoint."""
-        return bool(self.active)
+        """True when some pedestrian has an intermediate waypoint or may get one."""
+        return bool(self.active or self._walkers)
 
     def targets(self) -> FloatArray:
         """(N, 2) the current waypoint of each pedestrian."""
@@ -191,9 +225,22 @@ class PedestrianRoutes:
         """True when pedestrian i steers to its goal (its last waypoint)."""
         return bool(self.index[i] == len(self.waypoints[i]) - 1)
 
+    def _visible(self, i: int, a: FloatArray, b: FloatArray) -> bool:
+        routers = self._routers[float(self._radius[i])]
+        if not routers:
+            return True
+        line = shapely.LineString([tuple(a), tuple(b)])
+        return bool(routers[-1].free.covers(line))
+
     def advance(self, pos: FloatArray, goal: FloatArray) -> None:
         """Move each pedestrian within the switch radius of its waypoint on to the next
-        one (after its wait); write the new waypoints into ``goal`` (N, 2)."""
+        one (after its wait), replan where a wall hides the waypoint; write the current
+        waypoints into ``goal`` (N, 2)."""
+        self._steps += 1
+        if self._walkers and self._steps % self.REPLAN_STEPS == 0:
+            for i in self._walkers:
+                if not self._visible(i, pos[i], goal[i]):
+                    self._replan(i, pos[i], goal)
         r2 = self.switch_radius_m * self.switch_radius_m
         done = []
         for i in self.active:
@@ -203,8 +250,14 @@ class PedestrianRoutes:
             dy = pos[i, 1] - wp[1]
             if self.left[i] < 0:
                 if dx * dx + dy * dy > r2:
-                    continue
-                self.left[i] = self.wait_steps[i][k]
+                    if not (
+                        self.skippable[i][k]
+                        and self._visible(i, pos[i], self.waypoints[i][k + 1])
+                    ):
+                        continue
+                    self.left[i] = 0
+                else:
+                    self.left[i] = self.wait_steps[i][k]
             if self.left[i] > 0:
                 self.left[i] -= 1
                 continue
@@ -215,3 +268,29 @@ class PedestrianRoutes:
                 done.append(i)
         for i in done:
             self.active.remove(i)
+
+    def _replan(self, i: int, at: FloatArray, goal: FloatArray) -> None:
+        """Put the router's path from ``at`` to pedestrian i's current waypoint in front
+        of the rest of its route (unchanged when no path is found)."""
+        k = int(self.index[i])
+        wps = self.waypoints[i]
+        for router in self._routers[float(self._radius[i])]:
+            try:
+                path = router.route(tuple(at), tuple(wps[k]))
+            except PlannerError:
+                continue
+            if len(path) == 1:
+                return  # in sight with this clearance: the wall force will do
+            self.waypoints[i] = np.vstack([path[:-1], wps[k:]])
+            skip = np.ones(len(path) - 1, dtype=bool)
+            self.skippable[i] = np.concatenate([skip, self.skippable[i][k:]])
+            self.wait_steps[i] = np.concatenate(
+                [np.zeros(len(path) - 1, dtype=np.int64), self.wait_steps[i][k:]]
+            )
+            self.index[i] = 0
+            self.left[i] = -1
+            goal[i] = self.waypoints[i][0]
+            if i not in self.active:
+                self.active.append(i)
+                self.active.sort()
+            return

@@ -42,7 +42,7 @@ from srfm.models.state import CrowdState
 from srfm.planners._base import Observation, PlannerContext
 from srfm.scenarios import EpisodeSetup, next_goal
 from srfm.sim.record import Event, EventKind, RobotOutcome
-from srfm.sim.routes import PedestrianRoutes, RobotRoute, pedestrian_waypoints
+from srfm.sim.routes import PedestrianRoutes, RobotRoute
 
 __all__ = ["TwinSimulator"]
 
@@ -128,14 +128,8 @@ class TwinSimulator:
             self._robot_route = RobotRoute(self.scenario, setup.robot_start, setup.robot_goal)
             self._robot_route.update(self.robot.x, self.robot.y)
         if not self._obstacles.empty or setup.ped_routes is not None:
-            waypoints = pedestrian_waypoints(setup)
             for twin, crowd in (("factual", self.factual), ("counterfactual", self.counterfactual)):
-                routes = PedestrianRoutes(
-                    waypoints,
-                    self.scenario.ped_waits_s,
-                    self.scenario.ped_switch_radius_m,
-                    self.scenario.dt_s,
-                )
+                routes = PedestrianRoutes(setup)
                 if routes.any:
                     crowd.goal[:] = routes.targets()
                     self._ped_routes[twin] = routes

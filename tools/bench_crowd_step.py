@@ -1,14 +1,16 @@
-"""Crowd step throughput of srfm against PySocialForce, in agent-steps per second.
+"""Crowd step throughput of srfm against PySocialForce and JuPedSim, in agent-steps per second.
 
-For each crowd size N both simulators start from the same state: N pedestrians at
-uniformly random positions in a square of side ``2·sqrt(N)`` m (0.25 pedestrians/m²
-at every N), each heading for the point mirrored through the square's centre, at rest,
-with no obstacles and no robot. Each is stepped with dt = 1/15 s:
+For each crowd size N all simulators start from the same state: N pedestrians in a
+square of side ``2·sqrt(N)`` m (0.25 pedestrians/m² at every N), one per cell of a
+⌈√N⌉ × ⌈√N⌉ lattice (random cells, random jitter that keeps every pair at least
+0.7 m apart: JuPedSim refuses overlapping agents), each heading for the point mirrored
+through the square's centre, at rest, with no obstacles and no robot:
 
-* srfm: ``srfm.step_crowd(crowd, 1/15, params, parallel=...)`` with the serial kernel,
-  the parallel kernel and the default choice (parallel from ``PARALLEL_MIN_AGENTS``
-  pedestrians on). Forces: goal relaxation, anisotropic exponential pedestrian
-  repulsion over all pairs, obstacle repulsion (no obstacles here), no robot.
+* srfm, dt = 1/15 s: ``srfm.step_crowd(crowd, 1/15, params, parallel=...)`` with the
+  serial kernel, the parallel kernel and the default (``parallel=False``: serial),
+  all with the default ``cutoff="auto"`` (exact below ``CELL_LIST_MIN_AGENTS``, cell
+  list and interaction cut-off from it on). Forces: goal relaxation, anisotropic
+  exponential pedestrian repulsion, obstacle repulsion (no obstacles here), no robot.
 * PySocialForce: ``pysocialforce.Simulator(state, groups=None, obstacles=None)`` and
   ``sim.step(1)``, with its default config except: group forces off, step width 1/15 s,
   agent radius 0.3 m, and desired speed = maximum speed = 1.25 m/s. Forces: desired
@@ -16,6 +18,18 @@ with no obstacles and no robot. Each is stepped with dt = 1/15 s:
   obstacles here). PySocialForce takes each pedestrian's desired speed from its
   *initial* speed, so with the shared zero initial velocity nobody would ever move;
   the script sets ``sim.peds.initial_speeds`` to 1.25 m/s after construction.
+  O(N²) in numpy memory and time: skipped above ``--max-pysocialforce`` pedestrians.
+* JuPedSim (C++), dt = 0.01 s, its own default (its social force model diverges at
+  1/15 s): ``jupedsim.SocialForceModel()`` with its default parameters, a square
+  walkable area 1 m larger than the crowd's on every side, one direct-steering stage
+  whose per-agent ``target`` is the mirrored point, desired speed 1.25 m/s, radius
+  0.3 m; ``sim.iterate()`` per step. Agent-steps/s at its own dt (a step of 0.01 s is
+  less simulated time than one of 1/15 s).
+
+``--busy`` runs a CPU-bound process (a Python busy loop) beside all measurements,
+to see how the kernels fare when the other core is taken. Memory per pedestrian is the
+growth of the resident set of a fresh process (warmed up on a small crowd) that builds
+a crowd of ``--memory-n`` pedestrians and steps it three times, divided by that N.
 
 Timing: after a warm-up call (JIT compilation, reported separately), steps are run in
 chunks timed with ``time.perf_counter`` until each repeat's share of the time budget
@@ -26,6 +40,7 @@ Usage::
     .venv/bin/python tools/bench_crowd_step.py
     .venv/bin/python tools/bench_crowd_step.py --sizes 10 100 1000 --seconds 2
     .venv/bin/python tools/bench_crowd_step.py --sizes 50 100 200 400 --no-pysocialforce
+    .venv/bin/python tools/bench_crowd_step.py --busy --no-pysocialforce --no-jupedsim
 """
 
 from __future__ import annotations
@@ -75,10 +90,103 @@ class Result:
 
 
 def initial_state(n: int, seed: int) -> tuple[FloatArray, FloatArray]:
-    """(pos, goal), each (n, 2) in m: random positions, goals mirrored through the centre."""
+    """(pos, goal), each (n, 2) in m: jittered lattice cells, goals mirrored through the centre."""
     side = math.sqrt(n / DENSITY_PER_M2)
-    pos = np.random.default_rng(seed).uniform(0.0, side, size=(n, 2))
+    k = math.ceil(math.sqrt(n))
+    spacing = side / k
+    rng = np.random.default_rng(seed)
+    cells = rng.permutation(k * k)[:n]
+    centres = np.stack([(cells % k + 0.5) * spacing, (cells // k + 0.5) * spacing], axis=1)
+    jitter = spacing / 2.0 - 0.35  # pairs stay >= 0.7 m apart (radius 0.3 m)
+    pos = centres + rng.uniform(-jitter, jitter, size=(n, 2))
     return pos, side - pos
+
+
+JUPEDSIM_DT_S = 0.01
+
+
+def jupedsim_bench(pos: FloatArray, goal: FloatArray) -> Bench:
+    """JuPedSim's social force model, one direct-steering target per agent."""
+    import jupedsim
+
+    side = math.sqrt(pos.shape[0] / DENSITY_PER_M2)
+    area = [(-1.0, -1.0), (side + 1.0, -1.0), (side + 1.0, side + 1.0), (-1.0, side + 1.0)]
+
+    def make() -> Any:
+        sim = jupedsim.Simulation(
+            model=jupedsim.SocialForceModel(), geometry=area, dt=JUPEDSIM_DT_S
+        )
+        stage = sim.add_direct_steering_stage()
+        journey = sim.add_journey(jupedsim.JourneyDescription([stage]))
+        for (x, y), (gx, gy) in zip(pos.tolist(), goal.tolist(), strict=True):
+            agent = sim.add_agent(
+                jupedsim.SocialForceModelAgentParameters(
+                    position=(x, y),
+                    journey_id=journey,
+                    stage_id=stage,
+                    desired_speed=SPEED_MPS,
+                    radius=0.3,
+                )
+            )
+            sim.agent(agent).target = (gx, gy)
+        return sim
+
+    sim = make()
+
+    def reset() -> None:
+        nonlocal sim
+        sim = make()
+
+    def run(k: int) -> None:
+        for _ in range(k):
+            sim.iterate()
+
+    return Bench(reset, run)
+
+
+_MEMORY_PROBE = """
+import sys
+sys.path.insert(0, sys.argv[3])
+from bench_crowd_step import initial_state, jupedsim_bench, srfm_bench
+kind, n = sys.argv[1], int(sys.argv[2])
+small = initial_state(16, 0)
+(srfm_bench(*small, None) if kind == "srfm" else jupedsim_bench(*small)).run(2)
+pos, goal = initial_state(n, 0)
+def rss():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * 4096
+before = rss()
+bench = srfm_bench(pos, goal, None) if kind == "srfm" else jupedsim_bench(pos, goal)
+bench.run(3)
+print((rss() - before) / n)
+"""
+
+
+def memory_per_pedestrian(kind: str, n: int) -> float:
+    """Bytes per pedestrian: resident-set growth of a fresh process (after a warm-up on a
+    small crowd) that builds a crowd of n pedestrians and steps it three times."""
+    out = subprocess.run(
+        [sys.executable, "-c", _MEMORY_PROBE, kind, str(n), str(Path(__file__).parent)],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return float(out.stdout.strip().splitlines()[-1])
+
+
+@contextlib.contextmanager
+def busy_core(enabled: bool) -> Iterator[None]:
+    """A CPU-bound process (a Python busy loop) for the duration, when ``enabled``."""
+    if not enabled:
+        yield
+        return
+    proc = subprocess.Popen([sys.executable, "-c", "while True: pass"])
+    try:
+        time.sleep(0.5)
+        yield
+    finally:
+        proc.kill()
+        proc.wait()
 
 
 def srfm_bench(pos: FloatArray, goal: FloatArray, parallel: bool | None) -> Bench:
@@ -160,6 +268,12 @@ def pysocialforce_bench(psf: Any, config: Path, pos: FloatArray, goal: FloatArra
     return Bench(reset, run)
 
 
+# The clock of the measurements: wall time, or with --cpu-time this process's CPU time
+# (time.process_time, all threads), which a loaded machine's other processes do not
+# inflate for a single-threaded simulator.
+CLOCK: Callable[[], float] = time.perf_counter
+
+
 def measure(bench: Bench, n: int, budget_s: float, repeats: int) -> Result:
     """Best of ``repeats`` throughputs in agent-steps/s, each over ``budget_s / repeats``."""
     bench.reset()
@@ -168,9 +282,9 @@ def measure(bench: Bench, n: int, budget_s: float, repeats: int) -> Result:
     first = time.perf_counter() - t0
     chunk = 1
     while True:
-        t0 = time.perf_counter()
+        t0 = CLOCK()
         bench.run(chunk)
-        if time.perf_counter() - t0 >= CHUNK_MIN_S or chunk >= 1 << 20:
+        if CLOCK() - t0 >= CHUNK_MIN_S or chunk >= 1 << 20:
             break
         chunk *= 2
     share = budget_s / repeats
@@ -178,11 +292,11 @@ def measure(bench: Bench, n: int, budget_s: float, repeats: int) -> Result:
     for _ in range(repeats):
         bench.reset()
         steps = 0
-        t0 = time.perf_counter()
+        t0 = CLOCK()
         while True:
             bench.run(chunk)
             steps += chunk
-            elapsed = time.perf_counter() - t0
+            elapsed = CLOCK() - t0
             if elapsed >= share:
                 break
         best = max(best, steps * n / elapsed)
@@ -251,7 +365,7 @@ def machine_info() -> list[str]:
         f"- OS: {platform.platform()}",
         f"- Python {platform.python_version()}, numpy {np.__version__}, numba {numba.__version__}"
         f" ({numba.get_num_threads()} threads), srfm {_version('srfm')} ({srfm_commit()}),"
-        f" pysocialforce {_version('pysocialforce')}",
+        f" pysocialforce {_version('pysocialforce')}, jupedsim {_version('jupedsim')}",
         f"- load average (1, 5, 15 min) at start: {load_average()}",
     ]
 
@@ -306,7 +420,7 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
         formatter_class=argparse.ArgumentDefaultsHelpFormatter,
     )
     parser.add_argument(
-        "--sizes", type=int, nargs="+", default=[10, 100, 1000], help="crowd sizes N"
+        "--sizes", type=int, nargs="+", default=[10, 100, 1000, 10000], help="crowd sizes N"
     )
     parser.add_argument(
         "--seconds", type=float, default=2.0, help="time budget per simulator and size (s)"
@@ -315,8 +429,25 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
         "--repeats", type=int, default=10, help="repeats per measurement; best kept"
     )
     parser.add_argument("--seed", type=int, default=0, help="seed of the initial states")
+    parser.add_argument("--no-pysocialforce", action="store_true", help="leave PySocialForce out")
+    parser.add_argument("--no-jupedsim", action="store_true", help="leave JuPedSim out")
     parser.add_argument(
-        "--no-pysocialforce", action="store_true", help="measure srfm only (serial vs parallel)"
+        "--max-pysocialforce",
+        type=int,
+        default=1000,
+        help="largest N for PySocialForce (O(N²) memory: ~10 GB at N = 10,000)",
+    )
+    parser.add_argument(
+        "--busy", action="store_true", help="run a CPU-bound process beside the measurements"
+    )
+    parser.add_argument(
+        "--cpu-time",
+        action="store_true",
+        help="time with this process's CPU time instead of wall time (a loaded machine;"
+        " meaningless for the threaded kernel, whose threads' CPU time adds up)",
+    )
+    parser.add_argument(
+        "--memory-n", type=int, default=200_000, help="crowd size of the memory probe (0: skip)"
     )
     parser.add_argument(
         "--cold-cache",
@@ -330,7 +461,10 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
 
 
 def main(argv: list[str] | None = None) -> int:
+    global CLOCK
     args = parse_args(argv)
+    if args.cpu_time:
+        CLOCK = time.process_time
     with tempfile.TemporaryDirectory(prefix="srfm-bench-") as tmp_name:
         tmp = Path(tmp_name)
         if args.cold_cache:
@@ -338,60 +472,75 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()
         importlib.import_module("srfm")
         import_s = time.perf_counter() - t0
-        from srfm.models.forces import PARALLEL_MIN_AGENTS
+        from srfm.models.forces import CELL_LIST_MIN_AGENTS
 
         psf = None if args.no_pysocialforce else import_pysocialforce(tmp)
         config = None if psf is None else pysocialforce_config(psf, tmp)
+        jps = not args.no_jupedsim
 
         print("## Crowd step throughput (agent-steps/s, higher is better)\n")
+        print(f"- date: {time.strftime('%Y-%m-%d %H:%M', time.gmtime())} UTC")
+        print(f"- command: `{' '.join([Path(sys.executable).name, *sys.argv])}`")
         print(*machine_info(), sep="\n")
         print(
-            f"- dt = {DT_S:.6f} s, density {DENSITY_PER_M2} ped/m², budget {args.seconds} s per"
-            f" cell, best of {args.repeats}, seed {args.seed}, PARALLEL_MIN_AGENTS ="
-            f" {PARALLEL_MIN_AGENTS}, numba cache {'cold' if args.cold_cache else 'as found'}\n"
+            f"- srfm and PySocialForce dt = {DT_S:.6f} s, JuPedSim dt = {JUPEDSIM_DT_S} s;"
+            f" density {DENSITY_PER_M2} ped/m², budget {args.seconds} s per cell, best of"
+            f" {args.repeats}, seed {args.seed},"
+            f" CELL_LIST_MIN_AGENTS = {CELL_LIST_MIN_AGENTS}, numba cache"
+            f" {'cold' if args.cold_cache else 'as found'},"
+            f" {'a CPU-bound process busy beside it' if args.busy else 'no extra load'},"
+            f" {'CPU time' if args.cpu_time else 'wall time'}\n"
         )
 
-        # Warm-up on a small crowd: the first call compiles (or loads from numba's cache).
-        pos, goal = initial_state(16, args.seed)
-        other = OtherLoad()
-        first: dict[str, float] = {}
-        for label, parallel in (("srfm serial", False), ("srfm parallel", True)):
-            first[label] = measure(srfm_bench(pos, goal, parallel), 16, 1e-3, 1).first_call_s
-        if psf is not None and config is not None:
-            bench = pysocialforce_bench(psf, config, pos, goal)
-            first["pysocialforce"] = measure(bench, 16, 1e-3, 1).first_call_s
-
-        rows: list[tuple[int, str, list[float]]] = []
-        for n in args.sizes:
-            pos, goal = initial_state(n, args.seed)
-            rates = [
-                measure(srfm_bench(pos, goal, p), n, args.seconds, args.repeats).rate
-                for p in (False, True, None)
-            ]
+        with busy_core(args.busy):
+            # Warm-up on a small crowd: the first call compiles (or loads from the cache).
+            pos, goal = initial_state(16, args.seed)
+            other = OtherLoad()
+            first: dict[str, float] = {}
+            for label, parallel in (("srfm serial", False), ("srfm parallel", True)):
+                bench = srfm_bench(pos, goal, parallel)
+                first[label] = measure(bench, 16, 1e-3, 1).first_call_s
             if psf is not None and config is not None:
                 bench = pysocialforce_bench(psf, config, pos, goal)
-                rates.append(measure(bench, n, args.seconds, args.repeats).rate)
-            else:
-                rates.append(math.nan)
-            default_kernel = "parallel" if n >= PARALLEL_MIN_AGENTS else "serial"
-            rows.append((n, default_kernel, rates))
-            print(f"  measured N = {n}", file=sys.stderr)
+                first["pysocialforce"] = measure(bench, 16, 1e-3, 1).first_call_s
+
+            rows: list[tuple[int, str, list[float]]] = []
+            for n in args.sizes:
+                pos, goal = initial_state(n, args.seed)
+                rates = [
+                    measure(srfm_bench(pos, goal, p), n, args.seconds, args.repeats).rate
+                    for p in (False, True, None)
+                ]
+                if psf is not None and config is not None and n <= args.max_pysocialforce:
+                    bench = pysocialforce_bench(psf, config, pos, goal)
+                    rates.append(measure(bench, n, args.seconds, args.repeats).rate)
+                else:
+                    rates.append(math.nan)
+                if jps:
+                    rates.append(measure(jupedsim_bench(pos, goal), n, args.seconds, 3).rate)
+                else:
+                    rates.append(math.nan)
+                default_kernel = "serial"
+                rows.append((n, default_kernel, rates))
+                print(f"  measured N = {n}", file=sys.stderr)
+            other_percent = other.percent()
 
         print(
-            "| N | srfm serial | srfm parallel | srfm default | pysocialforce"
-            " | speed-up (default / pysocialforce) |"
+            "| N | srfm serial | srfm parallel | srfm default | pysocialforce | jupedsim"
+            " | parallel / serial | default / pysocialforce | default / jupedsim |"
         )
-        print("|---:|---:|---:|---:|---:|---:|")
-        for n, kernel, (ser, par, dflt, ref) in rows:
-            speedup = "n/a" if math.isnan(ref) else f"{dflt / ref:,.1f}×"
+        print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        for n, kernel, (ser, par, dflt, ref, jp) in rows:
+            ratios = [f"{par / ser:,.2f}×"]
+            ratios += ["n/a" if math.isnan(x) else f"{dflt / x:,.2f}×" for x in (ref, jp)]
             print(
                 f"| {n} | {fmt_rate(ser)} | {fmt_rate(par)} | {fmt_rate(dflt)} ({kernel})"
-                f" | {fmt_rate(ref)} | {speedup} |"
+                f" | {fmt_rate(ref)} | {fmt_rate(jp)} | " + " | ".join(ratios) + " |"
             )
 
         print("\nTime per crowd step (µs, lower is better):\n")
-        print("| N | srfm serial | srfm parallel | srfm default | pysocialforce |")
-        print("|---:|---:|---:|---:|---:|")
+        print("| N | srfm serial | srfm parallel | srfm default | pysocialforce | jupedsim |")
+        print("|---:|---:|---:|---:|---:|---:|")
         for n, _, rates in rows:
             print(f"| {n} | " + " | ".join(fmt_step_us(r, n) for r in rates) + " |")
 
@@ -399,9 +548,15 @@ def main(argv: list[str] | None = None) -> int:
         print(f"- import srfm: {import_s:.2f}")
         for label, seconds in first.items():
             print(f"- {label}: {seconds:.2f}")
+        if args.memory_n > 0:
+            print(f"\nMemory per pedestrian (resident-set growth at N = {args.memory_n:,}):\n")
+            for kind in ("srfm", *(("jupedsim",) if jps else ())):
+                per = memory_per_pedestrian(kind, args.memory_n)
+                print(f"- {kind}: {per:,.0f} B")
         print(
             f"\n- load average (1, 5, 15 min) at end: {load_average()}; other processes used"
-            f" {other.percent():.1f} % of the machine's CPU time during the measurements"
+            f" {other_percent:.1f} % of the machine's CPU time during the measurements"
+            + (" (the busy process included)" if args.busy else "")
         )
     return 0
 

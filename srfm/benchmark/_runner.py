@@ -351,6 +351,32 @@ def one_thread() -> None:
     numba.set_num_threads(1)
 
 
+def _compile_in_parent(tasks: Sequence[_Task]) -> None:
+    """Compile, before the workers are forked, the kernels the tasks will call.
+
+    One two-step episode of each planner the tasks name (on the scenario of its first
+    task, with its parameters) and its metrics: the crowd, robot, event, planner and
+    metric kernels are then compiled (or loaded from numba's cache) once, here, and
+    every forked worker inherits them instead of compiling its own copies, which with
+    an empty cache cost each worker as much as the whole set. Only the kernels of the
+    requested planners are compiled. Nothing is written. An error here is left for the
+    worker to report in its own words.
+    """
+    from srfm.errors import SrfmError
+    from srfm.sim.episode import run_episode
+
+    first: dict[str, _Task] = {}
+    for task in tasks:
+        first.setdefault(task.planner, task)
+    for planner, task in first.items():
+        short = attrs.evolve(task.scenario, horizon_steps=min(2, task.scenario.horizon_steps))
+        try:
+            record = run_episode(short, task.seeds[0], build_planner(planner), task.params)
+            episode_metrics(record)
+        except SrfmError:
+            continue
+
+
 def _init_worker() -> None:
     """Set up a worker process: one thread, and Ctrl-C left to the parent.
 
@@ -545,6 +571,8 @@ def run_benchmark(
                     on_progress(done)
         elif tasks:
             context = multiprocessing.get_context("fork" if sys.platform != "win32" else "spawn")
+            if context.get_start_method() == "fork":
+                _compile_in_parent(tasks)
             with context.Pool(min(jobs, len(tasks)), initializer=_init_worker) as pool:
                 for done in pool.imap_unordered(_run_task, tasks):
                     if on_progress is not None:

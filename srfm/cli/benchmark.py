@@ -135,7 +135,14 @@ def _split(values: tuple[str, ...]) -> list[str]:
     multiple=True,
     metavar="NAME|FILE",
     help="Scenario name or TOML file; repeat or separate with commas. "
-    "Default: the five evaluation scenarios.",
+    "Default: the five evaluation scenarios (--suite paper).",
+)
+@click.option(
+    "--suite",
+    default=None,
+    metavar="NAME",
+    help="A named set of built-in scenarios instead of --scenario: paper (the five "
+    "evaluation scenarios, the default) or large (crowds of 300-400 pedestrians).",
 )
 @click.option(
     "--planner",
@@ -229,6 +236,7 @@ def _split(values: tuple[str, ...]) -> list[str]:
 @user_errors
 def benchmark(
     scenarios: tuple[str, ...],
+    suite: str | None,
     planners: tuple[str, ...],
     seeds: str | None,
     quick: bool,
@@ -264,8 +272,20 @@ def benchmark(
     if executor == "process" and remote:
         raise click.UsageError("--scheduler and --scheduler-file need --executor dask")
     executor = executor or ("dask" if remote else "process")
+    names = _split(scenarios) or None
+    if suite is not None:
+        from srfm.scenarios.suites import SUITES
+
+        if suite not in SUITES:
+            known = ", ".join(SUITES)
+            raise click.BadParameter(
+                f"unknown suite {suite!r}; known: {known}", param_hint="--suite"
+            )
+        if names:
+            raise click.UsageError("give --suite or --scenario, not both")
+        names = list(SUITES[suite])
     request = BenchmarkRequest.create(
-        scenarios=_split(scenarios) or None,
+        scenarios=names,
         planners=_split(planners) or None,
         seeds=_parse_seeds(seeds) if seeds is not None else None,
         params=load_params_option(params_spec),

@@ -248,6 +248,15 @@ def _add_window_options(func: F, stride_s: float) -> F:
             show_default=True,
             help="Robot radius (m), as in the simulator.",
         ),
+        click.option(
+            "--min-start-speed",
+            "min_start_speed_mps",
+            type=float,
+            default=0.0,
+            show_default=True,
+            help="Start windows only where the initial speed is at least this (m/s); "
+            "the NavWareSet protocol uses 0.3 (docs/fitting.md).",
+        ),
     ]
     for option in reversed(options):
         func = option(func)
@@ -263,7 +272,11 @@ def _load_windows(files: Sequence[Path], **config: float) -> Any:
         window_config = WindowConfig(**config)
     except ParameterError as exc:
         raise ParameterError(f"window option: {exc}") from None
-    scenes = [scene for f in files for scene in read_mcap(f).scenes]
+    from srfm.datasets.navwareset import drop_supersets
+
+    # A NavWareSet recording that contains others of its scene (the full scene 13 and
+    # its slices) would count their tracks twice.
+    scenes, _ = drop_supersets([scene for f in files for scene in read_mcap(f).scenes])
     return build_windows(scenes, window_config)
 
 
@@ -297,6 +310,11 @@ def _load_windows(files: Sequence[Path], **config: float) -> Any:
     show_default=True,
     help="Most model evaluations per starting point.",
 )
+@click.option(
+    "--fit-lambda-robot",
+    is_flag=True,
+    help="The robot stage also fits λ_r (the robot force's anisotropy); default: A_r, B_r.",
+)
 @_window_options(stride_s=1.2)
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 @user_errors
@@ -306,6 +324,7 @@ def fit(
     start_spec: str | None,
     stages: Sequence[str],
     max_nfev: int,
+    fit_lambda_robot: bool,
     as_json: bool,
     **window: float,
 ) -> None:
@@ -328,7 +347,10 @@ def fit(
     chosen = tuple(stages) or ("pedestrian", "robot")
     t0 = time.perf_counter()
     log = None if as_json else (lambda msg: click.echo(f"  {msg}", err=True))
-    result = fit_params(windows, start=start, stages=chosen, max_nfev=max_nfev, log=log)
+    fields = {"robot": ("a_robot", "b_robot", "lambda_robot")} if fit_lambda_robot else None
+    result = fit_params(
+        windows, start=start, stages=chosen, max_nfev=max_nfev, log=log, fields=fields
+    )
     elapsed = time.perf_counter() - t0
     done = [s for s in result.stages if not s.skipped]
     if not done:
@@ -340,6 +362,7 @@ def fit(
         "start": start_spec or "agrawal2024",
         **{k: float(v) for k, v in window.items()},
         "fit_time_s": round(elapsed, 1),
+        "fit_lambda_robot": fit_lambda_robot,
     }
     for s in result.stages:
         meta[f"{s.stage}_stage"] = "skipped" if s.skipped else "fitted"

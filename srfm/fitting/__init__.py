@@ -8,24 +8,53 @@ the paper; :func:`evaluate_ade` reports the paper's ADE table. See ``docs/fittin
 """
 
 from srfm.fitting._ade import ADE_ROWS, AdeRow, evaluate_ade, window_errors
+from srfm.fitting._encounters import Encounter, replay_encounter
 from srfm.fitting._fit import BOUNDS, STAGE_FIELDS, FitResult, StageResult, fit_params
 from srfm.fitting._predict import MODES, displacement_errors, predict
+from srfm.fitting._protocol import (
+    EVAL_WINDOWS,
+    FIT_WINDOWS,
+    ROBOT_FIELDS,
+    TABLE2_MODES,
+    PairedTest,
+    SceneGroups,
+    bootstrap_robot_part,
+    fit_robot_part,
+    heldout_errors,
+    leave_one_scene_out,
+    paired_test,
+    scene_groups,
+)
 from srfm.fitting._windows import WindowConfig, Windows, build_windows
 
 __all__ = [
     "ADE_ROWS",
     "BOUNDS",
+    "EVAL_WINDOWS",
+    "FIT_WINDOWS",
     "MODES",
+    "ROBOT_FIELDS",
     "STAGE_FIELDS",
+    "TABLE2_MODES",
     "AdeRow",
+    "Encounter",
     "FitResult",
+    "PairedTest",
+    "SceneGroups",
     "StageResult",
     "WindowConfig",
     "Windows",
+    "bootstrap_robot_part",
     "build_windows",
     "displacement_errors",
     "evaluate_ade",
     "fit_params",
+    "fit_robot_part",
+    "heldout_errors",
+    "leave_one_scene_out",
+    "paired_test",
     "predict",
+    "replay_encounter",
+    "scene_groups",
     "window_errors",
 ]

@@ -4,8 +4,8 @@ Two stages, as in the paper (Agrawal et al. 2024, Sec. III-B):
 
 1. *pedestrian*: A_p, B_p, λ, τ from the non-interaction windows (the pedestrian stays
    farther than 3 m from the robot), with the robot ignored (SFM: f_a + f_p);
-2. *robot*: A_r, B_r from the interaction windows, with the pedestrian part held at the
-   stage-1 values (SRFM: f_a + f_p + f_r).
+2. *robot*: A_r, B_r (and λ_r when asked: ``fields``) from the interaction windows,
+   with the pedestrian part held at the stage-1 values (SRFM: f_a + f_p + f_r).
 
 Residual of a window w with H_w predicted samples: r_w = (x̂_w(t_k) − x_w(t_k)) / √H_w
 for k = 1..H_w, both coordinates, where x̂ is the replayed simulation
@@ -19,7 +19,7 @@ starting points (the presets), keeping the lowest cost.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Final, Literal
 
 import attrs
@@ -47,8 +47,12 @@ BOUNDS: Final[dict[str, tuple[float, float]]] = {
     "tau": (0.1, 5.0),
     "a_robot": (0.0, 100.0),
     "b_robot": (0.05, 3.0),
+    "lambda_robot": (0.0, 1.0),
 }
 _MAX_NFEV: Final = 1_000_000
+# The published parameter sets every fit also starts from (not fitted presets such as
+# navwareset2025, so that adding a preset does not change what a fit does).
+_START_PRESETS: Final = (PRESETS["agrawal2024"], PRESETS["ferrer2013"])
 _STAGE_MODE: Final[dict[str, Mode]] = {"pedestrian": "sfm", "robot": "srfm"}
 _STAGE_WINDOWS: Final[dict[str, bool]] = {"pedestrian": False, "robot": True}
 
@@ -125,6 +129,9 @@ def fit_params(
     multi_start: bool = True,
     tolerance: float = 1e-6,
     log: Callable[[str], None] | None = None,
+    fields: Mapping[str, Sequence[str]] | None = None,
+    subset: NDArray[np.int64] | None = None,
+    extra_starts: Sequence[SRFMParams] = (),
 ) -> FitResult:
     """Learn SRFM parameters from prediction windows by nonlinear least squares.
 
@@ -140,13 +147,20 @@ def fit_params(
         tolerance: scipy's ``ftol``, ``xtol`` and ``gtol``: stop when the cost or the
             parameters change by less than this fraction.
         log: called with a one-line progress message per starting point.
+        fields: per stage, the parameters to fit instead of :data:`STAGE_FIELDS`
+            (e.g. ``{"robot": ("a_robot", "b_robot", "lambda_robot")}``); each must
+            have :data:`BOUNDS`.
+        subset: window indices to fit on (default: all); a window may appear more than
+            once (a bootstrap resample), and then weighs as many times. Each stage
+            keeps the subset's windows of its kind.
+        extra_starts: further starting points, tried after ``start`` and the presets.
 
     Returns:
         The fitted parameters and per-stage diagnostics. A stage without windows is
         skipped (``StageResult.skipped``) and its parameters stay at ``start``.
 
     Raises:
-        ParameterError: an unknown stage, or ``max_nfev`` not an integer in
+        ParameterError: an unknown stage or field, or ``max_nfev`` not an integer in
             [1, 1_000_000].
     """
     from scipy.optimize import least_squares
@@ -160,14 +174,32 @@ def fit_params(
         or not 1 <= max_nfev <= _MAX_NFEV
     ):
         raise ParameterError(f"max_nfev must be an integer in [1, {_MAX_NFEV}], got {max_nfev!r}")
+    chosen_fields = {**STAGE_FIELDS, **{k: tuple(v) for k, v in (fields or {}).items()}}
+    for stage_name, names in chosen_fields.items():
+        if stage_name not in STAGE_FIELDS:
+            raise ParameterError(f"unknown fitting stage {stage_name!r} in fields")
+        bad = [f for f in names if f not in BOUNDS]
+        if bad or not names:
+            raise ParameterError(
+                f"cannot fit {bad[0] if bad else 'nothing'!r} in stage {stage_name!r}; "
+                f"fittable: {', '.join(BOUNDS)}"
+            )
     params = start or SRFMParams()
     results: list[StageResult] = []
     for stage in ("pedestrian", "robot"):
         if stage not in stages:
             continue
-        fields = STAGE_FIELDS[stage]
+        fields_ = chosen_fields[stage]
         mode = _STAGE_MODE[stage]
-        sel = windows.select(interaction=_STAGE_WINDOWS[stage])
+        if subset is None:
+            sel = windows.select(interaction=_STAGE_WINDOWS[stage])
+        else:
+            subset = np.ascontiguousarray(subset, dtype=np.int64)
+            if subset.size and (subset.min() < 0 or subset.max() >= windows.n_windows):
+                raise ParameterError(
+                    f"subset holds window indices outside [0, {windows.n_windows})"
+                )
+            sel = subset[windows.interaction[subset] == _STAGE_WINDOWS[stage]]
         n_tracks = int(np.unique(windows.track[sel]).size)
         if sel.size == 0:
             kind = "interaction" if _STAGE_WINDOWS[stage] else "non-interaction"
@@ -175,7 +207,7 @@ def fit_params(
                 StageResult(
                     stage=stage,
                     fitted={},
-                    start={f: getattr(params, f) for f in fields},
+                    start={f: getattr(params, f) for f in fields_},
                     n_windows=0,
                     n_tracks=0,
                     ade_start_m=math.nan,
@@ -188,14 +220,14 @@ def fit_params(
                 )
             )
             continue
-        lower = np.array([BOUNDS[f][0] for f in fields])
-        upper = np.array([BOUNDS[f][1] for f in fields])
+        lower = np.array([BOUNDS[f][0] for f in fields_])
+        upper = np.array([BOUNDS[f][1] for f in fields_])
         starts: list[NDArray[np.float64]] = []
-        for candidate in (params, *(PRESETS.values() if multi_start else ())):
-            x0 = np.clip([getattr(candidate, f) for f in fields], lower, upper)
+        for candidate in (params, *(_START_PRESETS if multi_start else ()), *extra_starts):
+            x0 = np.clip([getattr(candidate, f) for f in fields_], lower, upper)
             if not any(np.array_equal(x0, s) for s in starts):
                 starts.append(x0)
-        fun = _residual_fn(windows, sel, params, fields, mode)
+        fun = _residual_fn(windows, sel, params, fields_, mode)
         best = None
         nfev = 0
         for x0 in starts:
@@ -213,22 +245,22 @@ def fit_params(
             )
             nfev += int(sol.nfev)
             if log is not None:
-                values = ", ".join(f"{f}={v:.4g}" for f, v in zip(fields, sol.x, strict=True))
-                log(f"{stage}: from {_fmt(fields, x0)} -> {values} (cost {sol.cost:.6g})")
+                values = ", ".join(f"{f}={v:.4g}" for f, v in zip(fields_, sol.x, strict=True))
+                log(f"{stage}: from {_fmt(fields_, x0)} -> {values} (cost {sol.cost:.6g})")
             if best is None or sol.cost < best[0].cost:
                 best = (sol, x0)
         if best is None:  # pragma: no cover - starts always holds the start point
             raise ParameterError("no starting point")
         sol, x0 = best
-        start_params = params.replace(**dict(zip(fields, map(float, x0), strict=True)))
+        start_params = params.replace(**dict(zip(fields_, map(float, x0), strict=True)))
         ade_start = _ade(windows, sel, params, mode)
-        fitted = {f: float(v) for f, v in zip(fields, sol.x, strict=True)}
+        fitted = {f: float(v) for f, v in zip(fields_, sol.x, strict=True)}
         params = params.replace(**fitted)
         results.append(
             StageResult(
                 stage=stage,
                 fitted=fitted,
-                start={f: getattr(start_params, f) for f in fields},
+                start={f: getattr(start_params, f) for f in fields_},
                 n_windows=int(sel.size),
                 n_tracks=n_tracks,
                 ade_start_m=ade_start,

@@ -22,7 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
-from srfm.models._kernels import _agent_forces, integrate
+from srfm.models._kernels import _agent_forces, exact_cut, integrate
 from srfm.models.params import SRFMKernelParams
 
 
@@ -90,6 +90,7 @@ def replay_windows(
     v0 = np.zeros(n_buf)
     vmax = np.zeros(1)
     force = np.zeros((1, 2))
+    cut, ped = exact_cut()
     robot = np.zeros(3)
     robot[2] = robot_radius
     segments = np.zeros((0, 4))
@@ -134,6 +135,8 @@ def replay_windows(
                     robot_on,
                     segments,
                     circles,
+                    cut,
+                    ped,
                 )
                 force[0, 0] = g0 + p0 + r0 + o0
                 force[0, 1] = g1 + p1 + r1 + o1

@@ -44,6 +44,10 @@ def _radius(inst: object, attribute: attrs.Attribute[float], value: float) -> No
     physical(value, attribute.name, "radius", ParameterError, strict=True)
 
 
+def _speed(inst: object, attribute: attrs.Attribute[float], value: float) -> None:
+    physical(value, attribute.name, "speed", ParameterError, strict=False)
+
+
 def _quantile(inst: object, attribute: attrs.Attribute[float], value: float) -> None:
     unit_interval(value, attribute.name, ParameterError)
 
@@ -78,6 +82,11 @@ class WindowConfig:
             equal substeps no longer than this (1/15 s, the simulator's step).
         max_gap_factor: an interval longer than this many median frame intervals
             breaks a track (a detection gap).
+        min_start_speed_mps: a window starts only where the initial velocity's
+            magnitude is at least this (m/s). 0 (default) keeps every window; the
+            NavWareSet protocol (``docs/fitting.md``) uses 0.3 m/s to leave out windows
+            that start while the pedestrian waits for the experimenter's cue, which no
+            force model can time.
     """
 
     horizon_s: float = attrs.field(default=4.8, validator=_duration)
@@ -90,6 +99,7 @@ class WindowConfig:
     robot_radius_m: float = attrs.field(default=0.2, validator=_radius)
     max_substep_s: float = attrs.field(default=1.0 / 15.0, validator=_duration)
     max_gap_factor: float = attrs.field(default=1.5, validator=_pos)
+    min_start_speed_mps: float = attrs.field(default=0.0, validator=_speed)
 
 
 @attrs.frozen(kw_only=True, eq=False)
@@ -271,6 +281,11 @@ def build_windows(scenes: Sequence[Trajectories], config: WindowConfig | None = 
                 goal = txy[-1]
                 for lo, hi in seg_bounds:
                     for k in range(lo + m_v, hi - horizon, stride):
+                        v_k = (txy[k] - txy[k - m_v]) / (tt[k] - tt[k - m_v])
+                        if config.min_start_speed_mps > 0.0 and (
+                            math.hypot(v_k[0], v_k[1]) < config.min_start_speed_mps
+                        ):
+                            continue
                         ks = slice(k + 1, k + horizon + 1)
                         win["agent"].append(int(a) + a_off)
                         win["track"].append(int(a) + a_off)
@@ -278,7 +293,7 @@ def build_windows(scenes: Sequence[Trajectories], config: WindowConfig | None = 
                         win["frame0"].append(int(tf[k]) + g_off)
                         win["steps"].append(horizon)
                         win["pos"].append(txy[k])
-                        win["vel"].append((txy[k] - txy[k - m_v]) / (tt[k] - tt[k - m_v]))
+                        win["vel"].append(v_k)
                         win["goal"].append(goal)
                         win["v0"].append(speed0)
                         win["obs"].append(txy[ks])

@@ -1,7 +1,6 @@
 """The Social Robot Force Model: parameters, force kernels and the crowd step."""
 
 from srfm.models.forces import (
-    PARALLEL_MIN_AGENTS,
     ForceComponents,
     RobotBody,
     force_components,
@@ -10,7 +9,6 @@ from srfm.models.forces import (
 from srfm.models.params import PRESETS, SRFMParams, load_params, save_params
 
 __all__ = [
-    "PARALLEL_MIN_AGENTS",
     "PRESETS",
     "ForceComponents",
     "RobotBody",

@@ -33,6 +33,7 @@ from numba import njit, prange
 
 from srfm.models._primitives import (
     EPS,
+    anisotropy,
     capped_exp,
     closest_on_segment,
     desired_velocity,
@@ -66,8 +67,16 @@ def _agent_forces(
     robot_on: bool,
     segments: np.ndarray,
     circles: np.ndarray,
+    cut: np.ndarray,
+    ped: np.ndarray,
 ) -> tuple[float, float, float, float, float, float, float, float]:
-    """The four force components on agent i: goal, pedestrians, robot, obstacles (x, y each)."""
+    """The four force components on agent i: goal, pedestrians, robot, obstacles (x, y each).
+
+    ``cut`` = (pedestrian cut-off, obstacle cut-off) in m, ``inf`` for none. With
+    ``inf`` every other pedestrian pushes, summed in index order (the exact kernel);
+    with a finite pedestrian cut-off the pedestrian force is ``ped[i]``, from
+    :func:`cell_pair_forces`. Obstacles beyond the obstacle cut-off are skipped.
+    """
     px = pos[i, 0]
     py = pos[i, 1]
     vx = vel[i, 0]
@@ -86,7 +95,8 @@ def _agent_forces(
     lam_p = params.lambda_ped
     pfx = 0.0
     pfy = 0.0
-    if a_p != 0.0:
+    ped_cut = cut[0]
+    if a_p != 0.0 and ped_cut == np.inf:
         for j in range(pos.shape[0]):
             if j == i:
                 continue
@@ -95,6 +105,11 @@ def _agent_forces(
             )
             pfx += fx
             pfy += fy
+    elif a_p != 0.0:
+        # With a cut-off the pedestrian forces were summed pair by pair beforehand
+        # (cell_pair_forces).
+        pfx = ped[i, 0]
+        pfy = ped[i, 1]
 
     # Robot repulsion (absent in the counterfactual twin, or when A_r = 0).
     rfx = 0.0
@@ -112,6 +127,7 @@ def _agent_forces(
     ofy = 0.0
     a_o = params.a_obs
     b_o = params.b_obs
+    obs_cut = cut[1]
     if a_o != 0.0:
         for k in range(segments.shape[0]):
             cx, cy = closest_on_segment(
@@ -120,7 +136,7 @@ def _agent_forces(
             dx = px - cx
             dy = py - cy
             d = math.sqrt(dx * dx + dy * dy)
-            if d < EPS:
+            if d < EPS or d >= obs_cut:
                 continue
             mag = a_o * capped_exp((ri - d) / b_o)
             ofx += mag * dx / d
@@ -132,10 +148,174 @@ def _agent_forces(
             if dc < EPS:
                 continue
             d = dc - circles[k, 2]  # distance to the pillar's surface
+            if d >= obs_cut:
+                continue
             mag = a_o * capped_exp((ri - d) / b_o)
             ofx += mag * dx / dc
             ofy += mag * dy / dc
     return gfx, gfy, pfx, pfy, rfx, rfy, ofx, ofy
+
+
+# Most cells a cell list may have per agent (plus a floor): a crowd spread far apart gets
+# wider cells instead of a huge, mostly empty grid.
+MAX_CELLS_PER_AGENT = 4
+MIN_CELLS = 64
+
+
+@njit(cache=True, inline="always")
+def exact_cut() -> tuple[np.ndarray, np.ndarray]:
+    """``(cut, ped)`` of the exact kernel (no cut-off, every pair in index order) for
+    callers of :func:`_agent_forces` that keep the paper's exact sums."""
+    return np.full(2, np.inf), np.zeros((0, 2))
+
+
+@njit(cache=True)
+def build_cells(
+    pos: np.ndarray, radius: np.ndarray, cell_size: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A cell list of the positions ``pos`` for cells at least ``cell_size`` wide.
+
+    Returns ``(cells, grid, xyr)``: ``grid`` (5,) = (x0, y0, size, nx, ny), the lower
+    left corner, the cell width and the number of cells along x and y; ``cells``
+    (nx·ny + 1 + N,) int64, first the start of each cell's run in row-major order
+    (counting sort, agents in index order within a cell), then the agent indices of
+    every run; ``xyr`` (N, 3) the agents' (x, y, radius) in that order. With
+    ``cell_size = inf`` (no cut-off), a size <= 0 or no agents both are empty
+    placeholders.
+    """
+    n = pos.shape[0]
+    if n == 0 or not 0.0 < cell_size < np.inf:
+        return np.zeros(0, dtype=np.int64), np.zeros(5), np.zeros((0, 3))
+    x0 = pos[0, 0]
+    y0 = pos[0, 1]
+    x1 = x0
+    y1 = y0
+    for i in range(1, n):
+        x0 = min(x0, pos[i, 0])
+        x1 = max(x1, pos[i, 0])
+        y0 = min(y0, pos[i, 1])
+        y1 = max(y1, pos[i, 1])
+    size = cell_size
+    max_cells = max(MAX_CELLS_PER_AGENT * n, MIN_CELLS)
+    # widen the cells until the grid has at most max_cells cells
+    while (np.floor((x1 - x0) / size) + 1.0) * (np.floor((y1 - y0) / size) + 1.0) > max_cells:
+        size *= 2.0  # (in float64: no integer overflow for a tiny cut-off)
+    nx = math.floor((x1 - x0) / size) + 1
+    ny = math.floor((y1 - y0) / size) + 1
+    grid = np.array([x0, y0, size, float(nx), float(ny)])
+    n_cells = nx * ny
+    cells = np.zeros(n_cells + 1 + n, dtype=np.int64)
+    for i in range(n):
+        cx, cy = _cell_of(pos[i, 0], pos[i, 1], grid)
+        cells[cy * nx + cx + 1] += 1
+    for c in range(n_cells):
+        cells[c + 1] += cells[c]
+    fill = cells[:n_cells].copy()
+    xyr = np.empty((n, 3))
+    for i in range(n):
+        cx, cy = _cell_of(pos[i, 0], pos[i, 1], grid)
+        c = cy * nx + cx
+        k = fill[c]
+        cells[n_cells + 1 + k] = i
+        xyr[k, 0] = pos[i, 0]
+        xyr[k, 1] = pos[i, 1]
+        xyr[k, 2] = radius[i]
+        fill[c] = k + 1
+    return cells, grid, xyr
+
+
+@njit(cache=True, inline="always")
+def _cell_of(x: float, y: float, grid: np.ndarray) -> tuple[int, int]:
+    """The (column, row) of the cell of (x, y), clipped to the grid."""
+    nx = int(grid[3])
+    ny = int(grid[4])
+    cx = min(max(math.floor((x - grid[0]) / grid[2]), 0), nx - 1)
+    cy = min(max(math.floor((y - grid[1]) / grid[2]), 0), ny - 1)
+    return cx, cy
+
+
+@njit(cache=True)
+def cell_pair_forces(
+    pos: np.ndarray,
+    vel: np.ndarray,
+    goal: np.ndarray,
+    radius: np.ndarray,
+    v0: np.ndarray,
+    params: SRFMKernelParams,
+    cutoff: float,
+) -> np.ndarray:
+    """The pedestrian repulsion on every agent (N, 2), over the pairs closer than
+    ``cutoff``, found with a cell list (:func:`build_cells`); empty (0, 2) without a
+    cut-off (``inf``) or with A_p = 0.
+
+    Each pair is visited once, cell by cell in row-major order (its own cell, then the
+    right neighbour and the three cells above: every neighbouring pair of cells once):
+    the exponential A exp((r_i + r_j − d) / B) is shared, each agent gets its own ψ
+    (:func:`disc_repulsion`'s terms, as a pair). Sums follow that visiting order, so the
+    result is deterministic but not bit for bit the exact kernel's index-order sum.
+    """
+    n = pos.shape[0]
+    a_p = params.a_ped
+    if n == 0 or a_p == 0.0 or not 0.0 < cutoff < np.inf:
+        return np.zeros((0, 2))
+    b_p = params.b_ped
+    lam = params.lambda_ped
+    cells, grid, xyr = build_cells(pos, radius, cutoff)
+    nx = int(grid[3])
+    ny = int(grid[4])
+    n_cells = nx * ny
+    # headings in cell order: (hx, hy, 1 if the agent has a heading else 0)
+    head = np.empty((n, 3))
+    for k in range(n):
+        i = cells[n_cells + 1 + k]
+        dvx, dvy = desired_velocity(pos[i, 0], pos[i, 1], goal[i, 0], goal[i, 1], v0[i])
+        hx, hy, has_h = _heading(vel[i, 0], vel[i, 1], dvx, dvy)
+        head[k, 0] = hx
+        head[k, 1] = hy
+        head[k, 2] = 1.0 if has_h else 0.0
+    acc = np.zeros((n, 2))
+    cut2 = cutoff * cutoff
+    for cy in range(ny):
+        for cx in range(nx):
+            c = cy * nx + cx
+            # the runs after cell c: the rest of c and its right neighbour (contiguous),
+            # then the row above from cx - 1 to cx + 1
+            r0_end = cells[c + 2] if cx + 1 < nx else cells[c + 1]
+            r1_start = 0
+            r1_end = 0
+            if cy + 1 < ny:
+                r1_start = cells[(cy + 1) * nx + max(cx - 1, 0)]
+                r1_end = cells[(cy + 1) * nx + min(cx + 1, nx - 1) + 1]
+            for k in range(cells[c], cells[c + 1]):
+                for run in range(2):
+                    lo = k + 1 if run == 0 else r1_start
+                    hi = r0_end if run == 0 else r1_end
+                    for q in range(lo, hi):
+                        dx = xyr[k, 0] - xyr[q, 0]
+                        dy = xyr[k, 1] - xyr[q, 1]
+                        d2 = dx * dx + dy * dy
+                        if d2 >= cut2:
+                            continue
+                        d = math.sqrt(d2)
+                        if d < EPS:
+                            continue
+                        e = a_p * capped_exp((xyr[k, 2] + xyr[q, 2] - d) / b_p)
+                        ux = dx / d  # unit vector from q to k
+                        uy = dy / d
+                        psi_k = anisotropy(head[k, 0], head[k, 1], head[k, 2] > 0.0, -ux, -uy, lam)
+                        psi_q = anisotropy(head[q, 0], head[q, 1], head[q, 2] > 0.0, ux, uy, lam)
+                        mk = e * psi_k
+                        mq = e * psi_q
+                        acc[k, 0] += mk * ux
+                        acc[k, 1] += mk * uy
+                        acc[q, 0] -= mq * ux
+                        acc[q, 1] -= mq * uy
+    out = np.empty((n, 2))
+    for k in range(n):
+        i = cells[n_cells + 1 + k]
+        out[i, 0] = acc[k, 0]
+        out[i, 1] = acc[k, 1]
+    return out
 
 
 @njit(cache=True)
@@ -150,12 +330,27 @@ def force_components_kernel(
     robot_on: bool,
     segments: np.ndarray,
     circles: np.ndarray,
+    cut: np.ndarray,
     out: np.ndarray,
 ) -> None:
-    """Write the components into ``out`` (4, N, 2): goal, pedestrians, robot, obstacles."""
+    """Write the components into ``out`` (4, N, 2): goal, pedestrians, robot, obstacles;
+    ``cut`` as in :func:`step_serial`."""
+    ped = cell_pair_forces(pos, vel, goal, radius, v0, params, cut[0])
     for i in range(pos.shape[0]):
         g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(
-            i, pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles
+            i,
+            pos,
+            vel,
+            goal,
+            radius,
+            v0,
+            params,
+            robot,
+            robot_on,
+            segments,
+            circles,
+            cut,
+            ped,
         )
         out[0, i, 0] = g0
         out[0, i, 1] = g1
@@ -180,11 +375,25 @@ def _agent_total(
     robot_on: bool,
     segments: np.ndarray,
     circles: np.ndarray,
+    cut: np.ndarray,
+    ped: np.ndarray,
     out: np.ndarray,
 ) -> None:
     """Total force F_i on agent i into ``out[i]``: goal + pedestrians + robot + obstacles."""
     g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(
-        i, pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles
+        i,
+        pos,
+        vel,
+        goal,
+        radius,
+        v0,
+        params,
+        robot,
+        robot_on,
+        segments,
+        circles,
+        cut,
+        ped,
     )
     out[i, 0] = g0 + p0 + r0 + o0
     out[i, 1] = g1 + p1 + r1 + o1
@@ -224,12 +433,32 @@ def step_serial(
     circles: np.ndarray,
     dt: float,
     force_buf: np.ndarray,
+    cut: np.ndarray,
 ) -> None:
     """One crowd step in place: the total force on every agent from one snapshot into
-    ``force_buf`` (N, 2), one agent after another, then :func:`integrate`."""
+    ``force_buf`` (N, 2), one agent after another, then :func:`integrate`.
+
+    ``cut`` (2,) = (pedestrian cut-off, obstacle cut-off) in m: ``inf`` for none (the
+    exact kernel: every pair, in index order); a finite pedestrian cut-off builds a
+    cell list of the snapshot (:func:`build_cells`) and sums only the pairs closer than it.
+    """
+    ped = cell_pair_forces(pos, vel, goal, radius, v0, params, cut[0])
     for i in range(pos.shape[0]):
         _agent_total(
-            i, pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles, force_buf
+            i,
+            pos,
+            vel,
+            goal,
+            radius,
+            v0,
+            params,
+            robot,
+            robot_on,
+            segments,
+            circles,
+            cut,
+            ped,
+            force_buf,
         )
     integrate(pos, vel, force_buf, vmax, dt)
 
@@ -249,12 +478,27 @@ def step_parallel(
     circles: np.ndarray,
     dt: float,
     force_buf: np.ndarray,
+    cut: np.ndarray,
 ) -> None:
     """As :func:`step_serial` with the agents of the force pass split over threads (for
     large crowds); bit-identical results."""
+    ped = cell_pair_forces(pos, vel, goal, radius, v0, params, cut[0])
     for i in prange(pos.shape[0]):
         _agent_total(
-            i, pos, vel, goal, radius, v0, params, robot, robot_on, segments, circles, force_buf
+            i,
+            pos,
+            vel,
+            goal,
+            radius,
+            v0,
+            params,
+            robot,
+            robot_on,
+            segments,
+            circles,
+            cut,
+            ped,
+            force_buf,
         )
     integrate(pos, vel, force_buf, vmax, dt)
 
@@ -364,6 +608,7 @@ def twin_step_serial(
     c_arrived: np.ndarray,
     f_new: np.ndarray,
     c_new: np.ndarray,
+    cut: np.ndarray,
 ) -> int:
     """Step the factual (robot on) and counterfactual (robot off) crowds, then flag
     new arrivals of each twin (see :func:`mark_arrivals`); return how many in total."""
@@ -381,6 +626,7 @@ def twin_step_serial(
         circles,
         dt,
         force_buf,
+        cut,
     )
     step_serial(
         c_pos,
@@ -396,6 +642,7 @@ def twin_step_serial(
         circles,
         dt,
         force_buf,
+        cut,
     )
     return _twin_arrivals(
         f_pos, f_goal, c_pos, c_goal, goal_radius, f_arrived, c_arrived, f_new, c_new
@@ -424,6 +671,7 @@ def twin_step_parallel(
     c_arrived: np.ndarray,
     f_new: np.ndarray,
     c_new: np.ndarray,
+    cut: np.ndarray,
 ) -> int:
     """As :func:`twin_step_serial` with the threaded force pass (identical results)."""
     step_parallel(
@@ -440,6 +688,7 @@ def twin_step_parallel(
         circles,
         dt,
         force_buf,
+        cut,
     )
     step_parallel(
         c_pos,
@@ -455,6 +704,7 @@ def twin_step_parallel(
         circles,
         dt,
         force_buf,
+        cut,
     )
     return _twin_arrivals(
         f_pos, f_goal, c_pos, c_goal, goal_radius, f_arrived, c_arrived, f_new, c_new

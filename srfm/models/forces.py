@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import Final
+import math
+from typing import Final, Literal
 
 import attrs
 import numpy as np
@@ -13,13 +14,36 @@ from srfm.models import _kernels
 from srfm.models.params import SRFMParams
 from srfm.models.state import CrowdState, Obstacles
 
-__all__ = ["PARALLEL_MIN_AGENTS", "ForceComponents", "RobotBody", "force_components", "step_crowd"]
+__all__ = [
+    "CELL_LIST_MIN_AGENTS",
+    "FORCE_TOLERANCE_MPS2",
+    "Cutoff",
+    "ForceComponents",
+    "RobotBody",
+    "force_components",
+    "interaction_cutoffs",
+    "kernel_cutoffs",
+    "step_crowd",
+]
 
-# From this many pedestrians on the threaded kernel is used by default; below it the
-# serial kernel is as fast or faster (tools/bench_crowd_step.py, docs/performance.md).
-# The threaded kernel needs idle cores: run parallel workers with parallel=False or
-# NUMBA_NUM_THREADS=1.
-PARALLEL_MIN_AGENTS: Final = 50
+# The serial kernel is the default at every crowd size: with the other core busy the
+# threaded kernel ran 0.002-0.5x as fast as the serial one up to N = 1000 and 1.0x at
+# N = 10,000 (docs/performance.md, "Threading under load"). parallel=True asks for it
+# where cores are known to be idle.
+
+# The interaction cut-off (docs/performance.md, "Neighbour search"). Beyond
+#   d_ped = 2 r_max + B_p ln(A_p / tol)   (pedestrians; r_max the largest radius)
+#   d_obs = r_max + B_o ln(A_o / tol)     (walls and pillars, distance to the surface)
+# every pairwise term A exp((r_i + r_j - d) / B) ψ (ψ <= 1) is below tol; those terms are
+# left out. With the agrawal2024 preset, r = 0.3 m and tol = 1e-6 m/s²: d_ped = 13.5 m,
+# d_obs = 1.66 m. The robot's single term is always computed.
+FORCE_TOLERANCE_MPS2: Final = 1e-6
+# "auto" (the default) uses the cut-off and a cell list from this many pedestrians on,
+# and the exact kernel (every pair, in index order) below: the paper's 10-pedestrian
+# scenarios stay bit for bit what they were.
+CELL_LIST_MIN_AGENTS: Final = 200
+# A cut-off: "auto", "exact" (no cut-off), or the pedestrian cut-off distance in m.
+Cutoff = float | Literal["auto", "exact"]
 
 # Largest step (s): with the speed bounds of CrowdState it keeps positions finite.
 MAX_DT_S: Final = 1.0
@@ -66,11 +90,65 @@ def _robot_args(robot: RobotBody | None) -> tuple[NDArray[np.float64], bool]:
     return arr, True
 
 
+def interaction_cutoffs(
+    params: SRFMParams, max_radius: float, tolerance: float = FORCE_TOLERANCE_MPS2
+) -> tuple[float, float]:
+    """(pedestrian, obstacle) cut-off distances (m) beyond which every pairwise term
+    is below ``tolerance`` (m/s²), for pedestrians of radius at most ``max_radius``.
+
+    The pedestrian cut-off is a centre distance, the obstacle cut-off a distance to the
+    wall or the pillar's surface; see ``FORCE_TOLERANCE_MPS2`` for the formulas.
+    """
+    if not tolerance > 0.0 or not math.isfinite(tolerance):
+        raise SimulationError(f"force tolerance must be finite and > 0, got {tolerance!r}")
+    r = max(float(max_radius), 0.0)
+    ped = (
+        2.0 * r + params.b_ped * max(math.log(params.a_ped / tolerance), 0.0)
+        if params.a_ped
+        else 0.0
+    )
+    obs = r + params.b_obs * max(math.log(params.a_obs / tolerance), 0.0) if params.a_obs else 0.0
+    # a zero strength has no term at all: any cut-off will do (the kernel skips the sum)
+    return max(ped, 2.0 * r) or 1.0, max(obs, r) or 1.0
+
+
+def kernel_cutoffs(
+    cutoff: Cutoff, params: SRFMParams, radius: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """The kernels' ``cut`` argument (2,) for a crowd with radii ``radius``.
+
+    Args:
+        cutoff: "exact": no cut-off (every pair, in index order); "auto": the cut-offs
+            of :func:`interaction_cutoffs` with a cell list from ``CELL_LIST_MIN_AGENTS``
+            pedestrians on, exact below; a number: that pedestrian cut-off (m, > 0) with
+            a cell list at any crowd size, obstacles cut as in "auto".
+
+    Raises:
+        SimulationError: an unknown mode or a cut-off that is not a positive number.
+    """
+    n = radius.shape[0]
+    r_max = float(radius.max()) if n else 0.0
+    if isinstance(cutoff, str):
+        if cutoff == "exact" or (cutoff == "auto" and n < CELL_LIST_MIN_AGENTS):
+            return np.array([np.inf, np.inf])
+        if cutoff == "auto":
+            return np.array(interaction_cutoffs(params, r_max))
+        raise SimulationError(f"cutoff must be 'auto', 'exact' or a distance in m, got {cutoff!r}")
+    if isinstance(cutoff, bool) or not isinstance(cutoff, int | float | np.floating | np.integer):
+        raise SimulationError(f"cutoff must be 'auto', 'exact' or a distance in m, got {cutoff!r}")
+    value = float(cutoff)
+    if not (value > 0.0 and math.isfinite(value)):
+        raise SimulationError(f"cutoff must be a finite distance > 0 m, got {cutoff!r}")
+    return np.array([value, interaction_cutoffs(params, r_max)[1]])
+
+
 def force_components(
     crowd: CrowdState,
     params: SRFMParams | None = None,
     robot: RobotBody | None = None,
     obstacles: Obstacles | None = None,
+    *,
+    cutoff: Cutoff = "auto",
 ) -> ForceComponents:
     """Compute each SRFM force component for the current crowd state.
 
@@ -79,6 +157,7 @@ def force_components(
         params: model parameters; the ``agrawal2024`` preset when omitted.
         robot: the robot as the pedestrians perceive it; None for no robot.
         obstacles: walls and pillars; none when omitted.
+        cutoff: interaction cut-off, see :func:`kernel_cutoffs`.
 
     Returns:
         The goal, pedestrian, robot and obstacle components, each (N, 2) in m/s².
@@ -86,6 +165,7 @@ def force_components(
     params = params or SRFMParams()
     obstacles = obstacles or _NO_OBSTACLES
     robot_arr, robot_on = _robot_args(robot)
+    cut = kernel_cutoffs(cutoff, params, crowd.radius)
     out = np.zeros((4, crowd.n, 2))
     _kernels.force_components_kernel(
         crowd.pos,
@@ -98,6 +178,7 @@ def force_components(
         robot_on,
         obstacles.segments,
         obstacles.circles,
+        cut,
         out,
     )
     return ForceComponents(goal=out[0], pedestrians=out[1], robot=out[2], obstacles=out[3])
@@ -110,7 +191,8 @@ def step_crowd(
     robot: RobotBody | None = None,
     obstacles: Obstacles | None = None,
     *,
-    parallel: bool | None = None,
+    parallel: bool = False,
+    cutoff: Cutoff = "auto",
 ) -> None:
     """Advance ``crowd`` in place by one step of ``dt`` seconds.
 
@@ -120,16 +202,17 @@ def step_crowd(
 
     Args:
         dt: step (s), in (0, 1].
-        parallel: use the threaded kernel; by default for crowds of at least
-            ``PARALLEL_MIN_AGENTS`` pedestrians. Both kernels give identical results.
+        parallel: use the threaded kernel (for idle cores only; the serial kernel is
+            the default). Both kernels give identical results.
+        cutoff: interaction cut-off, see :func:`kernel_cutoffs`.
     """
     if not 0.0 < dt <= MAX_DT_S:  # also false for NaN
         raise SimulationError(f"dt must be in (0, {MAX_DT_S:g}] s, got {dt!r}")
     params = params or SRFMParams()
     obstacles = obstacles or _NO_OBSTACLES
     robot_arr, robot_on = _robot_args(robot)
-    use_parallel = crowd.n >= PARALLEL_MIN_AGENTS if parallel is None else parallel
-    kernel = _kernels.step_parallel if use_parallel else _kernels.step_serial
+    cut = kernel_cutoffs(cutoff, params, crowd.radius)
+    kernel = _kernels.step_parallel if parallel else _kernels.step_serial
     kernel(
         crowd.pos,
         crowd.vel,
@@ -144,4 +227,5 @@ def step_crowd(
         obstacles.circles,
         float(dt),
         np.empty_like(crowd.pos),
+        cut,
     )

@@ -35,7 +35,13 @@ from typing import Final, NamedTuple
 import numpy as np
 from numba import njit
 
-from srfm.models._kernels import _agent_forces, mark_arrivals, step_serial, twin_step_serial
+from srfm.models._kernels import (
+    _agent_forces,
+    exact_cut,
+    mark_arrivals,
+    step_serial,
+    twin_step_serial,
+)
 from srfm.models._robot_kernels import (
     EVENT_GOAL,
     EVENT_NONE,
@@ -137,6 +143,7 @@ def one_step_deviation(
     radius = agent[AGENT_RADIUS]
     v0 = agent[AGENT_V0]
     vmax = agent[AGENT_VMAX]
+    cut, ped = exact_cut()
     z2 = zone * zone
     total = 0.0
     for i in range(pos.shape[0]):
@@ -145,7 +152,19 @@ def one_step_deviation(
         if not dx * dx + dy * dy < z2:
             continue
         g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(
-            i, pos, vel, goal, radius, v0, params, body, True, segments, circles
+            i,
+            pos,
+            vel,
+            goal,
+            radius,
+            v0,
+            params,
+            body,
+            True,
+            segments,
+            circles,
+            cut,
+            ped,
         )
         px = pos[i, 0]
         py = pos[i, 1]
@@ -327,6 +346,7 @@ def env_step(
             flags[ARRIVED_C],
             flags[NEW_F],
             flags[NEW_C],
+            exact_cut()[0],
         )
     else:
         step_serial(
@@ -343,6 +363,7 @@ def env_step(
             circles,
             dt,
             force_buf,
+            exact_cut()[0],
         )
         mark_arrivals(
             crowd[FACTUAL_POS], crowd[FACTUAL_GOAL], goal_radius, flags[ARRIVED_F], flags[NEW_F]

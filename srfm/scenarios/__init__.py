@@ -28,6 +28,7 @@ __all__ = [
     "BUILTIN_SCENARIOS",
     "EVALUATION_SCENARIOS",
     "FRANCIS_SCENARIOS",
+    "LARGE_SCENARIOS",
     "MAX_HORIZON_STEPS",
     "SCHEMA_VERSION",
     "EpisodeSetup",
@@ -53,6 +54,11 @@ FRANCIS_SCENARIOS: Final = (
     "parallel_traffic",
 )
 BUILTIN_SCENARIOS: Final = (*EVALUATION_SCENARIOS, "random", *FRANCIS_SCENARIOS)
+# Large crowds (issue 19; 300-400 pedestrians, stepped with the cell list and the
+# interaction cut-off): built in and loadable by name, run by `srfm benchmark --suite
+# large`, but kept out of BUILTIN_SCENARIOS, whose scenarios every test, the RL
+# environment (exact kernel, small crowds) and the paper's tables iterate over.
+LARGE_SCENARIOS: Final = ("concert_crowd", "station_concourse")
 
 
 @cache
@@ -73,12 +79,12 @@ def load_scenario(name_or_path: str | Path) -> Scenario:
             (the message names the file and the key).
     """
     text = str(name_or_path)
-    if isinstance(name_or_path, str) and text in BUILTIN_SCENARIOS:
+    if isinstance(name_or_path, str) and text in (*BUILTIN_SCENARIOS, *LARGE_SCENARIOS):
         return _builtin(text)
     path = Path(name_or_path)
     if path.suffix == ".toml" or path.exists():
         return read_scenario_file(path)
-    known = ", ".join(BUILTIN_SCENARIOS)
+    known = ", ".join((*BUILTIN_SCENARIOS, *LARGE_SCENARIOS))
     raise ScenarioError(f"unknown scenario {text!r}; built-in: {known}; or give a .toml path")
 
 

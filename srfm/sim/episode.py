@@ -18,6 +18,7 @@ import numpy as np
 from srfm._user_code import call_user_code, is_user_code, user_code_error
 from srfm._validate import path_name, planner_name
 from srfm.errors import PlannerError, ResourceError, SimulationError, SrfmError
+from srfm.models.forces import Cutoff
 from srfm.models.params import SRFMParams
 from srfm.planners import Planner, check_planner, make_planner
 from srfm.scenarios import Scenario, episode_setup, load_scenario
@@ -191,7 +192,8 @@ def run_episode(
     planner: Planner | str = "straight",
     params: SRFMParams | None = None,
     *,
-    parallel: bool | None = None,
+    parallel: bool = False,
+    cutoff: Cutoff = "auto",
 ) -> EpisodeRecord:
     """Simulate one twin episode and return its record.
 
@@ -206,6 +208,7 @@ def run_episode(
             :func:`srfm.planners.make_planner`).
         params: SRFM parameters; the ``agrawal2024`` preset when omitted.
         parallel: force kernel choice, see :class:`TwinSimulator`.
+        cutoff: interaction cut-off, see :class:`TwinSimulator`.
 
     Raises:
         PlannerError: the planner lacks the :class:`Planner` protocol (checked before
@@ -226,7 +229,7 @@ def run_episode(
     detection = _detection_range(planner)
     setup = episode_setup(scenario, seed)
     check_episode_memory(scenario)
-    sim = TwinSimulator(setup, params, parallel=parallel)
+    sim = TwinSimulator(setup, params, parallel=parallel, cutoff=cutoff)
     user = is_user_code(planner)
     where = f" (scenario {scenario.name}, seed {setup.seed})"
     context = sim.planner_context()

@@ -35,7 +35,7 @@ from srfm._jit import specialize
 from srfm.errors import PlannerError, SimulationError
 from srfm.models import _kernels
 from srfm.models import _robot_kernels as _rk
-from srfm.models.forces import PARALLEL_MIN_AGENTS
+from srfm.models.forces import Cutoff, kernel_cutoffs
 from srfm.models.params import SRFMParams
 from srfm.models.robot import RobotState, command_pair, stopped
 from srfm.models.state import CrowdState
@@ -71,8 +71,11 @@ class TwinSimulator:
     Args:
         setup: the episode's start (see :func:`srfm.scenarios.episode_setup`).
         params: SRFM parameters; the ``agrawal2024`` preset when omitted.
-        parallel: use the threaded force kernel; by default for crowds of at least
-            ``PARALLEL_MIN_AGENTS``. Results are identical either way.
+        parallel: use the threaded force kernel (for idle cores only; serial by
+            default). Results are identical either way.
+        cutoff: interaction cut-off of the crowd steps (:func:`srfm.models.forces.kernel_cutoffs`):
+            "auto" (exact below ``CELL_LIST_MIN_AGENTS`` pedestrians), "exact", or a
+            pedestrian cut-off in m.
     """
 
     def __init__(
@@ -80,7 +83,8 @@ class TwinSimulator:
         setup: EpisodeSetup,
         params: SRFMParams | None = None,
         *,
-        parallel: bool | None = None,
+        parallel: bool = False,
+        cutoff: Cutoff = "auto",
     ) -> None:
         self.setup = setup
         self.scenario = setup.scenario
@@ -89,7 +93,7 @@ class TwinSimulator:
         self.factual: CrowdState = setup.crowd.copy()
         self.counterfactual: CrowdState = setup.crowd.copy()
         n = self.factual.n
-        use_parallel = n >= PARALLEL_MIN_AGENTS if parallel is None else parallel
+        self._cut = kernel_cutoffs(cutoff, self.params, self.factual.radius)
         self._force_buf = np.empty((n, 2))
         self._robot_body = np.array([0.0, 0.0, self.scenario.robot.radius_m])
         self.robot = RobotState(
@@ -159,9 +163,10 @@ class TwinSimulator:
             self._arrived["counterfactual"],
             self._new_arrivals["factual"],
             self._new_arrivals["counterfactual"],
+            self._cut,
         )
         self._twin_step = specialize(
-            _kernels.twin_step_parallel if use_parallel else _kernels.twin_step_serial,
+            _kernels.twin_step_parallel if parallel else _kernels.twin_step_serial,
             *self._twin_step_args,
         )
         self._move_robot = specialize(_rk.move_robot, self._robot, 0.0, 0.0, self._limits, dt)

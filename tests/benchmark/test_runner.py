@@ -365,3 +365,26 @@ def test_workers_run_with_one_thread() -> None:
     assert worker["numba"] == 1
     assert worker["pools"].keys() >= parent["pools"].keys()
     assert set(worker["pools"].values()) == {1}
+
+
+def test_kernels_are_compiled_in_the_parent_before_forking(
+    short_scenario: Path, tmp_path: Path
+) -> None:
+    # issue 19: the parent compiles what the workers will call (only the requested
+    # planners), so that forked workers inherit the compiled kernels; nothing is written
+    from srfm.benchmark._runner import _compile_in_parent, _Task
+    from srfm.planners import _dwa_kernels
+
+    scenario = load_scenario(short_scenario)
+    task = _Task(
+        scenario=scenario,
+        planner="dwa",
+        seeds=(0,),
+        params=SRFMParams(),
+        out=str(tmp_path),
+        writer=None,
+        figure_seed=None,
+    )
+    _compile_in_parent([task])
+    assert _dwa_kernels.dwa_unicycle.signatures  # the planner's kernel is compiled
+    assert list(tmp_path.iterdir()) == []

@@ -11,6 +11,7 @@ from numpy.typing import NDArray
 
 import srfm
 from srfm.datasets import PEDESTRIAN, ROBOT, Trajectories
+from srfm.fitting import WindowConfig, build_windows, predict
 
 RATE_HZ = 15.0
 
@@ -217,4 +218,42 @@ def simulate_scene(
         t_ns=np.repeat(t_ns, n_agents),
         xy=samples.reshape(-1, 2),
         source={"dataset": "synthetic", "seed": str(seed)},
+    )
+
+
+def resimulate_pedestrian(
+    scene: Trajectories, params: srfm.SRFMParams, truth: dict[str, list[object]] | None = None
+) -> Trajectories:
+    """The scene with its one pedestrian replaced by an SRFM pedestrian around the
+    *recorded* robot: from the observed state 0.4 s into the track toward the track's
+    last observed position, with the fitting protocol's v0 (the replay kernel, one
+    window spanning the whole track). The first 0.4 s stay as observed. If ``truth`` is
+    a dict, the goal (2,) and desired speed used are appended to its "goal" and "v0"."""
+    peds = [i for i, k in enumerate(scene.kinds) if k == PEDESTRIAN]
+    assert len(peds) == 1, "format-1 scenes only (one pedestrian)"
+    mask = scene.agent == peds[0]
+    n = int(np.count_nonzero(mask))
+    dt = float(np.median(np.diff(scene.t_ns[mask]))) * 1e-9
+    m_v = max(1, round(0.4 / dt))
+    horizon = n - m_v - 1
+    config = WindowConfig(horizon_s=horizon * dt, stride_s=1000.0)
+    windows = build_windows([scene], config)
+    assert windows.n_windows == 1
+    assert int(windows.steps[0]) == horizon
+    simulated = predict(windows, params, np.array([0], dtype=np.int64), "srfm")
+    if truth is not None:
+        truth.setdefault("goal", []).append(windows.goal[0].copy())
+        truth.setdefault("v0", []).append(float(windows.v0[0]))
+    xy = scene.xy.copy()
+    track_rows = np.flatnonzero(mask)
+    xy[track_rows[m_v + 1 :]] = simulated
+    return Trajectories.from_samples(
+        scene=f"{scene.scene}-resimulated",
+        agent_ids=scene.agent_ids,
+        kinds=scene.kinds,
+        agent=scene.agent,
+        frame=scene.frame,
+        t_ns=scene.t_ns,
+        xy=xy,
+        source=dict(scene.source),
     )

@@ -211,3 +211,28 @@ def test_convert_real_data(real_data: Path, tmp_path: Path) -> None:
     assert code == 0, text
     assert "warning" not in text
     assert len(read_mcap(tmp_path / "eth.mcap").scenes) == 5
+
+
+def test_fit_robot_stage_with_lambda_robot_and_walking_starts(tmp_path: Path) -> None:
+    true = srfm.SRFMParams(tau=0.6, a_robot=4.0, b_robot=0.6, lambda_robot=0.4)
+    data = tmp_path / "robot.mcap"
+    write_mcap(
+        data, [simulate_scene(true, 5, name="r", robot=True, n_per_side=2)], dataset="synthetic"
+    )
+    out = tmp_path / "fitted.toml"
+    args = ("fit", str(data), "-o", str(out), "--stage", "robot", "--stride", "2.4")
+    code, text = run(*args, "--max-nfev", "20", "--fit-lambda-robot", "--min-start-speed", "0.5")
+    assert code == 0, text
+    assert "lambda_robot" in text
+    fitted = srfm.load_params(out)
+    assert fitted.lambda_robot != srfm.SRFMParams().lambda_robot  # fitted, not kept
+    meta = tomllib.loads(out.read_text())["meta"]
+    assert meta["min_start_speed_mps"] == 0.5
+    assert meta["fit_lambda_robot"] is True
+    # Without the flag λ_r keeps the start value.
+    code, text = run(*args, "--max-nfev", "5")
+    assert code == 0, text
+    assert srfm.load_params(out).lambda_robot == srfm.SRFMParams().lambda_robot
+    code, text = run(*args, "--min-start-speed", "-1")
+    assert code != 0
+    assert "min_start_speed_mps" in text

@@ -165,12 +165,13 @@ def test_jitted_and_python_force_kernels_agree() -> None:
     args = _kernel_args(scene)
     jit_out = np.zeros((4, scene.crowd.n, 2))
     py_out = np.zeros((4, scene.crowd.n, 2))
-    _kernels.force_components_kernel(*args, jit_out)
-    _kernels.force_components_kernel.py_func(*args, py_out)
+    exact = np.full(2, np.inf)
+    _kernels.force_components_kernel(*args, exact, jit_out)
+    _kernels.force_components_kernel.py_func(*args, exact, py_out)
     np.testing.assert_allclose(py_out, jit_out, rtol=1e-13, atol=1e-15)
     # The per-agent body too, in pure Python all the way down to the helpers.
     for i in range(scene.crowd.n):
-        got = _kernels._agent_forces.py_func(i, *args)
+        got = _kernels._agent_forces.py_func(i, *args, *_kernels.exact_cut.py_func())
         np.testing.assert_allclose(got, jit_out[:, i, :].ravel(), rtol=1e-13, atol=1e-15)
     want = ref.forces(*scene)
     for k, name in enumerate(COMPONENTS):

@@ -177,14 +177,15 @@ def test_kernel_reads_the_tuple_by_name_like_its_python_body() -> None:
     args = (pos, vel, goal, radius, v0, p.for_kernels(), robot, True, segments, circles)
     jit_out = np.zeros((4, 3, 2))
     py_out = np.zeros((4, 3, 2))
-    _kernels.force_components_kernel(*args, jit_out)
-    _kernels.force_components_kernel.py_func(*args, py_out)
+    exact = np.full(2, np.inf)
+    _kernels.force_components_kernel(*args, exact, jit_out)
+    _kernels.force_components_kernel.py_func(*args, exact, py_out)
     np.testing.assert_allclose(py_out, jit_out, rtol=1e-13, atol=0.0)
     assert np.all(np.linalg.norm(jit_out, axis=2) > 0.0)  # every component on every agent
     for name in FIELDS:  # each field is read (a change of it changes the forces)
         other = np.zeros((4, 3, 2))
         changed = p.replace(**{name: getattr(p, name) * 0.9})
-        _kernels.force_components_kernel(*args[:5], changed.for_kernels(), *args[6:], other)
+        _kernels.force_components_kernel(*args[:5], changed.for_kernels(), *args[6:], exact, other)
         assert not np.array_equal(other, jit_out), name
 
 
@@ -503,3 +504,12 @@ def test_load_params_reads_like_every_input(tmp_path: Path) -> None:
         srfm.load_params(latin)
     with pytest.raises(srfm.ParameterError, match=r"missing\.toml: parameter file not found"):
         srfm.load_params(tmp_path / "missing.toml")
+
+
+def test_navwareset2025_preset_is_the_documented_fit() -> None:
+    # docs/fitting.md, "NavWareSet protocol": ETH/UCY pedestrian part, NavWareSet robot
+    # part, rounded to 3 digits; obstacles keep the defaults.
+    p = srfm.SRFMParams.preset("navwareset2025")
+    assert (p.a_ped, p.b_ped, p.lambda_ped, p.tau) == (0.0745, 0.137, 0.000936, 3.72)
+    assert (p.a_robot, p.b_robot, p.lambda_robot) == (0.00447, 0.0746, 0.196)
+    assert (p.a_obs, p.b_obs) == (srfm.SRFMParams().a_obs, srfm.SRFMParams().b_obs)

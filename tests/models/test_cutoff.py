@@ -1,0 +1,152 @@
+"""The interaction cut-off and the cell list against the exact kernel (issue 19)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import srfm
+from srfm.errors import SimulationError
+from srfm.models import _kernels
+from srfm.models.forces import (
+    CELL_LIST_MIN_AGENTS,
+    FORCE_TOLERANCE_MPS2,
+    force_components,
+    interaction_cutoffs,
+    kernel_cutoffs,
+)
+
+DT = 1.0 / 15.0
+PARAMS = srfm.SRFMParams()
+WALLS = srfm.Obstacles.create(
+    segments=[[0.0, -1.0, 30.0, -1.0], [0.0, 31.0, 30.0, 31.0]],
+    circles=[[10.0, 10.0, 0.5], [20.0, 5.0, 1.0]],
+)
+
+
+def crowd(pos: np.ndarray, seed: int = 0) -> srfm.CrowdState:
+    rng = np.random.default_rng(seed)
+    n = pos.shape[0]
+    return srfm.CrowdState.create(
+        pos=pos,
+        goal=pos + rng.uniform(-20.0, 20.0, (n, 2)),
+        vel=rng.uniform(-0.8, 0.8, (n, 2)),
+        v0=1.25,
+        radius=rng.uniform(0.2, 0.35, n),
+    )
+
+
+def uniform(n: int, side: float, seed: int = 0) -> srfm.CrowdState:
+    return crowd(np.random.default_rng(seed).uniform(0.0, side, (n, 2)), seed)
+
+
+def assert_within_tolerance(c: srfm.CrowdState, cutoff: float, obstacles: srfm.Obstacles) -> None:
+    """Each component of the cut kernel is within the omitted terms' bound of the exact one."""
+    exact = force_components(c, PARAMS, obstacles=obstacles, cutoff="exact")
+    cut = force_components(c, PARAMS, obstacles=obstacles, cutoff=cutoff)
+    r_max = float(c.radius.max()) if c.n else 0.0
+    _, d_obs = interaction_cutoffs(PARAMS, r_max)
+    n_obs = obstacles.segments.shape[0] + obstacles.circles.shape[0]
+    # every omitted term is below the largest term at the cut-off (the tolerance for the
+    # cut-off of interaction_cutoffs); the rest differs by rounding only
+    term = PARAMS.a_ped * math.exp((2.0 * r_max - cutoff) / PARAMS.b_ped)
+    ped_bound = max(c.n - 1, 0) * term + 1e-12
+    assert d_obs > 0.0
+    np.testing.assert_array_equal(cut.goal, exact.goal)
+    np.testing.assert_array_equal(cut.robot, exact.robot)
+    assert np.all(np.abs(cut.pedestrians - exact.pedestrians) <= ped_bound)
+    assert np.all(np.abs(cut.obstacles - exact.obstacles) <= n_obs * FORCE_TOLERANCE_MPS2)
+
+
+def test_cutoff_formula_bounds_every_term() -> None:
+    d_ped, d_obs = interaction_cutoffs(PARAMS, 0.3)
+    assert d_ped == pytest.approx(0.6 + 0.89 * math.log(2.0 / 1e-6))
+    assert d_obs == pytest.approx(0.3 + 0.08 * math.log(25.0 / 1e-6))
+    # a head-on pair (ψ = 1) at the cut-off feels exactly the tolerance
+    pair = crowd(np.array([[0.0, 0.0], [d_ped, 0.0]]))
+    pair = srfm.CrowdState.create(pos=pair.pos, goal=[[10.0, 0.0], [-10.0, 0.0]], radius=0.3)
+    f = force_components(pair, PARAMS, cutoff="exact").pedestrians
+    assert np.abs(f).max() == pytest.approx(FORCE_TOLERANCE_MPS2, rel=1e-9)
+
+
+@pytest.mark.parametrize("n", [0, 1, 2, 60, 400])
+def test_cell_list_agrees_with_exact_on_random_crowds(n: int) -> None:
+    c = uniform(n, side=2.0 * math.sqrt(max(n, 1)) + 30.0, seed=n)
+    d_ped, _ = interaction_cutoffs(PARAMS, 0.35)
+    assert PARAMS.a_ped * math.exp((0.7 - d_ped) / PARAMS.b_ped) == pytest.approx(1e-6)
+    assert_within_tolerance(c, d_ped, WALLS)
+    assert_within_tolerance(c, 4.0, WALLS)  # a short cut-off: many omitted pairs, bound holds
+
+
+def test_everyone_in_one_cell_matches_exact_up_to_rounding() -> None:
+    c = uniform(80, side=1.5, seed=3)  # all within one 13.5 m cell: no pair is omitted
+    exact = force_components(c, PARAMS, cutoff="exact").pedestrians
+    cut = force_components(c, PARAMS, cutoff=13.5).pedestrians
+    np.testing.assert_allclose(cut, exact, rtol=1e-12, atol=1e-12)
+
+
+def test_agents_on_cell_borders() -> None:
+    # a lattice with spacing = cut-off / 2: agents on the cell borders, pairs exactly at
+    # and just inside the cut-off distance
+    cut = 2.0
+    g = np.arange(0.0, 10.01, cut / 2.0)
+    pos = np.array([[x, y] for x in g for y in g])
+    pos[1::7] += 1e-12  # a few just off the borders
+    assert_within_tolerance(crowd(pos, seed=1), cut, srfm.Obstacles())
+    # and the pair exactly at the cut-off is left out, a pair just inside is not
+    c = srfm.CrowdState.create(
+        pos=[[0.0, 0.0], [cut, 0.0], [0.0, cut - 1e-9]], goal=[[5.0, 5.0]] * 3
+    )
+    f = force_components(c, PARAMS, cutoff=cut).pedestrians
+    e = force_components(c, PARAMS, cutoff="exact").pedestrians
+    assert f[1, 0] == 0.0  # agent 1 only has agent 0, at d = cut
+    assert e[1, 0] != 0.0
+    assert f[2, 1] != 0.0
+
+
+def test_spread_out_crowd_widens_the_cells() -> None:
+    # two groups 1e6 m apart: the grid would need ~1e11 cells of the cut-off's width
+    a = np.random.default_rng(0).uniform(0.0, 5.0, (30, 2))
+    c = crowd(np.vstack([a, a + 1e6]), seed=2)
+    assert_within_tolerance(c, 13.5, srfm.Obstacles())
+    cells, grid, xyr = _kernels.build_cells(c.pos, c.radius, 13.5)
+    assert grid[3] * grid[4] <= max(_kernels.MAX_CELLS_PER_AGENT * c.n, _kernels.MIN_CELLS)
+    assert sorted(cells[int(grid[3] * grid[4]) + 1 :]) == list(range(c.n))
+    np.testing.assert_array_equal(np.sort(xyr[:, 0]), np.sort(c.pos[:, 0]))
+
+
+def test_cell_list_steps_are_deterministic_and_threading_independent() -> None:
+    start = uniform(300, side=35.0, seed=7)
+    runs = []
+    for parallel in (False, True, False):
+        c = start.copy()
+        for _ in range(5):
+            srfm.step_crowd(c, DT, PARAMS, obstacles=WALLS, parallel=parallel, cutoff=6.0)
+        runs.append(c)
+    for c in runs[1:]:
+        np.testing.assert_array_equal(c.pos, runs[0].pos)
+        np.testing.assert_array_equal(c.vel, runs[0].vel)
+
+
+def test_auto_is_exact_below_the_threshold_and_cut_from_it() -> None:
+    small = uniform(CELL_LIST_MIN_AGENTS - 1, side=60.0, seed=4)
+    assert np.all(np.isinf(kernel_cutoffs("auto", PARAMS, small.radius)))
+    a = small.copy()
+    b = small.copy()
+    srfm.step_crowd(a, DT, PARAMS, obstacles=WALLS)
+    srfm.step_crowd(b, DT, PARAMS, obstacles=WALLS, cutoff="exact")
+    np.testing.assert_array_equal(a.pos, b.pos)  # bit for bit
+    large = uniform(CELL_LIST_MIN_AGENTS, side=60.0, seed=4)
+    cut = kernel_cutoffs("auto", PARAMS, large.radius)
+    assert cut.tolist() == list(interaction_cutoffs(PARAMS, float(large.radius.max())))
+
+
+@pytest.mark.parametrize("bad", [0.0, -1.0, math.inf, math.nan, "fast", True, None])
+def test_bad_cutoff_is_named(bad: object) -> None:
+    c = uniform(3, side=5.0)
+    with pytest.raises(SimulationError, match="cutoff"):
+        srfm.step_crowd(c, DT, cutoff=bad)  # type: ignore[arg-type]
+    with pytest.raises(SimulationError, match="tolerance"):
+        interaction_cutoffs(PARAMS, 0.3, tolerance=0.0)

@@ -51,19 +51,21 @@ FloatArray = NDArray[np.float64]
 ROBOT_CLEARANCE_MARGIN_M: Final = 0.3
 ROBOT_SWITCH_RADIUS_M: Final = 0.75
 _CACHE_SIZE: Final = 64
-_routers: dict[tuple[int, int, float], tuple[Obstacles, WorldBounds, Router]] = {}
+_RouterKey = tuple[int, float, float, float, float, float]
+_routers: dict[_RouterKey, tuple[Obstacles, Router]] = {}
 
 
 def router_for(obstacles: Obstacles, world: WorldBounds, clearance_m: float) -> Router:
-    """A :class:`Router` of these obstacles, kept for reuse (building one costs ms)."""
-    key = (id(obstacles), id(world), float(clearance_m))
+    """A :class:`Router` of these obstacles (the same object: a scenario's), world and
+    clearance, kept for reuse (building one costs tens of ms)."""
+    key = (id(obstacles), world.x_min, world.x_max, world.y_min, world.y_max, clearance_m)
     hit = _routers.get(key)
-    if hit is not None and hit[0] is obstacles and hit[1] is world:
-        return hit[2]
+    if hit is not None and hit[0] is obstacles:
+        return hit[1]
     router = Router(obstacles, world, clearance_m=clearance_m)
     if len(_routers) >= _CACHE_SIZE:
         _routers.pop(next(iter(_routers)))
-    _routers[key] = (obstacles, world, router)
+    _routers[key] = (obstacles, router)
     return router
 
 

@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 
 from srfm.errors import PlannerError
 from srfm.models.state import Obstacles
-from srfm.planners.routing import Router, next_waypoint
+from srfm.planners.routing import Router
 from srfm.scenarios import EpisodeSetup, Scenario, WorldBounds
 
 __all__ = [
@@ -86,11 +86,17 @@ class RobotRoute:
     third of that margin, or none, the first that finds a path (a narrow door). When no
     path joins the start and the goal, the route is the goal itself: the planner steers
     straight at it, as without routing.
+
+    The robot moves on to the next waypoint when the straight segment to it lies in the
+    route's free space, or when it is within ``ROBOT_SWITCH_RADIUS_M`` of the current
+    waypoint and that segment keeps at least the robot's radius from every obstacle
+    (so that it never cuts a corner into a wall).
     """
 
     def __init__(self, scenario: Scenario, start: FloatArray, goal: FloatArray) -> None:
         radius = scenario.robot.radius_m
         self.router: Router | None = None
+        self.tight: Router | None = None
         self.waypoints: FloatArray = np.array(goal, dtype=np.float64).reshape(1, 2)
         margin = ROBOT_CLEARANCE_MARGIN_M
         for clearance in (radius + margin, radius + margin / 3.0, radius):
@@ -101,23 +107,24 @@ class RobotRoute:
                 continue
             self.router = router
             break
+        if self.router is not None:
+            self.tight = router_for(scenario.obstacles, scenario.world, radius)
         self.index = 0
 
     def update(self, x: float, y: float) -> FloatArray:
         """Advance past reached or bypassed waypoints from (x, y); the current one."""
-        pos = np.array([x, y])
         wps = self.waypoints
         last = len(wps) - 1
+        if self.router is None or self.tight is None:
+            return wps[self.index]
         while self.index < last:
-            index = next_waypoint(wps, self.index, pos, ROBOT_SWITCH_RADIUS_M)
-            if index == self.index:
-                if self.router is None:
+            k = self.index
+            line = shapely.LineString([(x, y), tuple(wps[k + 1])])
+            if not self.router.free.covers(line):
+                near = float(np.hypot(x - wps[k, 0], y - wps[k, 1])) <= ROBOT_SWITCH_RADIUS_M
+                if not (near and self.tight.free.covers(line)):
                     break
-                line = shapely.LineString([(x, y), tuple(wps[index + 1])])
-                if not self.router.free.covers(line):
-                    break
-                index += 1
-            self.index = index
+            self.index = k + 1
         return wps[self.index]
 
 

@@ -273,16 +273,16 @@ class TwinSimulator:
         n_new = self._twin_step(*self._twin_step_args)  # body at sample k
         self.robot = next_robot
         self.step_index += 1
-        if self._ped_routes:
+        events: list[Event] = []
+        if n_new:
+            events += self._pedestrian_events("factual", self.factual)
+            events += self._pedestrian_events("counterfactual", self.counterfactual)
+        if self._ped_routes:  # after the arrivals, which were flagged on these legs
             for twin, routes in self._ped_routes.items():
                 crowd = self.factual if twin == "factual" else self.counterfactual
                 routes.advance(crowd.pos, crowd.goal)
         if self._robot_route is not None and self.robot_active:
             self._robot_route.update(next_robot.x, next_robot.y)
-        events: list[Event] = []
-        if n_new:
-            events += self._pedestrian_events("factual", self.factual)
-            events += self._pedestrian_events("counterfactual", self.counterfactual)
         if self.robot_active:
             events += self._robot_events()
         return events

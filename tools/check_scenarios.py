@@ -28,7 +28,7 @@ def main() -> int:
     names = args.names or [*FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS]
     seeds = range(args.seeds)
     failed = []
-    print(f"| scenario | pedestrians arrived | in a wall | overlaps | robot goal (planner) |")
+    print("| scenario | pedestrians arrived | in a wall | overlaps | robot goal (planner) |")
     print("|---|---|---|---|---|")
     start = time.perf_counter()
     for name in names:

@@ -55,7 +55,10 @@ def draw(name: str) -> Path:
         ys = [sy, *path[:, 1]]
         ax.plot(xs[:-1], ys[:-1], "-", color="tab:blue", lw=0.8, alpha=0.7)
         ax.annotate(
-            "", (xs[-1], ys[-1]), (xs[-2], ys[-2]), arrowprops={"arrowstyle": "->", "color": "tab:blue"}
+            "",
+            (xs[-1], ys[-1]),
+            (xs[-2], ys[-2]),
+            arrowprops={"arrowstyle": "->", "color": "tab:blue"},
         )
         ax.plot(sx, sy, "o", color="tab:blue", ms=5)
     route = RobotRoute(scenario, setup.robot_start, setup.robot_goal).waypoints

@@ -334,10 +334,8 @@ class EnvCore:
             before = routes.index.copy()
             routes.advance(self.crowd[pos_row], self.crowd[goal_row])
             # a pedestrian near a waypoint is not at its goal: forget such arrivals
-            for i in np.flatnonzero(routes.index != before):
-                self.flags[arrived_row, i] = False
-            for i in routes.active:
-                self.flags[arrived_row, i] = False
+            self.flags[arrived_row, np.flatnonzero(routes.index != before)] = False
+            self.flags[arrived_row, routes.active] = False
         route = self._robot_route
         if route is None or event != _rk.EVENT_NONE:
             return

@@ -1,9 +1,13 @@
-"""Scenario classes and the TOML schema (version 1) they are read from.
+"""Scenario classes and the TOML schema (versions 1 and 2) they are read from.
+
+Version 2 adds pedestrian routes, waits, groups, standing pedestrians, speed noise,
+wall thickness, doors, named regions and map points (:mod:`srfm.scenarios._v2`,
+``docs/scenarios.md``); version-1 files load as before and refuse those keys.
 
 A scenario file is TOML with these tables (every key is checked; unknown keys and
 malformed values raise :class:`srfm.errors.ScenarioError` naming the file and key)::
 
-    schema_version = 1                  # required
+    schema_version = 1                  # required: 1 or 2
     name = "footpath"                   # required, [a-z0-9][a-z0-9_-]*, <= 100 chars
     description = "one line"            # required
     kind = "fixed"                      # "fixed" (listed pedestrians) or "random"
@@ -435,9 +439,7 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     elif v2 and any(p.has(k) for k in _V2_PEDESTRIAN_KEYS):
         key = next(k for k in _V2_PEDESTRIAN_KEYS if p.has(k))
         raise p.fail(key, "is only allowed with kind = 'fixed'")
-    switch_radius = p.number(
-        "switch_radius_m", DEFAULT_SWITCH_RADIUS_M, strict=True, kind="radius"
-    )
+    switch_radius = p.number("switch_radius_m", DEFAULT_SWITCH_RADIUS_M, strict=True, kind="radius")
     speed_noise = p.number("speed_noise_mps", 0.0, kind="speed")
     ped_radius = p.per_agent("radius_m", 0.3, n, MAX_RADIUS_M)
     ped_v0 = p.per_agent("desired_speed_mps", 1.25, n, MAX_SPEED_MPS)
@@ -470,6 +472,7 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         raise top.fail("random", "is only allowed with kind = 'random'")
 
     o = top.table("obstacles")
+    walls: FloatArray | None
     if v2:
         walls, _ = _v2.read_walls(o)
     else:
@@ -497,7 +500,9 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
             m.finish()
     top.finish()
     if layout is not None:
-        assert robot_start is not None and robot_goal is not None and n is not None
+        assert robot_start is not None
+        assert robot_goal is not None
+        assert n is not None
         _v2.check_layout(
             source,
             layout,

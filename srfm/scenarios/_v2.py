@@ -69,8 +69,8 @@ def _points(reader: _Reader, value: Any, label: str) -> FloatArray:
         ok = ok and all(not isinstance(v, bool) and isinstance(v, int | float) for v in row)
         if not ok or not all(math.isfinite(float(v)) and lo <= v <= hi for v in row):
             raise reader.fail(
-                f"{label}[{k}]", f"must be [x, y] with finite values in [{lo:g}, {hi:g}] {unit}"
-                f", got {row!r}"
+                f"{label}[{k}]",
+                f"must be [x, y] with finite values in [{lo:g}, {hi:g}] {unit}, got {row!r}",
             )
         out[k] = row
     return out
@@ -89,7 +89,9 @@ def _seconds(reader: _Reader, value: Any, label: str, count: int) -> FloatArray:
     return out
 
 
-def read_pedestrians(p: _Reader, starts: FloatArray | None, goals: FloatArray | None) -> PedestrianLayout:
+def read_pedestrians(
+    p: _Reader, starts: FloatArray | None, goals: FloatArray | None
+) -> PedestrianLayout:
     """Routes, waits, groups and standing pedestrians of ``[pedestrians]`` (version 2)."""
     n_listed = 0 if starts is None else starts.shape[0]
     s_list = [] if starts is None else list(starts)
@@ -100,13 +102,17 @@ def read_pedestrians(p: _Reader, starts: FloatArray | None, goals: FloatArray | 
         value = p.raw("routes")
         if not isinstance(value, list) or len(value) != n_listed:
             got = len(value) if isinstance(value, list) else repr(value)
-            raise p.fail("routes", f"needs one waypoint list per listed pedestrian ({n_listed}), got {got}")
+            raise p.fail(
+                "routes", f"needs one waypoint list per listed pedestrian ({n_listed}), got {got}"
+            )
         routes = [_points(p, v, f"routes[{i}]") for i, v in enumerate(value)]
     waits = [np.zeros(len(r)) for r in routes]
     if p.has("waits_s"):
         value = p.raw("waits_s")
         if not isinstance(value, list) or len(value) != n_listed:
-            raise p.fail("waits_s", f"needs one list per listed pedestrian ({n_listed}), got {value!r}")
+            raise p.fail(
+                "waits_s", f"needs one list per listed pedestrian ({n_listed}), got {value!r}"
+            )
         waits = [_seconds(p, v, f"waits_s[{i}]", len(routes[i])) for i, v in enumerate(value)]
     groups: list[tuple[int, ...]] = []
     if p.has("groups"):
@@ -149,7 +155,9 @@ def read_pedestrians(p: _Reader, starts: FloatArray | None, goals: FloatArray | 
     )
 
 
-def _group(p: _Reader, table: dict[str, Any], gi: int) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
+def _group(
+    p: _Reader, table: dict[str, Any], gi: int
+) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
     """The members (start, goal, route) of group ``gi``: side by side across the
     direction of its first leg, ``spacing_m`` apart, sharing the route's shape."""
     from srfm.scenarios._schema import _Reader
@@ -161,7 +169,8 @@ def _group(p: _Reader, table: dict[str, Any], gi: int) -> list[tuple[FloatArray,
     spacing = g.number("spacing_m", 0.8, kind="length")
     route = _points(g, g.raw("route"), "route") if g.has("route") else np.zeros((0, 2))
     g.finish()
-    assert start is not None and goal is not None
+    assert start is not None
+    assert goal is not None
     towards = route[0] if len(route) else goal
     d = towards - start
     norm = float(np.hypot(*d))
@@ -190,7 +199,9 @@ def read_walls(o: _Reader) -> tuple[FloatArray, list[str]]:
             ok = ok and all(not isinstance(v, bool) and isinstance(v, int | float) for v in row)
             ok = ok and all(math.isfinite(float(v)) for v in row)
             if not ok:
-                raise o.fail(label, f"must be [x1, y1, x2, y2] or [x1, y1, x2, y2, thickness], got {row!r}")
+                raise o.fail(
+                    label, f"must be [x1, y1, x2, y2] or [x1, y1, x2, y2, thickness], got {row!r}"
+                )
             if not all(lo <= v <= hi for v in row[:4]):
                 raise o.fail(label, f"coordinates must be in [{lo:g}, {hi:g}] m, got {row!r}")
             thick = float(row[4]) if len(row) == 5 else 0.0
@@ -208,7 +219,10 @@ def read_walls(o: _Reader) -> tuple[FloatArray, list[str]]:
             ok = isinstance(row, list) and len(row) == 4
             ok = ok and all(not isinstance(v, bool) and isinstance(v, int | float) for v in row)
             if not ok or not all(math.isfinite(float(v)) for v in row) or row[:2] == row[2:]:
-                raise o.fail(f"doors[{i}]", f"must be an opening [x1, y1, x2, y2] of non-zero width, got {row!r}")
+                raise o.fail(
+                    f"doors[{i}]",
+                    f"must be an opening [x1, y1, x2, y2] of non-zero width, got {row!r}",
+                )
             doors.append((shapely.LineString([row[:2], row[2:]]), f"doors[{i}]"))
     used = [False] * len(doors)
     segments: list[list[float]] = []
@@ -295,8 +309,8 @@ def check_layout(
     gap = np.linalg.norm(starts[:, None] - starts[None], axis=2) - radii[:, None] - radii[None]
     np.fill_diagonal(gap, np.inf)
     if gap.min() < 0.0:
-        i, j = np.unravel_index(int(np.argmin(gap)), gap.shape)
-        i, j = sorted((int(i), int(j)))
+        a, b = np.unravel_index(int(np.argmin(gap)), gap.shape)
+        i, j = sorted((int(a), int(b)))
         raise ScenarioError(
             f"{source}: {names[j]}: overlaps {names[i]} at the start "
             f"({starts[j].tolist()} and {starts[i].tolist()}, {-gap[i, j]:.3g} m of overlap)"
@@ -322,18 +336,16 @@ def check_layout(
     clear(robot_start, robot_radius, "robot.start")
     clear(robot_goal, robot_radius, "robot.goal")
     routers: dict[float, Router] = {}
-    for i, label in enumerate(layout.labels):
-        r = float(radius[i])
-        clear(layout.starts[i], r, label)
+    for p, label in enumerate(layout.labels):
+        r = float(radius[p])
+        clear(layout.starts[p], r, label)
         key = label.replace("starts", "goals") if "starts" in label else label
-        clear(layout.goals[i], r, key)
+        clear(layout.goals[p], r, key)
         if r not in routers:
             routers[r] = Router(obstacles, _grown(world, r), clearance_m=r)
-        points = [layout.starts[i], *layout.routes[i], layout.goals[i]]
+        points = [layout.starts[p], *layout.routes[p], layout.goals[p]]
         for k in range(1, len(points)):
-            where = (
-                f"pedestrians.routes[{i}][{k - 1}]" if k < len(points) - 1 else key
-            )
+            where = f"pedestrians.routes[{p}][{k - 1}]" if k < len(points) - 1 else key
             try:
                 routers[r].route(tuple(points[k - 1]), tuple(points[k]))
             except PlannerError as exc:

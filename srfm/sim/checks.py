@@ -88,7 +88,11 @@ def check_scenario(
             d = wall_distance(record.counterfactual_pos, scenario.obstacles)
             in_wall += int(np.count_nonzero(d < 0.5 * record.ped_radius))
         arrived += len(
-            {e.agent for e in record.events if e.kind == "ped_arrival" and e.twin == "counterfactual"}
+            {
+                e.agent
+                for e in record.events
+                if e.kind == "ped_arrival" and e.twin == "counterfactual"
+            }
         )
         total += record.n_pedestrians
         goals += record.outcome == "goal_reached"

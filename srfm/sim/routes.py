@@ -116,7 +116,7 @@ class RobotRoute:
         wps = self.waypoints
         last = len(wps) - 1
         if self.router is None or self.tight is None:
-            return wps[self.index]
+            return np.asarray(wps[self.index], dtype=np.float64)
         while self.index < last:
             k = self.index
             line = shapely.LineString([(x, y), tuple(wps[k + 1])])
@@ -125,7 +125,7 @@ class RobotRoute:
                 if not (near and self.tight.free.covers(line)):
                     break
             self.index = k + 1
-        return wps[self.index]
+        return np.asarray(wps[self.index], dtype=np.float64)
 
 
 def pedestrian_waypoints(setup: EpisodeSetup) -> list[FloatArray]:
@@ -167,7 +167,9 @@ def _ped_routers(scenario: Scenario, r: float) -> tuple[Router, ...]:
     return tuple(out)
 
 
-def _computed_route(scenario: Scenario, start: FloatArray, goal: FloatArray, r: float) -> FloatArray:
+def _computed_route(
+    scenario: Scenario, start: FloatArray, goal: FloatArray, r: float
+) -> FloatArray:
     """The router's path for a pedestrian (clearance its radius, then half of it; the
     straight line to the goal when neither finds one: the wall force then acts)."""
     for router in _ped_routers(scenario, r):
@@ -260,8 +262,7 @@ class PedestrianRoutes:
             if self.left[i] < 0:
                 if dx * dx + dy * dy > r2:
                     if not (
-                        self.skippable[i][k]
-                        and self._visible(i, pos[i], self.waypoints[i][k + 1])
+                        self.skippable[i][k] and self._visible(i, pos[i], self.waypoints[i][k + 1])
                     ):
                         continue
                     self.left[i] = 0

@@ -213,7 +213,8 @@ class TwinSimulator:
         with obstacles (:class:`srfm.sim.routes.RobotRoute`), else the goal."""
         if self._robot_route is None:
             return self.setup.robot_goal.copy()
-        return self._robot_route.waypoints[self._robot_route.index].copy()
+        route = self._robot_route
+        return np.array(route.waypoints[route.index], dtype=np.float64)
 
     def observe(self, detection_range_m: float | None) -> Observation:
         """The planner's view of the current sample: factual pedestrians closer than

@@ -50,9 +50,11 @@ def test_library_size_and_suites() -> None:
     for name in LIBRARY:
         scenario = load_scenario(name)
         assert scenario.schema_version == 2
-        assert scenario.description and "\n" not in scenario.description
+        assert scenario.description
+        assert "\n" not in scenario.description
     room = load_scenario("navwareset_circular_crossing")
-    assert room.map_points is not None and len(room.map_points) > 500
+    assert room.map_points is not None
+    assert len(room.map_points) > 500
     assert room.region("passage") == (4.35, -8.0, 7.8, -2.3)
 
 
@@ -90,5 +92,6 @@ walls = [[10.0, 10.0, 14.0, 10.0], [14.0, 10.0, 14.0, 14.0], [14.0, 14.0, 10.0, 
 """,
     )
     check = check_scenario(load_scenario(path), range(1), "straight")
-    assert check.ped_arrived == 0 and check.ped_total == 1
+    assert check.ped_arrived == 0
+    assert check.ped_total == 1
     assert check.robot_goals == 1

@@ -30,9 +30,14 @@ def _load(tmp_path: Path, peds: str, extra: str = "", head: str = HEAD) -> srfm.
 
 def test_version_1_refuses_version_2_keys(tmp_path: Path) -> None:
     peds = "[pedestrians]\nstarts = [[2.0, 4.0]]\ngoals = [[12.0, 4.0]]\nroutes = [[[7.0, 6.0]]]\n"
-    with pytest.raises(srfm.ScenarioError, match=r"v2\.toml: pedestrians\.routes: needs schema_version = 2"):
+    with pytest.raises(
+        srfm.ScenarioError, match=r"v2\.toml: pedestrians\.routes: needs schema_version = 2"
+    ):
         _load(tmp_path, peds, head=HEAD.replace("schema_version = 2", "schema_version = 1"))
-    walls = "[pedestrians]\nstarts = [[2.0, 4.0]]\ngoals = [[12.0, 4.0]]\n[obstacles]\ndoors = [[7.0, 3.0, 7.0, 4.0]]\n"
+    walls = (
+        "[pedestrians]\nstarts = [[2.0, 4.0]]\ngoals = [[12.0, 4.0]]\n"
+        "[obstacles]\ndoors = [[7.0, 3.0, 7.0, 4.0]]\n"
+    )
     with pytest.raises(srfm.ScenarioError, match=r"obstacles\.doors: needs schema_version = 2"):
         _load(tmp_path, walls, head=HEAD.replace("schema_version = 2", "schema_version = 1"))
 
@@ -79,7 +84,8 @@ def test_groups_and_standing(tmp_path: Path) -> None:
     s = _load(
         tmp_path,
         "[pedestrians]\nstarts = []\ngoals = []\nstanding = [[7.0, 7.0]]\n"
-        "[[pedestrians.groups]]\nstart = [3.0, 4.0]\ngoal = [11.0, 4.0]\nsize = 3\nspacing_m = 1.0\n",
+        "[[pedestrians.groups]]\nstart = [3.0, 4.0]\ngoal = [11.0, 4.0]\n"
+        "size = 3\nspacing_m = 1.0\n",
     )
     assert s.n_pedestrians == 4
     # side by side across the walking direction (+x), from its right to its left
@@ -170,13 +176,15 @@ def test_thick_wall_with_a_door(tmp_path: Path) -> None:
             r"pedestrians\.waits_s\[0\]: needs one wait per waypoint \(0\)",
         ),
         (
-            "starts = [[2.0, 4.0]]\ngoals = [[12.0, 4.0]]\nroutes = [[[1.0, \"a\"]]]",
+            'starts = [[2.0, 4.0]]\ngoals = [[12.0, 4.0]]\nroutes = [[[1.0, "a"]]]',
             "",
             r"pedestrians\.routes\[0\]\[0\]: must be \[x, y\]",
         ),
     ],
 )
-def test_layout_errors_name_file_and_key(tmp_path: Path, peds: str, extra: str, message: str) -> None:
+def test_layout_errors_name_file_and_key(
+    tmp_path: Path, peds: str, extra: str, message: str
+) -> None:
     obstacles = f"[obstacles]\n{extra}\n" if extra else ""
     with pytest.raises(srfm.ScenarioError, match=message):
         _load(tmp_path, f"[pedestrians]\nnoise_m = 0.0\n{peds}\n", obstacles)

@@ -258,8 +258,8 @@ class EnvCore:
             self._robot_route = RobotRoute(scenario, setup.robot_start, goal)
             self.steer = self._steer_task(self._robot_route.update(r[_rk.X], r[_rk.Y]))
         if not scenario.obstacles.empty or setup.ped_routes is not None:
-            for row in (_k.FACTUAL_GOAL, _k.COUNTERFACTUAL_GOAL):
-                routes = PedestrianRoutes(setup)
+            twins = PedestrianRoutes.twins(setup)
+            for row, routes in zip((_k.FACTUAL_GOAL, _k.COUNTERFACTUAL_GOAL), twins, strict=True):
                 if routes.any:
                     c[row] = routes.targets()
                     self._ped_routes.append(routes)

@@ -26,6 +26,7 @@ episodes are bit-identical to those of earlier versions.
 
 from __future__ import annotations
 
+import math
 from typing import Final
 
 import numpy as np
@@ -50,6 +51,9 @@ FloatArray = NDArray[np.float64]
 
 ROBOT_CLEARANCE_MARGIN_M: Final = 0.3
 ROBOT_SWITCH_RADIUS_M: Final = 0.75
+# The robot's route is looked at again once it has moved this far (m) since the last
+# look (a robot at 0.5 m/s: every third step); a waiting robot costs nothing.
+ROBOT_RECHECK_M: Final = 0.1
 _CACHE_SIZE: Final = 64
 _RouterKey = tuple[int, float, float, float, float, float]
 _routers: dict[_RouterKey, tuple[Obstacles, Router]] = {}
@@ -90,7 +94,8 @@ class RobotRoute:
     The robot moves on to the next waypoint when the straight segment to it lies in the
     route's free space, or when it is within ``ROBOT_SWITCH_RADIUS_M`` of the current
     waypoint and that segment keeps at least the robot's radius from every obstacle
-    (so that it never cuts a corner into a wall).
+    (so that it never cuts a corner into a wall); it looks again each time it has moved
+    ``ROBOT_RECHECK_M``.
     """
 
     def __init__(self, scenario: Scenario, start: FloatArray, goal: FloatArray) -> None:
@@ -110,6 +115,7 @@ class RobotRoute:
         if self.router is not None:
             self.tight = router_for(scenario.obstacles, scenario.world, radius)
         self.index = 0
+        self._checked_at = (math.inf, math.inf)
 
     def update(self, x: float, y: float) -> FloatArray:
         """Advance past reached or bypassed waypoints from (x, y); the current one."""
@@ -117,6 +123,10 @@ class RobotRoute:
         last = len(wps) - 1
         if self.router is None or self.tight is None:
             return np.asarray(wps[self.index], dtype=np.float64)
+        cx, cy = self._checked_at
+        if (x - cx) ** 2 + (y - cy) ** 2 < ROBOT_RECHECK_M * ROBOT_RECHECK_M:
+            return np.asarray(wps[self.index], dtype=np.float64)
+        self._checked_at = (x, y)
         while self.index < last:
             k = self.index
             line = shapely.LineString([(x, y), tuple(wps[k + 1])])
@@ -186,17 +196,23 @@ class PedestrianRoutes:
     Every ``REPLAN_STEPS`` steps, a walking pedestrian that has lost sight of its
     current waypoint behind a wall (pushed off its path by others) gets the router's
     path to that waypoint in front of the rest of its route; a router-made waypoint is
-    skipped as soon as the next one is in sight.
+    skipped once the next one is in sight (looked at every ``SKIP_CHECK_STEPS`` steps).
 
     Args:
         setup: the episode's set-up (its scenario, starts, goals and given routes).
     """
 
     REPLAN_STEPS: Final = 15
+    SKIP_CHECK_STEPS: Final = 5
 
-    def __init__(self, setup: EpisodeSetup) -> None:
+    def __init__(
+        self,
+        setup: EpisodeSetup,
+        plans: list[tuple[FloatArray, NDArray[np.bool_]]] | None = None,
+    ) -> None:
         scenario = setup.scenario
-        plans = _pedestrian_plans(setup)
+        if plans is None:
+            plans = _pedestrian_plans(setup)
         self.waypoints = [w for w, _ in plans]
         self.skippable = [k for _, k in plans]
         self.switch_radius_m = float(scenario.ped_switch_radius_m)
@@ -222,6 +238,12 @@ class PedestrianRoutes:
         }
         self._radius = setup.crowd.radius.copy()
         self._steps = 0
+
+    @classmethod
+    def twins(cls, setup: EpisodeSetup) -> tuple[PedestrianRoutes, PedestrianRoutes]:
+        """The factual and the counterfactual twin's routes (planned once)."""
+        plans = _pedestrian_plans(setup)
+        return cls(setup, plans), cls(setup, plans)
 
     @property
     def any(self) -> bool:
@@ -253,6 +275,7 @@ class PedestrianRoutes:
                 if not self._visible(i, pos[i], goal[i]):
                     self._replan(i, pos[i], goal)
         r2 = self.switch_radius_m * self.switch_radius_m
+        check_skips = self._steps % self.SKIP_CHECK_STEPS == 0
         done = []
         for i in self.active:
             k = int(self.index[i])
@@ -262,7 +285,9 @@ class PedestrianRoutes:
             if self.left[i] < 0:
                 if dx * dx + dy * dy > r2:
                     if not (
-                        self.skippable[i][k] and self._visible(i, pos[i], self.waypoints[i][k + 1])
+                        check_skips
+                        and self.skippable[i][k]
+                        and self._visible(i, pos[i], self.waypoints[i][k + 1])
                     ):
                         continue
                     self.left[i] = 0

@@ -132,8 +132,9 @@ class TwinSimulator:
             self._robot_route = RobotRoute(self.scenario, setup.robot_start, setup.robot_goal)
             self._robot_route.update(self.robot.x, self.robot.y)
         if not self._obstacles.empty or setup.ped_routes is not None:
-            for twin, crowd in (("factual", self.factual), ("counterfactual", self.counterfactual)):
-                routes = PedestrianRoutes(setup)
+            twins = PedestrianRoutes.twins(setup)
+            crowds = (("factual", self.factual), ("counterfactual", self.counterfactual))
+            for (twin, crowd), routes in zip(crowds, twins, strict=True):
                 if routes.any:
                     crowd.goal[:] = routes.targets()
                     self._ped_routes[twin] = routes

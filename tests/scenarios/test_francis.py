@@ -95,3 +95,31 @@ walls = [[10.0, 10.0, 14.0, 10.0], [14.0, 10.0, 14.0, 14.0], [14.0, 14.0, 10.0, 
     assert check.ped_arrived == 0
     assert check.ped_total == 1
     assert check.robot_goals == 1
+
+
+def test_benchmark_runs_the_navwareset_suite(tmp_path: Path) -> None:
+    out = tmp_path / "nav"
+    result = CliRunner().invoke(
+        main,
+        [
+            "benchmark",
+            "--suite",
+            "navwareset",
+            "-p",
+            "straight",
+            "--seeds",
+            "0",
+            "-j",
+            "1",
+            "--no-logs",
+            "--no-figures",
+            "--out",
+            str(out),
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    assert "5 scenarios × 1 planners × 1 seeds" in result.output
+    rows = (out / "episodes.csv").read_text().splitlines()
+    assert len(rows) == 1 + len(NAVWARESET_SCENARIOS)
+    for name in NAVWARESET_SCENARIOS:
+        assert any(row.startswith(f"{name},straight,0,") for row in rows[1:])

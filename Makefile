@@ -14,7 +14,7 @@ setup: $(STAMP)
 
 $(STAMP): pyproject.toml constraints.txt
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	$(PIP_INSTALL) -e '.[dev,rl,sbx,dask]'
+	$(PIP_INSTALL) -e '.[dev,rl,sbx,dask,sweep]'
 	@touch $(STAMP)
 
 # The main job: the benchmark on the built-in evaluation scenarios with every

@@ -25,6 +25,7 @@ from srfm.errors import (
     SimulationError,
     SrfmError,
     SrfmWarning,
+    SweepError,
     UserCodeError,
     WriteError,
 )
@@ -87,6 +88,7 @@ __all__ = [
     "SimulationError",
     "SrfmError",
     "SrfmWarning",
+    "SweepError",
     "TwinSimulator",
     "UserCodeError",
     "WriteError",

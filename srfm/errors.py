@@ -30,6 +30,7 @@ __all__ = [
     "SimulationError",
     "SrfmError",
     "SrfmWarning",
+    "SweepError",
     "UserCodeError",
     "WriteError",
 ]
@@ -61,6 +62,11 @@ class MetricError(SrfmError, ValueError):
 
 class BenchmarkError(SrfmError, ValueError):
     """A benchmark request or results folder is unusable (unknown names, mixed runs)."""
+
+
+class SweepError(BenchmarkError):
+    """A sweep spec or sweep results folder is unusable; the message names the file and
+    the key."""
 
 
 class DatasetError(SrfmError, ValueError):

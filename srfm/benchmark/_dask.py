@@ -16,14 +16,14 @@ Needs the ``dask`` extra (``pip install 'srfm[dask]'``).
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
 from srfm._deps import require
 from srfm.errors import BenchmarkError
 
-__all__ = ["run_on_dask"]
+__all__ = ["map_on_dask", "run_on_dask"]
 
 # Retries of a task that *raised* (a worker that died is handled by the scheduler's own
 # allowed-failures count): user planners are deterministic, so a second try of a raising
@@ -49,7 +49,28 @@ def run_on_dask(
     scheduler_file: str | Path | None = None,
     on_progress: Callable[[int], None] | None = None,
 ) -> int:
-    """Run ``run(task)`` for every task on a Dask cluster; return the summed results.
+    """Run ``run(task)`` for every task on a Dask cluster; return the summed results
+    (see :func:`map_on_dask`; ``on_progress`` is called with each result)."""
+    done = 0
+    for count in map_on_dask(
+        run, tasks, workers=workers, scheduler=scheduler, scheduler_file=scheduler_file
+    ):
+        done += int(count)
+        if on_progress is not None:
+            on_progress(int(count))
+    return done
+
+
+def map_on_dask(
+    run: Callable[[Any], Any],
+    tasks: Iterable[Any],
+    *,
+    workers: int,
+    scheduler: str | None = None,
+    scheduler_file: str | Path | None = None,
+) -> Iterator[Any]:
+    """Run ``run(task)`` for every task on a Dask cluster; yield the results as the
+    tasks complete (in completion order).
 
     Args:
         run: the task function (top-level, picklable).
@@ -59,7 +80,6 @@ def run_on_dask(
         scheduler: address of a running scheduler, e.g. ``tcp://127.0.0.1:8786``.
         scheduler_file: the JSON file a running scheduler wrote (``dask scheduler
             --scheduler-file``).
-        on_progress: called with each finished task's result, as they complete.
 
     Raises:
         BenchmarkError: both ``scheduler`` and ``scheduler_file``, a missing scheduler
@@ -95,13 +115,9 @@ def run_on_dask(
                 client.submit(_dask_task, run, task, pure=False, retries=_TASK_RETRIES)
                 for task in tasks
             ]
-            done = 0
             for future in distributed.as_completed(futures):
-                count = int(future.result())
-                done += count
-                if on_progress is not None:
-                    on_progress(count)
-            return done
+                yield future.result()
+                future.release()
     finally:
         if cluster is not None:
             cluster.close()

@@ -247,7 +247,7 @@ def _outcomes(
             tds.append(f'<td class="{kind}">{reached} / {n}{note}</td>')
         trs.append(f'<tr><td class="name">{_esc(planner)}</td>{"".join(tds)}</tr>')
         total = sum(totals.values())
-        share = f"{100.0 * totals['goal_reached'] / total:.0f} %" if total else "–"
+        share = _percent(totals["goal_reached"], total)
         others = ", ".join(
             f"{totals[o]} {_OUTCOME_TITLES[o]}" for o in ROBOT_OUTCOMES[1:] if totals[o]
         )
@@ -263,6 +263,20 @@ def _outcomes(
         '<div class="scroll"><table><thead><tr><th class="name">Planner</th>'
         f"{head}</tr></thead><tbody>" + "".join(trs) + "</tbody></table></div>"
     )
+
+
+def _percent(k: int, n: int) -> str:
+    """k of n as a percentage that never reads 0 % or 100 % unless it is exactly that:
+    499 of 500 is 99.8 %, not 100 %."""
+    if n == 0:
+        return "–"
+    share = 100.0 * k / n
+    for digits in (0, 1):
+        text = f"{share:.{digits}f}"
+        if 0 < k < n and float(text) in (0.0, 100.0):
+            continue
+        return f"{text} %"
+    return "< 0.1 %" if share < 50 else "> 99.9 %"
 
 
 def _log_links(

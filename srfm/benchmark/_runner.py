@@ -25,7 +25,7 @@ import platform
 import signal
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from importlib import metadata
 from pathlib import Path
 from typing import Any, Final
@@ -71,9 +71,11 @@ __all__ = [
     "BenchmarkRequest",
     "BenchmarkSummary",
     "EpisodeWriter",
+    "check_executor",
     "check_manifest_schema",
     "default_planners",
     "load_results",
+    "map_tasks",
     "run_benchmark",
     "write_reports",
     "write_tables",
@@ -412,6 +414,62 @@ def _die_with_parent() -> None:
         os._exit(1)
 
 
+def check_executor(
+    executor: str, jobs: int, scheduler: str | None, scheduler_file: str | Path | None
+) -> None:
+    """Refuse an unknown executor, fewer than one job, or a scheduler without Dask.
+
+    Raises:
+        BenchmarkError: naming the bad value.
+    """
+    if jobs < 1:
+        raise BenchmarkError(f"jobs must be at least 1, got {jobs}")
+    if executor not in EXECUTORS:
+        raise BenchmarkError(f"unknown executor {executor!r}; known: {', '.join(EXECUTORS)}")
+    if executor != "dask" and (scheduler is not None or scheduler_file is not None):
+        raise BenchmarkError("--scheduler and --scheduler-file need --executor dask")
+
+
+def map_tasks(
+    run: Callable[[Any], Any],
+    tasks: Sequence[Any],
+    *,
+    executor: str = "process",
+    jobs: int = 1,
+    scheduler: str | None = None,
+    scheduler_file: str | Path | None = None,
+) -> Iterator[Any]:
+    """Run ``run(task)`` for every task and yield the results as they complete.
+
+    The one place that chooses where tasks run (the benchmark and the sweep use it):
+    ``"process"`` runs them in this process (``jobs == 1``) or on a local process pool
+    of one-thread workers; ``"dask"`` on a Dask cluster (:mod:`srfm.benchmark._dask`:
+    a ``LocalCluster`` of ``jobs`` workers, or the running one at ``scheduler`` /
+    ``scheduler_file``). The order of the results is the order of completion: callers
+    must not depend on it.
+    """
+    check_executor(executor, jobs, scheduler, scheduler_file)
+    if not tasks:
+        return
+    if executor == "dask":
+        from srfm.benchmark._dask import map_on_dask
+
+        yield from map_on_dask(
+            run,
+            tasks,
+            workers=min(jobs, len(tasks)),
+            scheduler=scheduler,
+            scheduler_file=scheduler_file,
+        )
+    elif jobs == 1:
+        for task in tasks:
+            yield run(task)
+    else:
+        context = multiprocessing.get_context("fork" if sys.platform != "win32" else "spawn")
+        with context.Pool(min(jobs, len(tasks)), initializer=_init_worker) as pool:
+            yield from pool.imap_unordered(run, tasks)
+
+
 def _is_done(path: Path, expect: tuple[str, str, int], damaged: list[str]) -> bool:
     """Whether ``path`` holds the finished episode ``expect``; a damaged file (truncated,
     edited, of another episode) is listed in ``damaged`` and simulated again."""
@@ -531,12 +589,7 @@ def run_benchmark(
         raise BenchmarkError(f"--out {out} exists and is not a folder")
     if jobs is None:
         jobs = os.cpu_count() or 1
-    if jobs < 1:
-        raise BenchmarkError(f"jobs must be at least 1, got {jobs}")
-    if executor not in EXECUTORS:
-        raise BenchmarkError(f"unknown executor {executor!r}; known: {', '.join(EXECUTORS)}")
-    if executor != "dask" and (scheduler is not None or scheduler_file is not None):
-        raise BenchmarkError("--scheduler and --scheduler-file need --executor dask")
+    check_executor(executor, jobs, scheduler, scheduler_file)
     logs = _log_options(writer)
     for scenario in request.scenarios:
         jobs = check_episode_memory(scenario, jobs=jobs, **logs)
@@ -553,30 +606,19 @@ def run_benchmark(
         if on_progress is not None:
             on_progress(total - pending)
         start = time.perf_counter()
-        if tasks and executor == "dask":
-            from srfm.benchmark._dask import run_on_dask
-
-            run_on_dask(
+        if tasks:
+            if executor == "process" and jobs > 1 and sys.platform != "win32":
+                _compile_in_parent(tasks)  # the forked workers (map_tasks) inherit them
+            for done in map_tasks(
                 _run_task,
                 tasks,
-                workers=min(jobs, len(tasks)),
+                executor=executor,
+                jobs=jobs,
                 scheduler=scheduler,
                 scheduler_file=scheduler_file,
-                on_progress=on_progress,
-            )
-        elif tasks and jobs == 1:
-            for task in tasks:
-                done = _run_task(task)
+            ):
                 if on_progress is not None:
                     on_progress(done)
-        elif tasks:
-            context = multiprocessing.get_context("fork" if sys.platform != "win32" else "spawn")
-            if context.get_start_method() == "fork":
-                _compile_in_parent(tasks)
-            with context.Pool(min(jobs, len(tasks)), initializer=_init_worker) as pool:
-                for done in pool.imap_unordered(_run_task, tasks):
-                    if on_progress is not None:
-                        on_progress(done)
         wall = time.perf_counter() - start
         files = _write_reports(out, request, figures=figures)
     return BenchmarkSummary(

@@ -204,7 +204,7 @@ def metric_bars_figure(table: BenchmarkTable, metric: str, ylabel: str, title: s
     ax.set_xticks(x, list(table.scenarios), fontsize=8)
     ax.set_ylabel(ylabel)
     ax.set_title(title, fontsize=9)
-    fig.legend(fontsize=8, ncols=min(n, 6), loc="outside lower center")
+    fig.legend(fontsize=8, ncols=min(n, 8), loc="outside lower center")  # 7 planners: one row
     return fig
 
 

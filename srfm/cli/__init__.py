@@ -11,6 +11,7 @@ from srfm.cli.benchmark import benchmark, report
 from srfm.cli.data import ade, data, fit
 from srfm.cli.logs import score, view
 from srfm.cli.simulate import planners, scenarios, simulate
+from srfm.cli.sweep import sweep
 from srfm.cli.train import export_policy, train
 
 __all__ = ["main"]
@@ -50,6 +51,7 @@ for _command in (
     simulate,
     benchmark,
     report,
+    sweep,
     score,
     view,
     data,

@@ -11,7 +11,8 @@ a value. Rules, stated under every table:
   is below the number of seeds S shows its n.
 - **Bold.** The best mean of a column within a scenario, among the cells with
   n ≥ :func:`min_n_for_best` (S) = max(2, ⌈0.8 S⌉): a planner that reached its goal in
-  one seed of a hundred is never bold for its time to goal.
+  one seed of a hundred is never bold for its time to goal. Nothing is bold in a
+  column where every planner's mean ties (every planner reached its goal every time).
 - **Significance** is tested against one reference planner (the paper's "ours"): on a
   row of another planner, ``*`` marks a significant difference to the reference by
   Welch's t-test and ``†`` by the paired t-test over the shared seeds (p < 0.05); on the
@@ -207,7 +208,9 @@ def _best(summaries: Mapping[str, Summary], info: MetricInfo, min_n: int) -> set
     if not means or info.better == "":
         return set()
     target = min(means.values()) if info.better == "lower" else max(means.values())
-    return {p for p, m in means.items() if m == target}
+    best = {p for p, m in means.items() if m == target}
+    # A column where every planner ties (all 1.00 success) singles nobody out.
+    return set() if best == set(summaries) else best
 
 
 def _marks(
@@ -255,12 +258,14 @@ def legend(table: BenchmarkTable, *, markdown: bool = True) -> str:
     """The rules of ``table`` in one paragraph: what a cell is, n, undefined values,
     bolding and the significance marks (printed under every table)."""
     s = table.n_seeds
+    undefined = "`undefined`" if markdown else "'undefined'"
     text = (
         f"Mean ± sample std over the seeds with a defined value; (n=k): only k of the {s} "
         "seeds have one (the others are undefined, e.g. a time to goal that never "
-        "happened; counted as `undefined` in summary.json, never silently dropped). Bold: "
+        f"happened; counted as {undefined} in summary.json, never silently dropped). Bold: "
         f"best mean of the column within the scenario among the cells with n ≥ {table.min_n} "
-        f"(the rule: n ≥ max(2, ⌈0.8 × {s} seeds⌉)); ↓ lower is better, ↑ higher is better."
+        f"(the rule: n ≥ max(2, ⌈0.8 × {s} seeds⌉)), none where every planner ties; "
+        "↓ lower is better, ↑ higher is better."
     )
     if table.reference is not None:
         star = f"\\{WELCH_MARK}" if markdown else WELCH_MARK

@@ -289,3 +289,20 @@ def test_the_page_loads_cleanly_in_chromium(results: Path, tmp_path: Path) -> No
     images = seen["images"]
     assert isinstance(images, list)
     assert [src for src, _, width in images if width == 0] == ["figures/social_work.png"]
+
+
+def test_outcome_shares_never_round_to_all_or_nothing() -> None:
+    from srfm.benchmark._html import _percent
+
+    assert [_percent(k, 500) for k in (500, 499, 481, 1, 0)] == [
+        "100 %",
+        "99.8 %",
+        "96 %",
+        "0.2 %",
+        "0 %",
+    ]
+    assert (_percent(99_999, 100_000), _percent(1, 100_000), _percent(0, 0)) == (
+        "> 99.9 %",
+        "< 0.1 %",
+        "–",
+    )

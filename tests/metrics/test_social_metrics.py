@@ -319,6 +319,51 @@ def test_pedestrians_brought_to_a_stop() -> None:
     assert m.pedestrians["stopped_time_s"][0] == 0.0
 
 
+def test_twin_baseline_lengths_times_delay_and_arrivals() -> None:
+    # Two pedestrians, dt = 1 s, 5 samples. Pedestrian 0 detours: factual path
+    # (0,0) (1,0) (1,1) (2,1) (2,0), length 4; its twin walks (0,0) .. (2,0) and stands,
+    # length 2: extra length 2. It arrives at t = 4 s, its twin at t = 2 s: delay 2 s.
+    # Pedestrian 1 arrives at t = 3 s while its twin never does (no arrival event):
+    # delay undefined. Episode: time to goal mean(4, 3) = 3.5 s, delay mean over those
+    # arriving in both twins = 2 s, arrived fraction 2/2. The robot left the world.
+    ped = [
+        [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (2.0, 1.0), (2.0, 0.0)],
+        [(0.0, 9.0), (1.0, 9.0), (2.0, 9.0), (3.0, 9.0), (3.0, 9.0)],
+    ]
+    cf = [
+        [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, 0.0), (2.0, 0.0)],
+        [(0.0, 9.0), (0.5, 9.0), (1.0, 9.0), (1.5, 9.0), (2.0, 9.0)],
+    ]
+    arrivals = (
+        Event(step=2, time_s=2.0, kind="ped_arrival", agent=0, twin="counterfactual"),
+        Event(step=3, time_s=3.0, kind="ped_arrival", agent=1, twin="factual"),
+        Event(step=4, time_s=4.0, kind="ped_arrival", agent=0, twin="factual"),
+    )
+    robot = [(50.0, 50.0)] * 5
+    rec = _record(ped, robot, counterfactual=cf, events=arrivals, outcome="out_of_bounds")
+    m = episode_metrics(rec)
+    p = m.pedestrians
+    np.testing.assert_array_equal(p["path_length_m"], [4.0, 3.0])
+    np.testing.assert_array_equal(p["counterfactual_path_length_m"], [2.0, 2.0])
+    np.testing.assert_array_equal(p["extra_length_m"], [2.0, 1.0])
+    np.testing.assert_array_equal(p["time_to_goal_s"], [4.0, 3.0])
+    assert p["counterfactual_time_to_goal_s"][0] == 2.0
+    assert math.isnan(p["counterfactual_time_to_goal_s"][1])
+    assert p["delay_s"][0] == 2.0
+    assert math.isnan(p["delay_s"][1])
+    assert m["time_to_goal_s"] == 3.5
+    assert m["delay_s"] == 2.0
+    assert m["arrived_fraction"] == 1.0
+    assert m["extra_length_m"] == 1.5
+    assert (m["robot_out_of_bounds"], m["robot_success"], m["robot_timeout"]) == (1.0, 0.0, 0.0)
+    assert math.isnan(m["robot_time_to_goal_s"])
+    # Nobody arrives in either twin: every time and delay undefined, fraction 0.
+    m = episode_metrics(_record(ped, robot, counterfactual=cf, outcome="timeout"))
+    assert m["arrived_fraction"] == 0.0
+    assert math.isnan(m["time_to_goal_s"])
+    assert math.isnan(m["delay_s"])
+
+
 # Kernels against their Python versions and the simulator ------------------------------
 
 

@@ -240,3 +240,30 @@ def test_extended_table_has_every_metric_grouped() -> None:
     tex = to_latex_extended(table)
     assert tex.count("\\begin{tabular}") == 2
     assert "\\texttt{frechet\\_m} $\\downarrow$ & m & $\\mathbf{2.00 \\pm 1.00}$" in tex
+
+
+def test_nothing_is_bold_when_every_planner_ties() -> None:
+    # Success: "a" and "b" reach the goal in all 10 seeds, "c" in 8 of them.
+    results = _time_results({"a": 10, "b": 10, "c": 8})
+    columns = [("robot_success", "Success")]
+    table = benchmark_table(
+        results,
+        scenarios=["s"],
+        planners=["a", "b"],
+        seeds=range(10),
+        reference=None,
+        columns=columns,
+    )
+    assert not any(table.cells[("s", p)]["robot_success"].best for p in ("a", "b"))
+    assert "**" not in to_markdown(table).split("\n\n")[0]
+    assert "none where every planner ties" in to_markdown(table)
+    table = benchmark_table(
+        results,
+        scenarios=["s"],
+        planners=["a", "b", "c"],
+        seeds=range(10),
+        reference=None,
+        columns=columns,
+    )
+    best = {p for p in ("a", "b", "c") if table.cells[("s", p)]["robot_success"].best}
+    assert best == {"a", "b"}  # a tie at the top is still bold when someone is worse

@@ -15,10 +15,16 @@ The first episode in the process, which compiles the numba kernels (or loads the
 numba's on-disk cache), is timed and reported separately; every scenario is then run
 once untimed before its seeds are timed with ``time.perf_counter``.
 
+With ``--walls`` it times instead what walls cost (issue 17): every built-in scenario
+with walls or pillars, with the ``stay`` planner (the robot's route is followed and
+updated at every step), once as it is and once with its obstacles removed (the same
+people and robot, no wall forces, no routes), and prints the ratio.
+
 Usage::
 
     .venv/bin/python tools/bench_episode.py
     .venv/bin/python tools/bench_episode.py --seeds 50 --scenarios footpath circle
+    .venv/bin/python tools/bench_episode.py --walls --seeds 10
 """
 
 from __future__ import annotations
@@ -39,6 +45,7 @@ from numpy.typing import NDArray
 
 if TYPE_CHECKING:
     from srfm.planners import Observation, Planner, PlannerContext
+    from srfm.scenarios import Scenario
 
 
 class StayPlanner:
@@ -67,10 +74,11 @@ class Row:
     times_s: list[float]
 
 
-def time_scenario(name: str, planner: str | Planner, seeds: int) -> Row:
+def time_scenario(name: str | Scenario, planner: str | Planner, seeds: int) -> Row:
     """Run ``seeds`` episodes of ``name`` after one untimed warm-up episode."""
     import srfm
 
+    label = name if isinstance(name, str) else name.name
     srfm.run_episode(name, 0, planner)
     times: list[float] = []
     active: list[int] = []
@@ -85,7 +93,7 @@ def time_scenario(name: str, planner: str | Planner, seeds: int) -> Row:
         active.append(int(np.count_nonzero(record.robot_active[:-1])))
         outcomes[record.outcome] += 1
     summary = ", ".join(f"{k} {v}" for k, v in sorted(outcomes.items()))
-    return Row(name, n, horizon, statistics.median(active), summary, times)
+    return Row(label, n, horizon, statistics.median(active), summary, times)
 
 
 def print_table(title: str, rows: list[Row]) -> None:
@@ -105,6 +113,33 @@ def print_table(title: str, rows: list[Row]) -> None:
         )
 
 
+def wall_costs(names: list[str], seeds: int) -> None:
+    """Median episode time of each walled scenario, with and without its obstacles."""
+    import attrs
+
+    from srfm.models.state import Obstacles
+    from srfm.scenarios import load_scenario
+
+    print("\nPlanner `stay`, full horizon; with walls (routes on) vs the same without obstacles:\n")
+    print("| scenario | pedestrians | walls | pillars | with (ms) | without (ms) | ratio |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
+    ratios = []
+    for name in names:
+        scenario = load_scenario(name)
+        if scenario.obstacles.empty:
+            continue
+        bare = attrs.evolve(scenario, obstacles=Obstacles())
+        with_walls = statistics.median(time_scenario(scenario, StayPlanner(), seeds).times_s)
+        without = statistics.median(time_scenario(bare, StayPlanner(), seeds).times_s)
+        ratios.append(with_walls / without)
+        print(
+            f"| {name} | {scenario.n_pedestrians} | {scenario.obstacles.segments.shape[0]}"
+            f" | {scenario.obstacles.circles.shape[0]} | {with_walls * 1e3:.1f}"
+            f" | {without * 1e3:.1f} | {with_walls / without:.2f} |"
+        )
+    print(f"\n- ratio: median {statistics.median(ratios):.2f}, max {max(ratios):.2f}")
+
+
 def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(
         description=__doc__.split("\n\n")[0] if __doc__ else None,
@@ -113,6 +148,9 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--seeds", type=int, default=20, help="episodes timed per scenario")
     parser.add_argument(
         "--scenarios", nargs="+", metavar="NAME", help="built-in scenarios to time (default: all)"
+    )
+    parser.add_argument(
+        "--walls", action="store_true", help="time scenarios with walls against without"
     )
     parser.add_argument(
         "--cold-cache",
@@ -160,6 +198,13 @@ def main(argv: list[str] | None = None) -> int:
             f" {first_s:.2f} s"
         )
 
+        if args.walls:
+            wall_costs(names, args.seeds)
+            print(
+                f"\n- load average (1, 5, 15 min) at end: {load_average()}; other processes"
+                f" used {other.percent():.1f} % of the machine's CPU time"
+            )
+            return 0
         straight = [time_scenario(name, "straight", args.seeds) for name in names]
         print_table("Planner `straight` (robot episode may end before the horizon):", straight)
         stay = [time_scenario(name, StayPlanner(), args.seeds) for name in names]

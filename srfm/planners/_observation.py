@@ -428,6 +428,11 @@ class ObservationBuilder:
                 f"out must be a C-contiguous float32 array of shape ({self.size},), "
                 f"got {out.dtype} {out.shape}"
             )
+        goal = observation.robot_goal
+        task = self.task
+        if task.goal_x != goal[0] or task.goal_y != goal[1]:
+            # the route's next waypoint in a scenario with walls (srfm.sim.routes)
+            self.task = task._replace(goal_x=float(goal[0]), goal_y=float(goal[1]))
         r = observation.robot
         robot = self._robot
         robot[X] = r.x

@@ -25,6 +25,7 @@ from srfm.models.robot import RobotState
 from srfm.planners._observation import EnvConfig, build_observation, obs_size
 from srfm.rl import _kernels as _k
 from srfm.scenarios import EpisodeSetup, Scenario, episode_setup, next_goal
+from srfm.sim.routes import PedestrianRoutes, RobotRoute
 from srfm.sim.simulator import EVENT_OUTCOMES
 
 __all__ = ["REWARD_TERMS", "EnvCore", "resolve_scenario"]
@@ -81,6 +82,11 @@ class EnvCore:
         self.limits = scenario.robot.for_kernels()
         # The goal (task) and the goal distance at reset (reward) are set per episode.
         self.task = _rk.robot_task(np.zeros(2), scenario.world, scenario.horizon_steps)
+        # What the observation's goal entries describe: the goal, or the route's waypoint
+        # in a scenario with obstacles (srfm.sim.routes, as in the simulator).
+        self.steer = self.task
+        self._robot_route: RobotRoute | None = None
+        self._ped_routes: list[PedestrianRoutes] = []
         self.observation = config.observation_params(scenario.world)
         self.reward = _k.RewardParams(
             k1=float(config.k1),
@@ -123,13 +129,14 @@ class EnvCore:
             self.kernel_params,
             self.limits,
             self.task,
+            self.steer,
             self.observation,
             self.reward,
             self.options,
         )
         # env_step's arguments but the step index: for the last simulation step of an
         # action, and (progress γ = 1, see step) for the steps before it
-        held = (*config[:4], self.reward._replace(gamma=1.0), config[5])
+        held = (*config[:5], self.reward._replace(gamma=1.0), config[6])
         self._step_args = (
             self.flags,
             *arrays,
@@ -163,7 +170,7 @@ class EnvCore:
             False,
             False,
             self.limits,
-            self.task,
+            self.steer,
             self.observation,
             self.dist_buf,
             self.idx_buf,
@@ -243,6 +250,19 @@ class EnvCore:
         r[_rk.THETA] = setup.robot_heading_rad
         goal = setup.robot_goal
         self.task = self.task._replace(goal_x=float(goal[0]), goal_y=float(goal[1]))
+        self.steer = self.task
+        self._robot_route = None
+        self._ped_routes = []
+        scenario = self.scenario
+        if not scenario.obstacles.empty:
+            self._robot_route = RobotRoute(scenario, setup.robot_start, goal)
+            self.steer = self._steer_task(self._robot_route.update(r[_rk.X], r[_rk.Y]))
+        if not scenario.obstacles.empty or setup.ped_routes is not None:
+            twins = PedestrianRoutes.twins(setup)
+            for row, routes in zip((_k.FACTUAL_GOAL, _k.COUNTERFACTUAL_GOAL), twins, strict=True):
+                if routes.any:
+                    c[row] = routes.targets()
+                    self._ped_routes.append(routes)
         self.reward = self.reward._replace(
             goal_distance_m=math.hypot(goal[0] - r[_rk.X], goal[1] - r[_rk.Y])
         )
@@ -285,6 +305,8 @@ class EnvCore:
             step_args = self._step_args if last else self._held_step_args
             event = self._env_step(*step_args, self.step_index)
             self.step_index += 1
+            if self._ped_routes or self._robot_route is not None:
+                self._follow_routes(event, last)
             if self.regoal and (out[_k.OUT_NEW_F] or out[_k.OUT_NEW_C]):
                 self._regoal()
                 if out[_k.OUT_NEW_F]:
@@ -296,6 +318,34 @@ class EnvCore:
                 break
         self.event = event
         return event
+
+    def _steer_task(self, point: FloatArray) -> _rk.RobotTask:
+        return self.task._replace(goal_x=float(point[0]), goal_y=float(point[1]))
+
+    def _follow_routes(self, event: int, last: bool) -> None:
+        """Advance the pedestrians' and the robot's routes after a simulation step (the
+        simulator's rules, srfm.sim.routes); a new robot waypoint re-packs the kernels'
+        arguments and, at an action's last step, rebuilds the observation."""
+        rows = (
+            (_k.FACTUAL_POS, _k.FACTUAL_GOAL, _k.ARRIVED_F),
+            (_k.COUNTERFACTUAL_POS, _k.COUNTERFACTUAL_GOAL, _k.ARRIVED_C),
+        )
+        for routes, (pos_row, goal_row, arrived_row) in zip(self._ped_routes, rows, strict=False):
+            before = routes.index.copy()
+            routes.advance(self.crowd[pos_row], self.crowd[goal_row])
+            # a pedestrian near a waypoint is not at its goal: forget such arrivals
+            self.flags[arrived_row, np.flatnonzero(routes.index != before)] = False
+            self.flags[arrived_row, routes.active] = False
+        route = self._robot_route
+        if route is None or event != _rk.EVENT_NONE:
+            return
+        index = route.index
+        point = route.update(self.robot[_rk.X], self.robot[_rk.Y])
+        if route.index != index:
+            self.steer = self._steer_task(point)
+            self._pack()
+            if last:
+                self._build_observation(*self._observation_args)
 
     def _regoal(self) -> None:
         """New goals for the pedestrians that arrived (the simulator's draws)."""

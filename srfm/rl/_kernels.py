@@ -205,6 +205,7 @@ def reward_and_observation(
     params: SRFMKernelParams,
     limits: RobotLimits,
     task: RobotTask,
+    steer: RobotTask,
     observation: ObservationParams,
     reward: RewardParams,
     options: StepOptions,
@@ -216,7 +217,9 @@ def reward_and_observation(
     at reset, 1) (the paper's range [0, 1]), r_div from :func:`one_step_deviation` at
     the robot's new position, and r_term = +success reward at the goal, −timeout
     penalty on timeout, −collision penalty on a collision with a pedestrian or an
-    obstacle or on leaving the world.
+    obstacle or on leaving the world. ``task`` holds the goal (reward, events);
+    ``steer`` the point the observation's goal entries describe: the goal, or the
+    route's current waypoint in a scenario with walls (:mod:`srfm.sim.routes`).
     """
     body[0] = robot[X]
     body[1] = robot[Y]
@@ -257,7 +260,7 @@ def reward_and_observation(
         event == EVENT_GOAL,
         event != EVENT_NONE,
         limits,
-        task,
+        steer,
         observation,
         dist_buf,
         idx_buf,
@@ -285,6 +288,7 @@ def env_step(
     params: SRFMKernelParams,
     limits: RobotLimits,
     task: RobotTask,
+    steer: RobotTask,
     observation: ObservationParams,
     reward: RewardParams,
     options: StepOptions,
@@ -408,6 +412,7 @@ def env_step(
             params,
             limits,
             task,
+            steer,
             observation,
             reward,
             options,

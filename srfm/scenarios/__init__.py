@@ -30,6 +30,7 @@ __all__ = [
     "FRANCIS_SCENARIOS",
     "LARGE_SCENARIOS",
     "MAX_HORIZON_STEPS",
+    "NAVWARESET_SCENARIOS",
     "SCHEMA_VERSION",
     "EpisodeSetup",
     "RandomSpec",
@@ -45,15 +46,42 @@ __all__ = [
 
 # The paper's five evaluation scenarios, in its order, then the training scenario.
 EVALUATION_SCENARIOS: Final = ("footpath", "crosswalk", "cross_footpath", "circle", "concert")
-# Scenarios after Francis et al. 2023 (walled corridors; issue 17). Those that need a
-# global route (doors, corners, rooms) are not here yet.
+# Scenarios after Francis et al. 2023 ("Principles and guidelines for evaluating social
+# robot navigation algorithms"), with walls, doors, corners and rooms (issue 17).
 FRANCIS_SCENARIOS: Final = (
     "frontal_approach",
+    "pedestrian_obstruction",
     "pedestrian_overtaking",
+    "robot_overtaking",
+    "down_path",
+    "intersection",
+    "intersection_open",
+    "blind_corner",
     "narrow_hallway",
+    "narrow_doorway",
+    "entering_room",
+    "exiting_room",
     "parallel_traffic",
+    "perpendicular_traffic",
+    "circular_crossing",
+    "robot_crowding",
+    "crowd_navigation",
 )
-BUILTIN_SCENARIOS: Final = (*EVALUATION_SCENARIOS, "random", *FRANCIS_SCENARIOS)
+# The NavWareSet room (scene 13's map) with the dataset's five layouts (issue 17;
+# written by tools/make_navwareset_scenarios.py).
+NAVWARESET_SCENARIOS: Final = (
+    "navwareset_frontal_approach",
+    "navwareset_obstruction",
+    "navwareset_blind_corner",
+    "navwareset_perpendicular_crossing",
+    "navwareset_circular_crossing",
+)
+BUILTIN_SCENARIOS: Final = (
+    *EVALUATION_SCENARIOS,
+    "random",
+    *FRANCIS_SCENARIOS,
+    *NAVWARESET_SCENARIOS,
+)
 # Large crowds (issue 19; 300-400 pedestrians, stepped with the cell list and the
 # interaction cut-off): built in and loadable by name, run by `srfm benchmark --suite
 # large`, but kept out of BUILTIN_SCENARIOS, whose scenarios every test, the RL

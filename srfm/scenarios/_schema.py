@@ -1,9 +1,13 @@
-"""Scenario classes and the TOML schema (version 1) they are read from.
+"""Scenario classes and the TOML schema (versions 1 and 2) they are read from.
+
+Version 2 adds pedestrian routes, waits, groups, standing pedestrians, speed noise,
+wall thickness, doors, named regions and map points (:mod:`srfm.scenarios._v2`,
+``docs/scenarios.md``); version-1 files load as before and refuse those keys.
 
 A scenario file is TOML with these tables (every key is checked; unknown keys and
 malformed values raise :class:`srfm.errors.ScenarioError` naming the file and key)::
 
-    schema_version = 1                  # required
+    schema_version = 1                  # required: 1 or 2
     name = "footpath"                   # required, [a-z0-9][a-z0-9_-]*, <= 100 chars
     description = "one line"            # required
     kind = "fixed"                      # "fixed" (listed pedestrians) or "random"
@@ -73,10 +77,22 @@ from srfm.errors import ScenarioError, SrfmError
 from srfm.models.forces import MAX_DT_S
 from srfm.models.robot import KINEMATICS, RobotConfig
 from srfm.models.state import MAX_RADIUS_M, MAX_SPEED_MPS, Obstacles
+from srfm.scenarios import _v2
 
-SCHEMA_VERSION: Final = 1
+SCHEMA_VERSION: Final = 2
+SCHEMA_VERSIONS: Final = (1, 2)
+DEFAULT_SWITCH_RADIUS_M: Final = 0.5
 MAX_HORIZON_STEPS: Final = 1_000_000
 DEFAULT_DT_S: Final = 1.0 / 15.0
+# [pedestrians] keys of version 2.
+_V2_PEDESTRIAN_KEYS: Final = (
+    "routes",
+    "waits_s",
+    "groups",
+    "standing",
+    "switch_radius_m",
+    "speed_noise_mps",
+)
 _NAME_RE: Final = re.compile(r"[a-z0-9][a-z0-9_-]*")  # used with fullmatch
 
 FloatArray = NDArray[np.float64]
@@ -137,6 +153,27 @@ class Scenario:
     random: RandomSpec | None
     obstacles: Obstacles
     source: str
+    # Schema version 2 (all optional; version-1 files get these defaults).
+    schema_version: int = 1
+    ped_routes: tuple[FloatArray, ...] | None = None
+    ped_waits_s: tuple[FloatArray, ...] | None = None
+    ped_switch_radius_m: float = DEFAULT_SWITCH_RADIUS_M
+    ped_speed_noise_mps: float = 0.0
+    ped_groups: tuple[tuple[int, ...], ...] = ()
+    ped_standing: tuple[int, ...] = ()
+    regions: Mapping[str, tuple[float, float, float, float]] = attrs.field(factory=dict)
+    map_points: FloatArray | None = None
+
+    def region(self, name: str) -> tuple[float, float, float, float]:
+        """The named region (x_min, y_min, x_max, y_max) (m).
+
+        Raises:
+            ScenarioError: no region of that name.
+        """
+        if name not in self.regions:
+            known = ", ".join(sorted(self.regions)) or "none"
+            raise ScenarioError(f"{self.source}: no region {name!r}; regions: {known}")
+        return self.regions[name]
 
     @property
     def n_pedestrians(self) -> int:
@@ -311,8 +348,13 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     """Validate a parsed TOML document and build the :class:`Scenario`."""
     top = _Reader(data, "", source)
     version = top.raw("schema_version") if top.has("schema_version") else None
-    if type(version) is not int or version != SCHEMA_VERSION:
-        raise top.fail("schema_version", f"must be {SCHEMA_VERSION}, got {version!r}")
+    if type(version) is not int or version not in SCHEMA_VERSIONS:
+        raise top.fail(
+            "schema_version",
+            f"must be one of {', '.join(map(str, SCHEMA_VERSIONS))} (this srfm reads those), "
+            f"got {version!r}",
+        )
+    v2 = version >= 2
     name = top.string("name")
     if not _NAME_RE.fullmatch(name) or len(name) > MAX_NAME_LENGTH:
         raise top.fail(
@@ -372,18 +414,33 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     robot = RobotConfig(kinematics=kin, **limits)
 
     p = top.table("pedestrians")
-    starts = p.bounded_array("starts", 2, required=fixed, kinds=("coordinate",))
-    goals = p.bounded_array("goals", 2, required=fixed, kinds=("coordinate",))
+    if not v2:
+        for key in _V2_PEDESTRIAN_KEYS:
+            if p.has(key):
+                raise p.fail(key, "needs schema_version = 2")
+    extra = v2 and any(p.has(k) for k in ("groups", "standing"))
+    starts = p.bounded_array("starts", 2, required=fixed and not extra, kinds=("coordinate",))
+    goals = p.bounded_array("goals", 2, required=fixed and not extra, kinds=("coordinate",))
     n: int | None = None
     if starts is not None:
         n = starts.shape[0]
-        if n == 0:
+        if n == 0 and not extra:
             raise p.fail("starts", "needs at least one pedestrian")
         if goals is None or goals.shape[0] != n:
             got = "none" if goals is None else goals.shape[0]
             raise p.fail("goals", f"needs one goal per start ({n}), got {got}")
     elif goals is not None:
         raise p.fail("goals", "given without starts")
+    layout: _v2.PedestrianLayout | None = None
+    if v2 and fixed:
+        layout = _v2.read_pedestrians(p, starts, goals)
+        starts, goals = layout.starts, layout.goals
+        n = starts.shape[0]
+    elif v2 and any(p.has(k) for k in _V2_PEDESTRIAN_KEYS):
+        key = next(k for k in _V2_PEDESTRIAN_KEYS if p.has(k))
+        raise p.fail(key, "is only allowed with kind = 'fixed'")
+    switch_radius = p.number("switch_radius_m", DEFAULT_SWITCH_RADIUS_M, strict=True, kind="radius")
+    speed_noise = p.number("speed_noise_mps", 0.0, kind="speed")
     ped_radius = p.per_agent("radius_m", 0.3, n, MAX_RADIUS_M)
     ped_v0 = p.per_agent("desired_speed_mps", 1.25, n, MAX_SPEED_MPS)
     ped_vmax = p.per_agent("max_speed_mps", 1.25, n, MAX_SPEED_MPS)
@@ -415,7 +472,13 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         raise top.fail("random", "is only allowed with kind = 'random'")
 
     o = top.table("obstacles")
-    walls = o.bounded_array("walls", 4, required=False, kinds=("coordinate",))
+    walls: FloatArray | None
+    if v2:
+        walls, _ = _v2.read_walls(o)
+    else:
+        if o.has("doors"):
+            raise o.fail("doors", "needs schema_version = 2")
+        walls = o.bounded_array("walls", 4, required=False, kinds=("coordinate",))
     pillars = o.bounded_array(
         "pillars", 3, required=False, kinds=("coordinate", "coordinate", "radius")
     )
@@ -427,10 +490,32 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         )
     except SrfmError as exc:
         raise ScenarioError(f"{source}: obstacles: {exc}") from None
+    regions: dict[str, tuple[float, float, float, float]] = {}
+    map_points: FloatArray | None = None
+    if v2:
+        regions = _v2.read_regions(top, world)
+        if top.has("map"):
+            m = top.table("map")
+            map_points = m.bounded_array("points", 2, required=True, kinds=("coordinate",))
+            m.finish()
     top.finish()
+    if layout is not None:
+        assert robot_start is not None
+        assert robot_goal is not None
+        assert n is not None
+        _v2.check_layout(
+            source,
+            layout,
+            np.broadcast_to(np.asarray(ped_radius, dtype=np.float64), (n,)),
+            obstacles,
+            world,
+            robot_start,
+            robot_goal,
+            robot.radius_m,
+        )
 
     # A Scenario is shared (built-ins are cached): make its arrays read-only.
-    for arr in (robot_start, robot_goal, starts, goals, ped_radius, ped_v0, ped_vmax):
+    for arr in (robot_start, robot_goal, starts, goals, ped_radius, ped_v0, ped_vmax, map_points):
         if isinstance(arr, np.ndarray):
             arr.setflags(write=False)
     return Scenario(
@@ -454,6 +539,15 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         random=random_spec,
         obstacles=obstacles,
         source=source,
+        schema_version=version,
+        ped_routes=None if layout is None else layout.routes,
+        ped_waits_s=None if layout is None else layout.waits_s,
+        ped_switch_radius_m=switch_radius,
+        ped_speed_noise_mps=speed_noise,
+        ped_groups=() if layout is None else layout.groups,
+        ped_standing=() if layout is None else layout.standing,
+        regions=regions,
+        map_points=map_points,
     )
 
 

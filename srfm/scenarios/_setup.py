@@ -4,7 +4,9 @@ Randomness is explicit and keyed by the seed only, so that a set-up never depend
 what ran before it:
 
 - fixed scenarios: ``numpy.random.default_rng(seed)`` draws one offset
-  u ~ U(−noise, noise)² per pedestrian, added to both its start and its goal;
+  u ~ U(−noise, noise)² per pedestrian, added to its start, its waypoints and its goal;
+  then, when ``speed_noise_mps`` = a > 0 (schema 2), one desired-speed change
+  U(−a, a) per pedestrian (the result clipped to [0, max speed]);
 - random scenario: the same generator draws the robot start and goal, then each
   pedestrian's start and goal, by rejection sampling under the ``[random]`` constraints;
 - re-goaling: the k-th new goal of pedestrian i comes from its own stream
@@ -46,6 +48,9 @@ class EpisodeSetup:
     robot_goal: FloatArray
     robot_heading_rad: float
     crowd: CrowdState
+    # Scenario-given waypoints of each pedestrian, before its goal, moved by the
+    # pedestrian's per-seed offset (None when the scenario gives none).
+    ped_routes: tuple[FloatArray, ...] | None = None
 
 
 def validate_seed(seed: Any) -> int:
@@ -85,6 +90,7 @@ def episode_setup(scenario: Scenario, seed: int) -> EpisodeSetup:
     """Make the set-up of episode ``seed`` of ``scenario``."""
     seed = validate_seed(seed)
     rng = np.random.default_rng(seed)
+    routes: tuple[FloatArray, ...] | None = None
     if scenario.random is not None:
         spec: RandomSpec = scenario.random
         m = spec.margin_m
@@ -129,17 +135,26 @@ def episode_setup(scenario: Scenario, seed: int) -> EpisodeSetup:
         offsets = rng.uniform(-scenario.noise_m, scenario.noise_m, size=(n, 2))
         starts = scenario.ped_starts + offsets
         goals = scenario.ped_goals + offsets
+        if scenario.ped_routes is not None:
+            routes = tuple(r + offsets[i] for i, r in enumerate(scenario.ped_routes))
         robot_start = scenario.robot_start.copy()
         robot_goal = scenario.robot_goal.copy()
     if scenario.robot_heading_rad is not None:
         heading = scenario.robot_heading_rad
     else:
         heading = math.atan2(robot_goal[1] - robot_start[1], robot_goal[0] - robot_start[0])
+    v0: FloatArray | float = scenario.ped_desired_speed_mps
+    if scenario.ped_speed_noise_mps > 0.0:
+        # after every draw above, so that version-1 set-ups are unchanged
+        n = starts.shape[0]
+        a = scenario.ped_speed_noise_mps
+        vmax = np.broadcast_to(np.asarray(scenario.ped_max_speed_mps, dtype=np.float64), (n,))
+        v0 = np.clip(np.asarray(v0, dtype=np.float64) + rng.uniform(-a, a, size=n), 0.0, vmax)
     crowd = CrowdState.create(
         pos=starts,
         goal=goals,
         radius=scenario.ped_radius_m,
-        v0=scenario.ped_desired_speed_mps,
+        v0=v0,
         vmax=scenario.ped_max_speed_mps,
     )
     return EpisodeSetup(
@@ -149,6 +164,7 @@ def episode_setup(scenario: Scenario, seed: int) -> EpisodeSetup:
         robot_goal=robot_goal,
         robot_heading_rad=heading,
         crowd=crowd,
+        ped_routes=routes,
     )
 
 

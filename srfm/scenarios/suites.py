@@ -2,19 +2,30 @@
 
 A suite is a tuple of built-in scenario names, run in that order. ``paper`` is the
 default of ``srfm benchmark`` (the paper's five evaluation scenarios), ``large`` the
-large-crowd scenarios of issue 19. Add a suite by adding an entry here.
+large-crowd scenarios of issue 19, ``francis`` the scenarios after Francis et al. 2023
+and ``navwareset`` the NavWareSet room's five layouts (issue 17); ``all`` is paper,
+francis and navwareset (not ``large``, a performance suite of 300-400 pedestrians).
+Add a suite by adding an entry here.
 """
 
 from __future__ import annotations
 
 from typing import Final
 
-from srfm.scenarios import EVALUATION_SCENARIOS, LARGE_SCENARIOS
+from srfm.scenarios import (
+    EVALUATION_SCENARIOS,
+    FRANCIS_SCENARIOS,
+    LARGE_SCENARIOS,
+    NAVWARESET_SCENARIOS,
+)
 
 __all__ = ["DEFAULT_SUITE", "SUITES"]
 
 SUITES: Final[dict[str, tuple[str, ...]]] = {
     "paper": EVALUATION_SCENARIOS,
     "large": LARGE_SCENARIOS,
+    "francis": FRANCIS_SCENARIOS,
+    "navwareset": NAVWARESET_SCENARIOS,
+    "all": (*EVALUATION_SCENARIOS, *FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS),
 }
 DEFAULT_SUITE: Final = "paper"

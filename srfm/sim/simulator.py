@@ -43,6 +43,7 @@ from srfm.models.state import CrowdState
 from srfm.planners._base import Observation, PlannerContext
 from srfm.scenarios import EpisodeSetup, next_goal
 from srfm.sim.record import Event, EventKind, RobotOutcome
+from srfm.sim.routes import PedestrianRoutes, RobotRoute
 
 __all__ = ["TwinSimulator"]
 
@@ -124,6 +125,20 @@ class TwinSimulator:
         self._pillar_xy = np.ascontiguousarray(self._obstacles.circles[:, :2])
         self._pillar_r = np.ascontiguousarray(self._obstacles.circles[:, 2])
         self._ped_radius = self.factual.radius
+        # Routes (srfm.sim.routes): the robot's planner and the pedestrians steer to
+        # waypoints in scenarios with obstacles or given routes; none otherwise.
+        self._robot_route: RobotRoute | None = None
+        self._ped_routes: dict[str, PedestrianRoutes] = {}
+        if not self._obstacles.empty:
+            self._robot_route = RobotRoute(self.scenario, setup.robot_start, setup.robot_goal)
+            self._robot_route.update(self.robot.x, self.robot.y)
+        if not self._obstacles.empty or setup.ped_routes is not None:
+            twins = PedestrianRoutes.twins(setup)
+            crowds = (("factual", self.factual), ("counterfactual", self.counterfactual))
+            for (twin, crowd), routes in zip(crowds, twins, strict=True):
+                if routes.any:
+                    crowd.goal[:] = routes.targets()
+                    self._ped_routes[twin] = routes
         # The per-step kernels, their argument types resolved once (srfm._jit.specialize),
         # and their arguments, the same arrays (updated in place) at every step.
         dt = float(self.scenario.dt_s)
@@ -198,6 +213,14 @@ class TwinSimulator:
             obstacles=self._obstacles,
         )
 
+    def steering_goal(self) -> FloatArray:
+        """(2,) what the planner steers to: the route's current waypoint in a scenario
+        with obstacles (:class:`srfm.sim.routes.RobotRoute`), else the goal."""
+        if self._robot_route is None:
+            return self.setup.robot_goal.copy()
+        route = self._robot_route
+        return np.array(route.waypoints[route.index], dtype=np.float64)
+
     def observe(self, detection_range_m: float | None) -> Observation:
         """The planner's view of the current sample: factual pedestrians closer than
         ``detection_range_m`` (all of them for None)."""
@@ -213,7 +236,7 @@ class TwinSimulator:
             step=self.step_index,
             time_s=self.time_s,
             robot=self.robot,
-            robot_goal=self.setup.robot_goal.copy(),
+            robot_goal=self.steering_goal(),
             ped_ids=ids,
             ped_pos=pos[ids],
             ped_vel=self.factual.vel[ids],
@@ -260,6 +283,12 @@ class TwinSimulator:
         if n_new:
             events += self._pedestrian_events("factual", self.factual)
             events += self._pedestrian_events("counterfactual", self.counterfactual)
+        if self._ped_routes:  # after the arrivals, which were flagged on these legs
+            for twin, routes in self._ped_routes.items():
+                crowd = self.factual if twin == "factual" else self.counterfactual
+                routes.advance(crowd.pos, crowd.goal)
+        if self._robot_route is not None and self.robot_active:
+            self._robot_route.update(next_robot.x, next_robot.y)
         if self.robot_active:
             events += self._robot_events()
         return events
@@ -269,7 +298,10 @@ class TwinSimulator:
         new = self._new_arrivals[twin]
         events = []
         t = self.time_s
+        routes = self._ped_routes.get(twin)
         for i in np.flatnonzero(new):
+            if routes is not None and not routes.at_goal_leg(int(i)):
+                continue  # near a waypoint on the way, not at the goal
             events.append(
                 Event(step=self.step_index, time_s=t, kind="ped_arrival", agent=int(i), twin=twin)
             )

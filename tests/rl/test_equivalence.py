@@ -51,7 +51,20 @@ def _lockstep(
     raise AssertionError("the episode did not end at the horizon")
 
 
-@pytest.mark.parametrize("name", srfm.BUILTIN_SCENARIOS)
+# The paper's scenarios, the training one and library scenarios that cover every kind
+# of route (computed, given by doors and rooms, groups, standing people, the NavWareSet
+# room); all 27 built-ins would add minutes to the suite.
+LOCKSTEP_SCENARIOS = (
+    *srfm.EVALUATION_SCENARIOS,
+    "random",
+    "blind_corner",
+    "entering_room",
+    "robot_crowding",
+    "navwareset_circular_crossing",
+)
+
+
+@pytest.mark.parametrize("name", LOCKSTEP_SCENARIOS)
 @pytest.mark.parametrize("kinematics", ["unicycle", "holonomic"])
 def test_env_reproduces_the_twin_simulator(name: str, kinematics: str) -> None:
     outcomes = {_lockstep(name, seed, kinematics, "seek") for seed in range(2)}
@@ -107,6 +120,8 @@ def _random_actor(obs_size: int, seed: int) -> NumpyActor:
         ("circle", "holonomic", 1),
         ("crosswalk", "unicycle", 3),
         ("circle", "holonomic", 4),
+        ("blind_corner", "unicycle", 1),
+        ("navwareset_circular_crossing", "holonomic", 3),
     ],
 )
 def test_policy_sees_the_same_observation_in_env_and_episode(

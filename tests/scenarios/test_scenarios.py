@@ -13,6 +13,7 @@ from srfm.scenarios import (
     BUILTIN_SCENARIOS,
     EVALUATION_SCENARIOS,
     FRANCIS_SCENARIOS,
+    NAVWARESET_SCENARIOS,
     episode_setup,
     load_scenario,
     next_goal,
@@ -35,7 +36,8 @@ goals = [[3.0, 0.5], [0.5, 4.0]]
 
 
 def test_every_paper_builtin_loads_with_paper_defaults() -> None:
-    assert (*EVALUATION_SCENARIOS, "random", *FRANCIS_SCENARIOS) == BUILTIN_SCENARIOS
+    library = (*FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS)
+    assert (*EVALUATION_SCENARIOS, "random", *library) == BUILTIN_SCENARIOS
     for name in (*EVALUATION_SCENARIOS, "random"):
         s = load_scenario(name)
         assert s.name == name
@@ -215,11 +217,23 @@ def test_schema_errors_name_file_and_key(tmp_path: Path, extra: str, message: st
         ),
         ("goal = [5.0, 1.0]", "goal = [5.0, 1.0]\nradius_m = 0", r"robot\.radius_m: must be > 0"),
         ('name = "mine"', 'name = "My Scenario"', r"name: must match"),
-        ("schema_version = 1", "schema_version = 2", r"schema_version: must be 1, got 2"),
+        (
+            "schema_version = 1",
+            "schema_version = 3",
+            r"schema_version: must be one of 1, 2 .*got 3",
+        ),
         ("start = [1.0, 1.0]", "start = [-3.0, 1.0]", r"robot\.start: must lie inside the world"),
         ("goal = [5.0, 1.0]", "goal = [5.0, 16.0]", r"robot\.goal: must lie inside the world"),
-        ("schema_version = 1", "schema_version = 1.0", r"schema_version: must be 1, got 1\.0"),
-        ("schema_version = 1", "schema_version = true", r"schema_version: must be 1, got True"),
+        (
+            "schema_version = 1",
+            "schema_version = 1.0",
+            r"schema_version: must be one of 1, 2 .*got 1\.0",
+        ),
+        (
+            "schema_version = 1",
+            "schema_version = true",
+            r"schema_version: must be one of 1, 2 .*got True",
+        ),
         ("[robot]\nstart = [1.0, 1.0]\n", "", r"robot\.start: is required"),
     ],
 )

@@ -1,0 +1,363 @@
+"""The parts of scenario schema version 2 that version 1 lacks.
+
+Pedestrians (``[pedestrians]``): per-pedestrian routes (``routes``: one list of
+waypoints per listed pedestrian, walked in order before the goal; ``waits_s``: seconds
+spent at each waypoint; ``switch_radius_m``: how close a pedestrian comes to a waypoint
+before it steers to the next), groups walking side by side (``[[pedestrians.groups]]``),
+standing pedestrians (``standing``: goal = start) and per-seed speed noise
+(``speed_noise_mps``). Obstacles: walls with a thickness (a fifth number per wall),
+doors (``doors``: openings cut out of the walls they lie on). Named regions
+(``[regions]``) and map points for drawing (``[map] points``).
+
+The checks that need the geometry (walls through a start or goal, overlapping starts,
+unreachable waypoints) are in :func:`check_layout`; every message names the file and
+the key.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any, Final
+
+import attrs
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from srfm._validate import BOUNDS
+from srfm.errors import PlannerError, ScenarioError
+
+if TYPE_CHECKING:
+    from srfm.models.state import Obstacles
+    from srfm.scenarios._schema import WorldBounds, _Reader
+
+FloatArray = NDArray[np.float64]
+
+MAX_WAYPOINTS: Final = 1_000
+MAX_GROUP_SIZE: Final = 100
+# Walls are drawn as the outline of their rectangle: this thin a wall (m) is one segment.
+THIN_WALL_M: Final = 1e-9
+
+
+@attrs.frozen(kw_only=True)
+class PedestrianLayout:
+    """The pedestrians of a fixed scenario after expanding groups and standing ones.
+
+    Order: listed pedestrians, then each group's members, then standing pedestrians.
+    ``labels[i]`` names the key that pedestrian i came from (for error messages).
+    """
+
+    starts: FloatArray
+    goals: FloatArray
+    routes: tuple[FloatArray, ...]
+    waits_s: tuple[FloatArray, ...]
+    groups: tuple[tuple[int, ...], ...]
+    standing: tuple[int, ...]
+    labels: tuple[str, ...]
+
+
+def _points(reader: _Reader, value: Any, label: str) -> FloatArray:
+    """A list of [x, y] coordinates (possibly empty)."""
+    if not isinstance(value, list):
+        raise reader.fail(label, f"must be a list of [x, y] points, got {value!r}")
+    if len(value) > MAX_WAYPOINTS:
+        raise reader.fail(label, f"has {len(value)} points, more than {MAX_WAYPOINTS}")
+    lo, hi, unit = BOUNDS["coordinate"]
+    out = np.zeros((len(value), 2))
+    for k, row in enumerate(value):
+        ok = isinstance(row, list) and len(row) == 2
+        ok = ok and all(not isinstance(v, bool) and isinstance(v, int | float) for v in row)
+        if not ok or not all(math.isfinite(float(v)) and lo <= v <= hi for v in row):
+            raise reader.fail(
+                f"{label}[{k}]",
+                f"must be [x, y] with finite values in [{lo:g}, {hi:g}] {unit}, got {row!r}",
+            )
+        out[k] = row
+    return out
+
+
+def _seconds(reader: _Reader, value: Any, label: str, count: int) -> FloatArray:
+    if not isinstance(value, list) or len(value) != count:
+        raise reader.fail(label, f"needs one wait per waypoint ({count}), got {value!r}")
+    out = np.zeros(count)
+    for k, item in enumerate(value):
+        if isinstance(item, bool) or not isinstance(item, int | float):
+            raise reader.fail(f"{label}[{k}]", f"must be a number of seconds, got {item!r}")
+        if not 0.0 <= float(item) <= 1e6:  # also false for NaN
+            raise reader.fail(f"{label}[{k}]", f"must be in [0, 1e6] s, got {item!r}")
+        out[k] = float(item)
+    return out
+
+
+def read_pedestrians(
+    p: _Reader, starts: FloatArray | None, goals: FloatArray | None
+) -> PedestrianLayout:
+    """Routes, waits, groups and standing pedestrians of ``[pedestrians]`` (version 2)."""
+    n_listed = 0 if starts is None else starts.shape[0]
+    s_list = [] if starts is None else list(starts)
+    g_list = [] if goals is None else list(goals)
+    labels = [f"pedestrians.starts[{i}]" for i in range(n_listed)]
+    routes: list[FloatArray] = [np.zeros((0, 2)) for _ in range(n_listed)]
+    if p.has("routes"):
+        value = p.raw("routes")
+        if not isinstance(value, list) or len(value) != n_listed:
+            got = len(value) if isinstance(value, list) else repr(value)
+            raise p.fail(
+                "routes", f"needs one waypoint list per listed pedestrian ({n_listed}), got {got}"
+            )
+        routes = [_points(p, v, f"routes[{i}]") for i, v in enumerate(value)]
+    waits = [np.zeros(len(r)) for r in routes]
+    if p.has("waits_s"):
+        value = p.raw("waits_s")
+        if not isinstance(value, list) or len(value) != n_listed:
+            raise p.fail(
+                "waits_s", f"needs one list per listed pedestrian ({n_listed}), got {value!r}"
+            )
+        waits = [_seconds(p, v, f"waits_s[{i}]", len(routes[i])) for i, v in enumerate(value)]
+    groups: list[tuple[int, ...]] = []
+    if p.has("groups"):
+        value = p.raw("groups")
+        if not isinstance(value, list):
+            raise p.fail("groups", f"must be an array of tables, got {value!r}")
+        for gi, table in enumerate(value):
+            if not isinstance(table, dict):
+                raise p.fail(f"groups[{gi}]", f"must be a table, got {table!r}")
+            members = _group(p, table, gi)
+            first = len(s_list)
+            for start, goal, route in members:
+                s_list.append(start)
+                g_list.append(goal)
+                routes.append(route)
+                waits.append(np.zeros(len(route)))
+                labels.append(f"pedestrians.groups[{gi}]")
+            groups.append(tuple(range(first, len(s_list))))
+    standing: list[int] = []
+    if p.has("standing"):
+        for k, point in enumerate(_points(p, p.raw("standing"), "standing")):
+            standing.append(len(s_list))
+            s_list.append(point)
+            g_list.append(point.copy())
+            routes.append(np.zeros((0, 2)))
+            waits.append(np.zeros(0))
+            labels.append(f"pedestrians.standing[{k}]")
+    if not s_list:
+        raise p.fail("starts", "needs at least one pedestrian (starts, groups or standing)")
+    for arr in (*routes, *waits):
+        arr.setflags(write=False)
+    return PedestrianLayout(
+        starts=np.array(s_list, dtype=np.float64).reshape(-1, 2),
+        goals=np.array(g_list, dtype=np.float64).reshape(-1, 2),
+        routes=tuple(routes),
+        waits_s=tuple(waits),
+        groups=tuple(groups),
+        standing=tuple(standing),
+        labels=tuple(labels),
+    )
+
+
+def _group(
+    p: _Reader, table: dict[str, Any], gi: int
+) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
+    """The members (start, goal, route) of group ``gi``: side by side across the
+    direction of its first leg, ``spacing_m`` apart, sharing the route's shape."""
+    from srfm.scenarios._schema import _Reader
+
+    g = _Reader(table, p.key(f"groups[{gi}]"), p.file)
+    start = g.bounded_array("start", 0, required=True, kinds=("coordinate",))
+    goal = g.bounded_array("goal", 0, required=True, kinds=("coordinate",))
+    size = g.integer("size", 2, minimum=1, maximum=MAX_GROUP_SIZE)
+    spacing = g.number("spacing_m", 0.8, kind="length")
+    route = _points(g, g.raw("route"), "route") if g.has("route") else np.zeros((0, 2))
+    g.finish()
+    assert start is not None
+    assert goal is not None
+    towards = route[0] if len(route) else goal
+    d = towards - start
+    norm = float(np.hypot(*d))
+    if norm == 0.0:
+        raise g.fail("goal", "must differ from start (the group's direction)")
+    across = np.array([-d[1], d[0]]) / norm
+    out = []
+    for j in range(size):
+        offset = (j - (size - 1) / 2.0) * spacing * across
+        out.append((start + offset, goal + offset, route + offset))
+    return out
+
+
+def read_walls(o: _Reader) -> tuple[FloatArray, list[str]]:
+    """Wall segments (M, 4) from ``walls`` (4 numbers, or 5 with a thickness) and
+    ``doors`` cut out of them; the label of each segment's source key."""
+    lines: list[tuple[shapely.Geometry, float, str]] = []
+    if o.has("walls"):
+        value = o.raw("walls")
+        if not isinstance(value, list):
+            raise o.fail("walls", f"must be an array, got {value!r}")
+        lo, hi, _ = BOUNDS["coordinate"]
+        for i, row in enumerate(value):
+            label = f"walls[{i}]"
+            ok = isinstance(row, list) and len(row) in (4, 5)
+            ok = ok and all(not isinstance(v, bool) and isinstance(v, int | float) for v in row)
+            ok = ok and all(math.isfinite(float(v)) for v in row)
+            if not ok:
+                raise o.fail(
+                    label, f"must be [x1, y1, x2, y2] or [x1, y1, x2, y2, thickness], got {row!r}"
+                )
+            if not all(lo <= v <= hi for v in row[:4]):
+                raise o.fail(label, f"coordinates must be in [{lo:g}, {hi:g}] m, got {row!r}")
+            thick = float(row[4]) if len(row) == 5 else 0.0
+            if not 0.0 <= thick <= BOUNDS["length"][1]:
+                raise o.fail(label, f"thickness must be >= 0 m, got {row[4]!r}")
+            a, b = (row[0], row[1]), (row[2], row[3])
+            geom = shapely.Point(a) if a == b else shapely.LineString([a, b])
+            lines.append((geom, thick, o.key(label)))
+    doors: list[tuple[shapely.Geometry, str]] = []
+    if o.has("doors"):
+        value = o.raw("doors")
+        if not isinstance(value, list):
+            raise o.fail("doors", f"must be an array, got {value!r}")
+        for i, row in enumerate(value):
+            ok = isinstance(row, list) and len(row) == 4
+            ok = ok and all(not isinstance(v, bool) and isinstance(v, int | float) for v in row)
+            if not ok or not all(math.isfinite(float(v)) for v in row) or row[:2] == row[2:]:
+                raise o.fail(
+                    f"doors[{i}]",
+                    f"must be an opening [x1, y1, x2, y2] of non-zero width, got {row!r}",
+                )
+            doors.append((shapely.LineString([row[:2], row[2:]]), f"doors[{i}]"))
+    used = [False] * len(doors)
+    segments: list[list[float]] = []
+    labels: list[str] = []
+    for geom, thick, label in lines:
+        shape = geom.buffer(thick / 2.0, cap_style="flat") if thick > THIN_WALL_M else geom
+        if isinstance(geom, shapely.Point) and thick > THIN_WALL_M:
+            shape = geom  # a zero-length wall stays a point
+        for k, (door, _) in enumerate(doors):
+            # the opening: a rectangle across the wall, as long as the door
+            cut = door.buffer(max(thick, 0.01), cap_style="flat")
+            if shape.intersects(cut):
+                used[k] = True
+                shape = shape.difference(cut)
+        for seg in _segments(shape):
+            segments.append(seg)
+            labels.append(label)
+    for k, (_, label) in enumerate(doors):
+        if not used[k]:
+            raise o.fail(label, "lies on no wall (a door is an opening cut out of a wall)")
+    return np.array(segments, dtype=np.float64).reshape(-1, 4), labels
+
+
+def _segments(shape: shapely.Geometry) -> list[list[float]]:
+    """The straight pieces of a line, a polygon's outline, or a point (zero length)."""
+    out: list[list[float]] = []
+    if shape.is_empty:
+        return out
+    if isinstance(shape, shapely.Point):
+        return [[shape.x, shape.y, shape.x, shape.y]]
+    if isinstance(shape, shapely.LineString):
+        c = shapely.get_coordinates(shape)
+        return [[*c[i], *c[i + 1]] for i in range(len(c) - 1)]
+    if isinstance(shape, shapely.Polygon):
+        return _segments(shape.exterior) + [s for r in shape.interiors for s in _segments(r)]
+    if isinstance(shape, shapely.LinearRing):
+        return _segments(shapely.LineString(shape.coords))
+    for part in getattr(shape, "geoms", ()):
+        out.extend(_segments(part))
+    return out
+
+
+def read_regions(top: _Reader, world: WorldBounds) -> dict[str, tuple[float, float, float, float]]:
+    """``[regions]``: name = [x_min, y_min, x_max, y_max] inside the world."""
+    out: dict[str, tuple[float, float, float, float]] = {}
+    if not top.has("regions"):
+        return out
+    r = top.table("regions")
+    for name in list(r.data):
+        value = r.raw(name)
+        ok = isinstance(value, list) and len(value) == 4
+        ok = ok and all(not isinstance(v, bool) and isinstance(v, int | float) for v in value)
+        if not ok or not all(math.isfinite(float(v)) for v in value):
+            raise r.fail(name, f"must be [x_min, y_min, x_max, y_max], got {value!r}")
+        x0, y0, x1, y1 = (float(v) for v in value)
+        if not (x1 > x0 and y1 > y0):
+            raise r.fail(name, f"needs x_max > x_min and y_max > y_min, got {value!r}")
+        if not (world.contains(x0, y0) and world.contains(x1, y1)):
+            raise r.fail(name, f"must lie inside the world, got {value!r}")
+        out[name] = (x0, y0, x1, y1)
+    r.finish()
+    return out
+
+
+def check_layout(
+    source: str,
+    layout: PedestrianLayout,
+    radius: FloatArray,
+    obstacles: Obstacles,
+    world: WorldBounds,
+    robot_start: FloatArray,
+    robot_goal: FloatArray,
+    robot_radius: float,
+) -> None:
+    """Refuse walls through a start, goal or waypoint, overlapping starts and waypoints
+    that no path reaches (the router's free space for a disc of the pedestrian's radius).
+
+    Raises:
+        ScenarioError: naming the file and the key.
+    """
+    starts = np.vstack([robot_start[None], layout.starts])
+    radii = np.concatenate([[robot_radius], radius])
+    names = ["robot.start", *layout.labels]
+    gap = np.linalg.norm(starts[:, None] - starts[None], axis=2) - radii[:, None] - radii[None]
+    np.fill_diagonal(gap, np.inf)
+    if gap.min() < 0.0:
+        a, b = np.unravel_index(int(np.argmin(gap)), gap.shape)
+        i, j = sorted((int(a), int(b)))
+        raise ScenarioError(
+            f"{source}: {names[j]}: overlaps {names[i]} at the start "
+            f"({starts[j].tolist()} and {starts[i].tolist()}, {-gap[i, j]:.3g} m of overlap)"
+        )
+    if obstacles.empty:
+        return
+    from srfm.planners.routing import Router  # the router imports srfm.scenarios
+
+    shapes = [
+        shapely.LineString([(a, b), (c, d)]) if (a, b) != (c, d) else shapely.Point(a, b)
+        for a, b, c, d in obstacles.segments
+    ] + [shapely.Point(cx, cy).buffer(r) for cx, cy, r in obstacles.circles]
+    walls = shapely.union_all(shapes)
+
+    def clear(point: FloatArray, r: float, label: str) -> None:
+        d = float(shapely.distance(shapely.Point(point), walls))
+        if d < r:
+            raise ScenarioError(
+                f"{source}: {label}: {point.tolist()} is {d:.3g} m from a wall or pillar, "
+                f"less than the radius {r:g} m"
+            )
+
+    clear(robot_start, robot_radius, "robot.start")
+    clear(robot_goal, robot_radius, "robot.goal")
+    routers: dict[float, Router] = {}
+    for p, label in enumerate(layout.labels):
+        r = float(radius[p])
+        clear(layout.starts[p], r, label)
+        key = label.replace("starts", "goals") if "starts" in label else label
+        clear(layout.goals[p], r, key)
+        if r not in routers:
+            routers[r] = Router(obstacles, _grown(world, r), clearance_m=r)
+        points = [layout.starts[p], *layout.routes[p], layout.goals[p]]
+        for k in range(1, len(points)):
+            where = f"pedestrians.routes[{p}][{k - 1}]" if k < len(points) - 1 else key
+            try:
+                routers[r].route(tuple(points[k - 1]), tuple(points[k]))
+            except PlannerError as exc:
+                raise ScenarioError(f"{source}: {where}: unreachable: {exc}") from None
+
+
+def _grown(world: WorldBounds, margin: float) -> WorldBounds:
+    """The world grown by ``margin``: the world's edge is no wall for pedestrians."""
+    return attrs.evolve(
+        world,
+        x_min=world.x_min - margin,
+        x_max=world.x_max + margin,
+        y_min=world.y_min - margin,
+        y_max=world.y_max + margin,
+    )

@@ -165,6 +165,7 @@ def episodes(scenes: list[Any], params: Any, args: argparse.Namespace) -> None:
     scenario of each recording; its deviation (frechet_m, mean over the recording's
     pedestrians) and outcome, compliant vs non-compliant per scenario and robot."""
     import srfm
+    from srfm.errors import ScenarioError
     from srfm.metrics.episode import episode_metrics
     from srfm.planners.recorded import recorded_encounter
 
@@ -174,7 +175,11 @@ def episodes(scenes: list[Any], params: Any, args: argparse.Namespace) -> None:
         cond = condition_of(scene)
         if cond is None or scene.robot_index is None:
             continue
-        scenario, planner = recorded_encounter(scene)
+        try:
+            scenario, planner = recorded_encounter(scene)
+        except ScenarioError as exc:  # e.g. a person starting in contact with the robot
+            print(f"skipped: {exc}")
+            continue
         rec = srfm.run_episode(scenario, 0, planner, params)
         m = episode_metrics(rec)
         records.append(

@@ -90,8 +90,8 @@ _CHUNK: Final = 5  # seeds per worker task: small enough for a smooth progress b
 
 
 def default_planners() -> tuple[str, ...]:
-    """Every registered planner, by name."""
-    return tuple(p.name for p in available_planners())
+    """Every registered planner that runs on any scenario (``default``), by name."""
+    return tuple(p.name for p in available_planners() if p.default)
 
 
 @attrs.frozen(kw_only=True, eq=False)

@@ -1,4 +1,5 @@
-"""``srfm data convert|info``, ``srfm fit`` and ``srfm ade``: datasets, learning, evaluation.
+"""``srfm data convert|scenario|info``, ``srfm fit`` and ``srfm ade``: datasets, fitting,
+evaluation.
 
 Hooked into the ``srfm`` group at the end of :mod:`srfm.cli`; shared pieces come from
 :mod:`srfm.cli._common`, so there is no import cycle.
@@ -139,6 +140,85 @@ def convert(
             "note: no odometry, so positions are in the robot's moving frame "
             "(fine for viewing; srfm fit and srfm ade need world coordinates)"
         )
+
+
+@data.command("scenario")
+@click.argument("file", type=click.Path(path_type=Path))
+@click.argument("out_dir", type=click.Path(file_okay=False, path_type=Path))
+@click.option(
+    "--scene",
+    "scene_names",
+    multiple=True,
+    metavar="NAME",
+    help="Only this scene (repeatable). Default: every scene with a robot in world coordinates.",
+)
+@click.option("--force", is_flag=True, help="Overwrite scenario files that already exist.")
+@user_errors
+def scenario(file: Path, out_dir: Path, scene_names: Sequence[str], force: bool) -> None:
+    """Write a scenario TOML file for every robot scene of the dataset MCAP FILE into
+    OUT_DIR, with the robot's trajectory as [robot.recording].
+
+    Each scenario starts every pedestrian at its first observed position and sends it
+    to its last (srfm.planners.recorded.recorded_scenario_doc); the planner `recorded`
+    replays the robot: `srfm simulate --scenario OUT_DIR/NAME.toml --planner recorded`,
+    `srfm benchmark -s OUT_DIR/NAME.toml -p recorded`. Every scene is checked before
+    any file is written; without --scene, scenes that make no valid scenario (e.g. a
+    person starting in contact with the robot) are skipped and named.
+    """
+    from srfm._io import atomic_write_text
+    from srfm.datasets import read_mcap
+    from srfm.errors import ScenarioError
+    from srfm.planners.recorded import recorded_scenario_doc, scenario_toml
+    from srfm.scenarios import parse_scenario
+
+    dataset = read_mcap(file)
+    by_name = {s.scene: s for s in dataset.scenes}
+    unknown = [n for n in scene_names if n not in by_name]
+    if unknown:
+        raise DatasetError(
+            f"{file}: no scene {unknown[0]!r} (it holds {len(by_name)} scenes; "
+            "`srfm data info` lists them)"
+        )
+    chosen = [by_name[n] for n in dict.fromkeys(scene_names)] if scene_names else None
+    if chosen is None:
+        chosen = [
+            s
+            for s in dataset.scenes
+            if s.robot_index is not None and s.frame_of_reference == "world"
+        ]
+        if not chosen:
+            raise DatasetError(f"{file}: no scene has a robot in world coordinates")
+    texts: dict[Path, str] = {}
+    invalid: list[str] = []
+    for scene in chosen:
+        where = f"{file}: scene {scene.scene!r}"
+        try:
+            doc = recorded_scenario_doc(scene)
+            parse_scenario(doc, where)
+            text = scenario_toml(doc)
+        except ScenarioError as exc:
+            if scene_names:  # a scene asked for by name must make a scenario
+                raise ScenarioError(f"{where}: no valid scenario: {exc}") from None
+            invalid.append(str(exc))
+            continue
+        path = out_dir / f"{doc['name']}.toml"
+        if path in texts:
+            raise DatasetError(f"{file}: two scenes give the scenario name {doc['name']!r}")
+        texts[path] = text
+    if not texts:
+        raise DatasetError(f"{file}: no scene makes a valid scenario: {invalid[0]}")
+    existing = [p for p in texts if p.exists()]
+    if existing and not force:
+        raise DatasetError(f"{existing[0]} exists; pass --force to overwrite it")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    for path, text in texts.items():
+        atomic_write_text(path, text)
+    click.echo(f"wrote {len(texts)} scenario file(s) to {out_dir}")
+    skipped = len(dataset.scenes) - len(chosen)
+    if skipped:
+        click.echo(f"skipped {skipped} scene(s) without a robot in world coordinates")
+    for message in invalid:
+        click.echo(f"skipped: {message}")
 
 
 @data.command("info")

@@ -60,6 +60,19 @@ def _td3_base() -> Planner:
     return td3_base()
 
 
+def _recorded() -> Planner:
+    from srfm.planners.recorded import RecordedRobotPlanner
+
+    return RecordedRobotPlanner()
+
+
+register_planner(
+    "recorded",
+    _recorded,
+    "replay the scenario's recorded robot ([robot.recording]; `srfm data scenario` writes "
+    "such scenarios); not in the default benchmark",
+    default=False,
+)
 register_planner("td3-srfm", _td3_srfm, "TD3 policy trained with the SRFM deviation penalty")
 register_planner(
     "td3-base", _td3_base, "TD3 policy trained without the deviation penalty (RL_base)"

@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 from srfm.errors import PlannerError
 from srfm.models.robot import RobotConfig, RobotState
 from srfm.models.state import Obstacles
-from srfm.scenarios import WorldBounds
+from srfm.scenarios import RobotRecording, WorldBounds
 
 __all__ = ["Observation", "Planner", "PlannerContext", "check_planner"]
 
@@ -31,6 +31,8 @@ class PlannerContext:
         robot_goal: (2,) goal (m).
         world: world bounds (m).
         obstacles: static walls and pillars.
+        robot_recording: the scenario's recorded robot trajectory (``[robot.recording]``,
+            replayed by the ``recorded`` planner), or None.
     """
 
     scenario: str
@@ -41,6 +43,7 @@ class PlannerContext:
     robot_goal: FloatArray
     world: WorldBounds
     obstacles: Obstacles
+    robot_recording: RobotRecording | None = None
 
 
 @attrs.frozen(kw_only=True, eq=False)

@@ -28,25 +28,34 @@ __all__ = ["PlannerInfo", "available_planners", "make_planner", "register_planne
 
 @attrs.frozen
 class PlannerInfo:
-    """A registered planner: its name, a one-line description and its factory."""
+    """A registered planner: its name, a one-line description, its factory, and whether
+    ``srfm benchmark`` runs it when no planner is named (``default``)."""
 
     name: str
     description: str
     factory: Callable[[], Planner]
+    default: bool = True
 
 
 _REGISTRY: dict[str, PlannerInfo] = {}
 
 
 def register_planner(
-    name: str, factory: Callable[[], Planner], description: str, *, replace: bool = False
+    name: str,
+    factory: Callable[[], Planner],
+    description: str,
+    *,
+    replace: bool = False,
+    default: bool = True,
 ) -> None:
-    """Register ``factory`` (a callable returning a fresh planner) under ``name``."""
+    """Register ``factory`` (a callable returning a fresh planner) under ``name``;
+    ``default=False`` leaves it out of the benchmark's default planner list (for a
+    planner that runs only on some scenarios)."""
     if not name or not name.replace("-", "").replace("_", "").isalnum():
         raise PlannerError(f"planner name must be letters, digits, '-' or '_', got {name!r}")
     if name in _REGISTRY and not replace:
         raise PlannerError(f"planner {name!r} is already registered")
-    _REGISTRY[name] = PlannerInfo(name, description, factory)
+    _REGISTRY[name] = PlannerInfo(name, description, factory, default)
 
 
 def make_planner(name: str) -> Planner:

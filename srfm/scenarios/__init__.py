@@ -23,6 +23,7 @@ from srfm.scenarios._schema import (
     read_scenario_file,
 )
 from srfm.scenarios._setup import EpisodeSetup, episode_setup, next_goal, validate_seed
+from srfm.scenarios._v2 import RobotRecording
 
 __all__ = [
     "BUILTIN_SCENARIOS",
@@ -34,6 +35,7 @@ __all__ = [
     "SCHEMA_VERSION",
     "EpisodeSetup",
     "RandomSpec",
+    "RobotRecording",
     "Scenario",
     "WorldBounds",
     "builtin_scenarios",

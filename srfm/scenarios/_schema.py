@@ -31,6 +31,11 @@ malformed values raise :class:`srfm.errors.ScenarioError` naming the file and ke
                                         # max_accel_mps2, max_angular_accel_radps2,
                                         # goal_radius_m
 
+    [robot.recording]                   # version 2, kind = "fixed": a recorded robot
+    times_s = [0.0, 0.1, ...]           # for the `recorded` planner to replay: times
+    xy = [[2.0, 8.0], [2.03, 8.0], ...] # from 0 and one position each, the first at
+                                        # start (`srfm data scenario` writes these)
+
     [pedestrians]
     starts = [[0.5, 7.4], ...]          # required for kind = "fixed", (N, 2)
     goals = [[8.5, 5.2], ...]           # required for kind = "fixed", (N, 2)
@@ -163,6 +168,7 @@ class Scenario:
     ped_standing: tuple[int, ...] = ()
     regions: Mapping[str, tuple[float, float, float, float]] = attrs.field(factory=dict)
     map_points: FloatArray | None = None
+    robot_recording: _v2.RobotRecording | None = None
 
     def region(self, name: str) -> tuple[float, float, float, float]:
         """The named region (x_min, y_min, x_max, y_max) (m).
@@ -395,6 +401,13 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         if point is not None and not world.contains(float(point[0]), float(point[1])):
             raise r.fail(key, f"must lie inside the world {world}, got {point.tolist()}")
     heading = r.number("heading_rad", minimum=-1e3, maximum=1e3) if r.has("heading_rad") else None
+    recording: _v2.RobotRecording | None = None
+    if r.has("recording"):
+        if not v2:
+            raise r.fail("recording", "needs schema_version = 2")
+        if not fixed or robot_start is None:
+            raise r.fail("recording", "is only allowed with kind = 'fixed'")
+        recording = _v2.read_recording(r, world, robot_start)
     kin = r.string("kinematics", "unicycle")
     if kin not in KINEMATICS:
         raise r.fail("kinematics", f"must be one of {KINEMATICS}, got {kin!r}")
@@ -548,6 +561,7 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         ped_standing=() if layout is None else layout.standing,
         regions=regions,
         map_points=map_points,
+        robot_recording=recording,
     )
 
 

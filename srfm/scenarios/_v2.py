@@ -361,3 +361,71 @@ def _grown(world: WorldBounds, margin: float) -> WorldBounds:
         y_min=world.y_min - margin,
         y_max=world.y_max + margin,
     )
+
+
+MAX_RECORDING_SAMPLES: Final = 1_000_000
+# How far the recording's first position may be from robot.start (m): a recording
+# that starts elsewhere would make the replay jump at its first step.
+RECORDING_START_TOLERANCE_M: Final = 1e-6
+
+
+@attrs.frozen(eq=False)
+class RobotRecording:
+    """A recorded robot trajectory (``[robot.recording]``), replayed by the ``recorded``
+    planner (:class:`srfm.planners.recorded.RecordedRobotPlanner`).
+
+    Attributes:
+        times_s: (n,) times (s) from 0, strictly increasing, n >= 2.
+        xy: (n, 2) positions (m), the first at the robot's start.
+    """
+
+    times_s: FloatArray
+    xy: FloatArray
+
+
+def read_recording(robot: _Reader, world: WorldBounds, start: FloatArray) -> RobotRecording:
+    """``[robot.recording]``: ``times_s`` (s, from 0, strictly increasing) and ``xy``
+    (one [x, y] per time, inside the world, the first at ``robot.start``)."""
+    rec = robot.table("recording")
+    times = rec.raw("times_s") if rec.has("times_s") else None
+    if not isinstance(times, list) or not 2 <= len(times) <= MAX_RECORDING_SAMPLES:
+        raise rec.fail(
+            "times_s", f"must be a list of 2 to {MAX_RECORDING_SAMPLES} times (s), got {times!r}"
+        )
+    t = np.zeros(len(times))
+    for k, item in enumerate(times):
+        if isinstance(item, bool) or not isinstance(item, int | float):
+            raise rec.fail(f"times_s[{k}]", f"must be a number of seconds, got {item!r}")
+        if not 0.0 <= float(item) <= 1e7:  # also false for NaN
+            raise rec.fail(f"times_s[{k}]", f"must be in [0, 1e7] s, got {item!r}")
+        t[k] = float(item)
+        if k == 0 and t[0] != 0.0:
+            raise rec.fail("times_s[0]", f"must be 0 (the episode's start), got {item!r}")
+        if k > 0 and t[k] <= t[k - 1]:
+            raise rec.fail(
+                f"times_s[{k}]", f"must be later than times_s[{k - 1}] = {t[k - 1]!r}, got {item!r}"
+            )
+    points = rec.raw("xy") if rec.has("xy") else None
+    if not isinstance(points, list) or len(points) != len(times):
+        got = len(points) if isinstance(points, list) else repr(points)
+        raise rec.fail("xy", f"needs one [x, y] per time ({len(times)}), got {got}")
+    xy = np.zeros((len(points), 2))
+    for k, row in enumerate(points):
+        ok = isinstance(row, list) and len(row) == 2
+        ok = ok and all(not isinstance(v, bool) and isinstance(v, int | float) for v in row)
+        if not ok or not all(math.isfinite(float(v)) for v in row):
+            raise rec.fail(f"xy[{k}]", f"must be [x, y] with finite numbers, got {row!r}")
+        if not world.contains(float(row[0]), float(row[1])):
+            raise rec.fail(f"xy[{k}]", f"must lie inside the world {world}, got {row!r}")
+        xy[k] = row
+    rec.finish()
+    gap = float(np.hypot(*(xy[0] - start)))
+    if gap > RECORDING_START_TOLERANCE_M:
+        raise rec.fail(
+            "xy[0]",
+            f"must be robot.start {start.tolist()} (the replay starts there), got "
+            f"{xy[0].tolist()}, {gap:.3g} m away",
+        )
+    t.setflags(write=False)
+    xy.setflags(write=False)
+    return RobotRecording(t, xy)

@@ -211,6 +211,7 @@ class TwinSimulator:
             robot_goal=self.setup.robot_goal.copy(),
             world=self.scenario.world,
             obstacles=self._obstacles,
+            robot_recording=self.scenario.robot_recording,
         )
 
     def steering_goal(self) -> FloatArray:

@@ -142,7 +142,10 @@ def _split(values: tuple[str, ...]) -> list[str]:
     default=None,
     metavar="NAME",
     help="A named set of built-in scenarios instead of --scenario: paper (the five "
-    "evaluation scenarios, the default) or large (crowds of 300-400 pedestrians).",
+    "evaluation scenarios, the default), francis (17 scenarios after Francis et al. "
+    "2023: walls, doors, corners, rooms), navwareset (the NavWareSet room's five "
+    "layouts), all (paper, francis and navwareset) or large (crowds of 300-400 "
+    "pedestrians).",
 )
 @click.option(
     "--planner",
@@ -150,7 +153,8 @@ def _split(values: tuple[str, ...]) -> list[str]:
     "planners",
     multiple=True,
     metavar="NAME",
-    help="Planner name; repeat or separate with commas. Default: every registered planner.",
+    help="Planner name; repeat or separate with commas. Default: every registered "
+    "planner except `recorded` (which needs a scenario with a robot recording).",
 )
 @click.option(
     "--seeds",

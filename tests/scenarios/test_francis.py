@@ -1,8 +1,8 @@
 """Checks of every scenario of the library (issue 17): the Francis scenarios and the
-NavWareSet room. Over 3 seeds (the issue's 20 are checked by tools/check_scenarios.py,
-too slow for every test run): the counterfactual pedestrians reach their goals and never
-stand in a wall, nobody overlaps at the start, DWA reaches the robot goal. (A_r = 0
-keeping the twins bit-identical is checked for every built-in scenario in
+NavWareSet room. Over the issue's 20 seeds (about 25 CPU-s for all 22 scenarios): the
+counterfactual pedestrians reach their goals (>= 95 %) and never stand in a wall,
+nobody overlaps at the start, DWA reaches the robot goal in >= 90 % of the seeds.
+(A_r = 0 keeping the twins bit-identical is checked for every built-in scenario in
 tests/sim/test_simulator.py.)"""
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ from srfm.scenarios.suites import SUITES
 from srfm.sim.checks import check_scenario, wall_distance
 from tests.scenarios.test_scenarios import write_scenario
 
-SEEDS = range(3)
+SEEDS = range(20)
 LIBRARY = (*FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS)
 
 
@@ -36,7 +36,7 @@ def test_library_scenario(name: str) -> None:
     assert check.overlapping_starts == 0
     assert check.in_wall_samples == 0
     assert check.arrival_rate >= 0.95, check
-    assert check.robot_goals == len(SEEDS), check
+    assert check.robot_goals >= 0.9 * len(SEEDS), check
 
 
 def test_library_size_and_suites() -> None:

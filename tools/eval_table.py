@@ -1,8 +1,11 @@
 """The periodic evaluations of training runs as a Markdown table (docs/rl.md): per run
 and evaluation step, the success rate, the mean largest twin separation and the success
-per evaluation scenario (seeds 10000-10009, never the benchmark's 0-99).
+per evaluation scenario (seeds 10000-, never the benchmark's 0-99).
 
-    python tools/eval_table.py RUN_DIR_OR_EVAL_JSONL ...
+    python tools/eval_table.py [--every STEPS] RUN_DIR_OR_EVAL_JSONL ...
+
+``--every 25000`` keeps the evaluations at multiples of 25,000 actions (stage 2
+evaluates every 5,000).
 
 Each argument is a run folder of ``srfm train`` (its ``eval.jsonl``) or an
 ``eval.jsonl`` file itself (tools/policies/evals/ keeps those of the shipped runs).
@@ -24,8 +27,13 @@ def rows(path: Path) -> list[dict[str, object]]:
     return sorted(found, key=lambda row: int(row["steps"]))
 
 
-def main(paths: list[str]) -> int:
-    if not paths:
+def main(args: list[str]) -> int:
+    every = 1
+    if args[:1] == ["--every"] and len(args) >= 2:
+        every = int(args[1])
+        args = args[2:]
+    paths = args
+    if not paths or every < 1:
         print(__doc__, file=sys.stderr)
         return 2
     head = ["run", "step", "k2", "success", "deviation (m)", *SCENARIOS]
@@ -37,6 +45,8 @@ def main(paths: list[str]) -> int:
         if path.is_dir():
             label = path.name
         for row in rows(path):
+            if int(row["steps"]) % every:
+                continue
             scenarios = row["per_scenario"]
             assert isinstance(scenarios, dict)
             mark = "" if row.get("eligible", True) else "°"

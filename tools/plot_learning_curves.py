@@ -1,6 +1,6 @@
 """Learning curves of the shipped recipe: success rate and deviation against training
 steps, one line per training seed, from each run's ``eval.jsonl`` (the periodic
-evaluation on the five evaluation scenarios, seeds 10000-10009).
+evaluation on the five evaluation scenarios, seeds 10000-10019 in stage 2).
 
     python tools/plot_learning_curves.py runs docs/rl_learning_curves.png
 
@@ -63,7 +63,7 @@ def main(runs_dir: str, out: str) -> int:
         ax.set_xlabel("training actions (thousands; an action is held 4 simulation steps)")
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=7, loc="lower right")
-    fig.suptitle("Periodic evaluation: five evaluation scenarios × seeds 10000-10009")
+    fig.suptitle("Periodic evaluation: five evaluation scenarios × seeds 10000-10019")
     fig.savefig(out, dpi=120)
     print(f"wrote {out} ({found} runs)")
     return 0

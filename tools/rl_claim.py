@@ -6,7 +6,7 @@ does it cost in time and path length? (docs/rl.md, "The claim")
 
 RESULTS_DIR is an ``srfm benchmark`` folder over seeds 0-99 with the shipped
 ``td3-srfm`` and ``td3-base``, the classical planners, and the per-training-seed
-policies ``tools.seed_planners:{srfm,base}_seed{1,2,3}``. Printed, in Markdown:
+policies ``tools.seed_planners:{srfm,base}_seed{11,12,13}``. Printed, in Markdown:
 
 1. outcomes of every planner and scenario (success, collisions, out of bounds, n);
 2. paired comparisons of ``td3-srfm`` with every other planner, per scenario, over the

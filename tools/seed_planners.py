@@ -2,7 +2,7 @@
 ``srfm benchmark`` (docs/rl.md, "The claim over training seeds"):
 
     srfm benchmark -p td3-srfm,td3-base,dwa,vo,orca,social-force,straight \\
-        -p tools.seed_planners:srfm_seed1,tools.seed_planners:base_seed1,... --out DIR
+        -p tools.seed_planners:srfm_seed11,tools.seed_planners:base_seed11,... --out DIR
 
 Run from the repository root with it on the import path (PYTHONPATH=.): the module is
 imported by name in every worker. Each factory loads the NumPy policy file
@@ -24,36 +24,6 @@ def _planner(variant: str, seed: int) -> TD3Planner:
     return TD3Planner(POLICIES / f"td3_{variant}_seed{seed}.json", f"td3-{variant}-seed{seed}")
 
 
-def srfm_seed1() -> TD3Planner:
-    """SRFM-aware, training seed 1."""
-    return _planner("srfm", 1)
-
-
-def srfm_seed2() -> TD3Planner:
-    """SRFM-aware, training seed 2."""
-    return _planner("srfm", 2)
-
-
-def srfm_seed3() -> TD3Planner:
-    """SRFM-aware, training seed 3."""
-    return _planner("srfm", 3)
-
-
-def base_seed1() -> TD3Planner:
-    """RL_base, training seed 1."""
-    return _planner("base", 1)
-
-
-def base_seed2() -> TD3Planner:
-    """RL_base, training seed 2."""
-    return _planner("base", 2)
-
-
-def base_seed3() -> TD3Planner:
-    """RL_base, training seed 3."""
-    return _planner("base", 3)
-
-
 def _stage1(seed: int) -> TD3Planner:
     return TD3Planner(POLICIES / "stage1" / f"td3_base_seed{seed}.json", f"stage1-seed{seed}")
 
@@ -71,3 +41,33 @@ def stage1_seed2() -> TD3Planner:
 def stage1_seed3() -> TD3Planner:
     """Stage 1 (pre-training, RL_base), training seed 3."""
     return _stage1(3)
+
+
+def srfm_seed11() -> TD3Planner:
+    """SRFM-aware, stage 2, training seed 11."""
+    return _planner("srfm", 11)
+
+
+def srfm_seed12() -> TD3Planner:
+    """SRFM-aware, stage 2, training seed 12."""
+    return _planner("srfm", 12)
+
+
+def srfm_seed13() -> TD3Planner:
+    """SRFM-aware, stage 2, training seed 13."""
+    return _planner("srfm", 13)
+
+
+def base_seed11() -> TD3Planner:
+    """RL_base, stage 2, training seed 11."""
+    return _planner("base", 11)
+
+
+def base_seed12() -> TD3Planner:
+    """RL_base, stage 2, training seed 12."""
+    return _planner("base", 12)
+
+
+def base_seed13() -> TD3Planner:
+    """RL_base, stage 2, training seed 13."""
+    return _planner("base", 13)

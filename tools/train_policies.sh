@@ -7,8 +7,9 @@
 # 4 simulation steps (action repeat 4: 0.27 s), with the paper's reward plus the
 # potential-based progress term (k_progress = 10 in stage 1, 5 in stage 2). Training
 # never sees the benchmark's seeds 0-99 nor the evaluation scenarios' layouts; every
-# run is evaluated every 25,000 actions on the five evaluation scenarios with seeds
-# 10000-10009 and keeps its best checkpoint (best.zip; for the SRFM-aware runs only evaluations at the final k2).
+# run is evaluated on the five evaluation scenarios (stage 1: every 25,000 actions,
+# seeds 10000-10009; stage 2: every 5,000 actions, seeds 10000-10019) and keeps its
+# best checkpoint (best.zip; for the SRFM-aware runs only evaluations at the final k2).
 #
 # Stage 1, pre-training: three RL_base runs (k2 = 0, success and timeout 25, training
 # seeds 1-3), 300,000 actions each. The best.zip of the seed whose best evaluation
@@ -16,12 +17,13 @@
 # tools/select_policy.py) is the starting point of stage 2 ($RUNS/stage1_base.zip).
 #
 # Stage 2, the two variants: six runs continue from that checkpoint (an empty replay
-# buffer) to 300,000 actions with success and timeout 50 (collision 100) and the
-# progress term at half its stage-1 weight (k_progress = 5: with 10 and gamma = 0.99 the
-# term pays a robot that stands still exactly what k1 = 0.1 charges it, so waiting in
-# front of a crowd costs nothing; with 5 it costs 0.05 d/d0 per step): RL_base
-# (k2 = 0) and SRFM-aware (k2 = 0 until 125,000 actions, then rising linearly to 2 by
-# 150,000), each with training seeds 1-3. Both variants start from the same network
+# buffer) to 225,000 actions with success and timeout 100 (collision 100: a timeout
+# costs as much as a collision) and the progress term at half its stage-1 weight
+# (k_progress = 5: with 10 and gamma = 0.99 the term pays a robot that stands still
+# exactly what k1 = 0.1 charges it, so waiting in front of a crowd costs nothing; with
+# 5 it costs 0.05 d/d0 per step), evaluated every 5,000 actions on 20 seeds per
+# scenario (10000-10019): RL_base (k2 = 0) and SRFM-aware (k2 = 0 until 125,000
+# actions, then rising linearly to 2 by 150,000), each with training seeds 11-13. Both variants start from the same network
 # and differ only in k2: the stage-2 RL_base runs are the SRFM-aware runs' control in
 # the claim's tests (docs/rl.md). The shipped td3-base is the stage-1 checkpoint itself
 # (it ranked above every stage-2 RL_base run in the evaluations); the shipped td3-srfm
@@ -49,7 +51,8 @@ EXPORT_ONLY=${EXPORT_ONLY:-0}
 RESUME=${RESUME:-0}
 STAGE=${STAGE:-1}
 STEPS=${STEPS:-300000}
-SEEDS=${SEEDS:-"1 2 3"}
+SEEDS=${SEEDS:-"1 2 3"}  # stage 1
+STAGE2_SEEDS=${STAGE2_SEEDS:-"11 12 13"}
 SRFM=${SRFM:-.venv/bin/srfm}
 PYTHON=${PYTHON:-.venv/bin/python}
 export NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1
@@ -69,7 +72,7 @@ evaluate() {
     # learning curves (docs/rl.md).
     mkdir -p tools/policies/evals
     for name in td3-base td3-srfm; do
-        for seed in $SEEDS; do
+        for seed in $STAGE2_SEEDS; do
             "$SRFM" export-policy "$RUNS/$name-seed$seed/best.zip" \
                 "tools/policies/${name/-/_}_seed$seed" \
                 --note "$name, training seed $seed: best.zip of stage 2 of tools/train_policies.sh"
@@ -88,8 +91,10 @@ evaluate() {
         cp "$RUNS/stage1-seed$seed/eval.jsonl" "tools/policies/evals/stage1-seed$seed.jsonl"
     done
     seeds=""
-    for seed in $SEEDS; do
+    for seed in $STAGE2_SEEDS; do
         seeds+=",tools.seed_planners:srfm_seed$seed,tools.seed_planners:base_seed$seed"
+    done
+    for seed in $SEEDS; do
         seeds+=",tools.seed_planners:stage1_seed$seed"
     done
     PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}" "$SRFM" benchmark -p "td3-srfm,td3-base,dwa,vo,orca,social-force,straight$seeds" \
@@ -102,9 +107,14 @@ ship() {
     # stage-1 seed), td3-srfm the best stage-2 SRFM-aware seed (select_policy.py). Each
     # is exported from its run folder, so that its policy file records that run's
     # configuration, command and evaluations.
-    base=$("$PYTHON" tools/select_policy.py "$RUNS"/stage1-seed*/)
-    srfm=$("$PYTHON" tools/select_policy.py "$RUNS"/td3-srfm-seed*/)
-    for pair in "td3_base:$base" "td3_srfm:$srfm"; do
+    local pairs=()
+    if compgen -G "$RUNS/stage1-seed*/" > /dev/null; then
+        pairs+=("td3_base:$("$PYTHON" tools/select_policy.py "$RUNS"/stage1-seed*/)")
+    else
+        echo "no $RUNS/stage1-seed*: keeping the shipped td3_base" >&2
+    fi
+    pairs+=("td3_srfm:$("$PYTHON" tools/select_policy.py "$RUNS"/td3-srfm-seed*/)")
+    for pair in "${pairs[@]}"; do
         name=${pair%%:*}
         cp "${pair#*:}" "srfm/policies/$name.zip"
         "$SRFM" export-policy "${pair#*:}" "srfm/policies/$name" --eval-seeds 10 \
@@ -150,9 +160,9 @@ if [ "$STAGE" = 1 ]; then
     echo "stage 1: $best is the start of stage 2"
 fi
 
-stage2=(--success-reward 50 --timeout-penalty 50 --k-progress 5 --checkpoint-every 25000
-    "${common[@]}")
-for seed in $SEEDS; do
+stage2=(--success-reward 100 --timeout-penalty 100 --k-progress 5 --checkpoint-every 25000
+    "${common[@]}" --steps 225000 --eval-every 5000 --eval-seeds 20)
+for seed in $STAGE2_SEEDS; do
     # a fresh stage-2 run starts from stage 1; RESUME=1 continues a started one instead
     from=(--resume "$RUNS/stage1_base.zip")
     if [ "$RESUME" = 1 ] && [ -f "$RUNS/td3-base-seed$seed/latest.zip" ]; then from=(); fi

@@ -33,12 +33,14 @@ def read(run: Path) -> list[dict[str, float]]:
 def main(runs_dir: str, out: str) -> int:
     fig, axes = plt.subplots(1, 2, figsize=(11, 4), constrained_layout=True)
     found = 0
+    episodes: set[int] = set()
     for run in sorted(Path(runs_dir).iterdir()):
         match = re.fullmatch(r"(td3-srfm|td3-base)-seed(\d+)", run.name)
         if match is None or not (run / "eval.jsonl").is_file():
             continue
         variant, seed = match.group(1), int(match.group(2))
         rows = read(run)
+        episodes.update(int(row["episodes"]) for row in rows)
         steps = [row["steps"] / 1000 for row in rows]
         style = STYLES[(seed - 1) % len(STYLES)]
         label = f"{VARIANTS[variant]}, seed {seed}"
@@ -56,7 +58,8 @@ def main(runs_dir: str, out: str) -> int:
     if not found:
         print(f"no runs <variant>-seed<k> with eval.jsonl in {runs_dir}", file=sys.stderr)
         return 1
-    axes[0].set_ylabel("success rate (50 episodes)")
+    counts = " or ".join(str(n) for n in sorted(episodes))
+    axes[0].set_ylabel(f"success rate ({counts} episodes per evaluation)")
     axes[0].set_ylim(-0.02, 1.02)
     axes[1].set_ylabel("mean largest twin separation (m)")
     for ax in axes:

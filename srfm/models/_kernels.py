@@ -765,15 +765,10 @@ def _twin_arrivals(
     return count + mark_arrivals(c_pos, c_goal, goal_radius, c_arrived, c_new)
 
 
-@njit(cache=True)
-def plain_bool(flag: int) -> bool:
-    """``flag != 0`` typed as a plain bool. numba types a constant argument such as ``True``
-    as a literal and compiles the callee once per literal value (a literal passed
-    straight through stays one); the robot switch of the twin step, computed by this
-    comparison, lets its two ``step_serial`` calls share one compiled specialisation
-    (several seconds of compilation each on a first run).
-    """
-    return flag != 0
+# Constant arguments of kernel-to-kernel calls are written np.bool_(True), np.int64(0):
+# numba types a bare constant such as True or 0 as a literal and compiles the callee once
+# per literal value (a literal passed straight through stays one), seconds of
+# compilation each for the crowd step; np.bool_ / np.int64 give it the plain type.
 
 
 @njit(cache=True)
@@ -811,7 +806,7 @@ def twin_step_serial(
         vmax,
         params,
         robot,
-        plain_bool(1),
+        np.bool_(True),
         segments,
         circles,
         dt,
@@ -827,7 +822,7 @@ def twin_step_serial(
         vmax,
         params,
         robot,
-        plain_bool(0),
+        np.bool_(False),
         segments,
         circles,
         dt,
@@ -873,7 +868,7 @@ def twin_step_exact(
         vmax,
         params,
         robot,
-        plain_bool(1),
+        np.bool_(True),
         segments,
         circles,
         dt,
@@ -889,7 +884,7 @@ def twin_step_exact(
         vmax,
         params,
         robot,
-        plain_bool(0),
+        np.bool_(False),
         segments,
         circles,
         dt,
@@ -935,7 +930,7 @@ def twin_step_parallel(
         vmax,
         params,
         robot,
-        plain_bool(1),
+        np.bool_(True),
         segments,
         circles,
         dt,
@@ -951,7 +946,7 @@ def twin_step_parallel(
         vmax,
         params,
         robot,
-        plain_bool(0),
+        np.bool_(False),
         segments,
         circles,
         dt,

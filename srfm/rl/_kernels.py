@@ -39,7 +39,6 @@ from srfm.models._kernels import (
     _agent_forces,
     exact_cut,
     mark_arrivals,
-    plain_bool,
     step_exact,
     twin_step_exact,
 )
@@ -359,7 +358,7 @@ def env_step(
             agent[AGENT_VMAX],
             params,
             body,
-            plain_bool(1),
+            np.bool_(True),
             segments,
             circles,
             dt,

@@ -26,9 +26,11 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import contextlib
 import datetime
 import json
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -64,6 +66,16 @@ def main() -> None:
     )
     parser.add_argument(
         "--warm-up-only", action="store_true", help="only the warm-up (phase 1)"
+    )
+    parser.add_argument(
+        "--as-benchmark",
+        action="store_true",
+        help="phase 1 as the command runs it with workers (_compile_in_parent: the shared "
+        "kernels, then the planners split with a forked helper); prints its CPU time in "
+        "this process and in the helper, and its wall time",
+    )
+    parser.add_argument(
+        "--passes", action="store_true", help="also the CPU time per compiler pass"
     )
     parser.add_argument(
         "--signatures", action="store_true", help="list the signatures of every compilation"
@@ -121,15 +133,47 @@ def main() -> None:
     (out / _runner.MANIFEST).write_text(json.dumps(manifest, indent=2, sort_keys=True) + "\n")
     tasks = _runner._pending_tasks(out, request, writer, True, [])
     phases: list[tuple[str, float]] = []
-    with ev.install_listener("numba:compile", Timer()):
-        first: dict[str, Any] = {}
-        for task in tasks:
-            first.setdefault(task.planner, task)
-        for name, task in first.items():
-            phase[0] = f"warm-up {name}"
+    pass_time: dict[str, float] = defaultdict(float)
+    pass_stack: list[list[Any]] = []  # [pass name, start, time of nested passes]
+
+    class PassTimer(ev.Listener):  # type: ignore[misc]
+        def on_start(self, event: ev.Event) -> None:
+            name = event.data["name"].split(" [")[0]
+            pass_stack.append([name, time.process_time(), 0.0])
+
+        def on_end(self, event: ev.Event) -> None:
+            name, start, nested = pass_stack.pop()
+            spent = time.process_time() - start
+            pass_time[name] += spent - nested
+            if pass_stack:
+                pass_stack[-1][2] += spent
+
+    with contextlib.ExitStack() as listeners:
+        listeners.enter_context(ev.install_listener("numba:compile", Timer()))
+        if args.passes:
+            listeners.enter_context(ev.install_listener("numba:run_pass", PassTimer()))
+        if args.as_benchmark:
+            phase[0] = "_compile_in_parent (this process)"
             start = time.process_time()
-            _runner._warm_up(task)
+            wall = time.perf_counter()
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            _runner._compile_in_parent(tasks)
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
             phases.append((phase[0], time.process_time() - start))
+            helper = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+            print(
+                f"_compile_in_parent: wall {time.perf_counter() - wall:.1f} s, "
+                f"helper process {helper:.1f} CPU-s (its compilations are not in the tables)"
+            )
+        else:
+            first: dict[str, Any] = {}
+            for task in tasks:
+                first.setdefault(task.planner, task)
+            for name, task in first.items():
+                phase[0] = f"warm-up {name}"
+                start = time.process_time()
+                _runner._warm_up(task)
+                phases.append((phase[0], time.process_time() - start))
         if not args.warm_up_only:
             phase[0] = "episodes (each worker)"
             start = time.process_time()
@@ -152,6 +196,11 @@ def main() -> None:
     print("|---|---:|---:|---:|")
     for name in sorted(own, key=own.__getitem__, reverse=True)[: args.top]:
         print(f"| `{name}` | {count[name]} | {own[name]:.2f} | {inclusive[name]:.2f} |")
+    if args.passes:
+        print("\n| compiler pass | self CPU-s |")
+        print("|---|---:|")
+        for name in sorted(pass_time, key=pass_time.__getitem__, reverse=True)[:15]:
+            print(f"| {name} | {pass_time[name]:.2f} |")
     if args.signatures:
         for name, sigs in signatures.items():
             for sig in sigs:

@@ -64,9 +64,7 @@ def main() -> None:
         default=None,
         help="use this NUMBA_CACHE_DIR as it is (default: a new, empty one)",
     )
-    parser.add_argument(
-        "--warm-up-only", action="store_true", help="only the warm-up (phase 1)"
-    )
+    parser.add_argument("--warm-up-only", action="store_true", help="only the warm-up (phase 1)")
     parser.add_argument(
         "--as-benchmark",
         action="store_true",
@@ -74,9 +72,7 @@ def main() -> None:
         "kernels, then the planners split with a forked helper); prints its CPU time in "
         "this process and in the helper, and its wall time",
     )
-    parser.add_argument(
-        "--passes", action="store_true", help="also the CPU time per compiler pass"
-    )
+    parser.add_argument("--passes", action="store_true", help="also the CPU time per compiler pass")
     parser.add_argument(
         "--signatures", action="store_true", help="list the signatures of every compilation"
     )
@@ -192,7 +188,7 @@ def main() -> None:
     total = sum(s for _, s in phases)
     print(f"| all | {total:.1f} | {sum(phase_compile.values()):.1f} |")
 
-    print(f"\n| kernel (dispatcher) | compilations | self CPU-s | inclusive CPU-s |")
+    print("\n| kernel (dispatcher) | compilations | self CPU-s | inclusive CPU-s |")
     print("|---|---:|---:|---:|")
     for name in sorted(own, key=own.__getitem__, reverse=True)[: args.top]:
         print(f"| `{name}` | {count[name]} | {own[name]:.2f} | {inclusive[name]:.2f} |")

@@ -389,10 +389,11 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
     On two cores at once: the kernels every episode needs (crowd, robot, metrics) are
     compiled first, with the ``straight`` planner, which adds none of its own; then a
     forked helper process warms up every second remaining planner class (planners of
-    one class share their kernels) while this process warms up the others, and once the helper is done this process warms up the
-    helper's planners too, which now loads their kernels from numba's on-disk cache
-    instead of compiling them. With an empty cache that is about half the planners'
-    compilation off this process's wall time. Should the helper fail or the cache not
+    one class share their kernels) while this process warms up the others, and once
+    the helper is done this process warms up the helper's planners too, which now
+    loads their kernels from numba's on-disk cache instead of compiling them. With an
+    empty cache that is about half the planners' compilation off this process's wall
+    time. Should the helper fail or the cache not
     be writable, this process compiles those planners itself: slower, never
     different.
     """

@@ -18,6 +18,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from srfm.models._primitives import ZERO
+
 __all__ = ["coupling_bound_sq", "frechet_sq", "frechet_sq_batch", "hausdorff_lower_sq"]
 
 
@@ -47,9 +49,9 @@ def coupling_bound_sq(p: np.ndarray, q: np.ndarray) -> float:
         d = _dist_sq(p, i, q, j)
         if d > proportional:
             proportional = d
-    i = np.int64(0)  # not literals: see srfm.models._kernels on literal arguments
-    j = np.int64(0)
-    greedy = _dist_sq(p, np.int64(0), q, np.int64(0))
+    i = ZERO  # not literals (srfm.models._primitives.ZERO)
+    j = ZERO
+    greedy = _dist_sq(p, ZERO, q, ZERO)
     while i < n - 1 or j < m - 1:
         if i == n - 1:
             j += 1
@@ -173,7 +175,7 @@ def frechet_sq(p: np.ndarray, q: np.ndarray, prev: np.ndarray, cur: np.ndarray) 
     """
     n = p.shape[0]
     m = q.shape[0]
-    lower = max(_dist_sq(p, np.int64(0), q, np.int64(0)), _dist_sq(p, n - 1, q, m - 1))
+    lower = max(_dist_sq(p, ZERO, q, ZERO), _dist_sq(p, n - 1, q, m - 1))
     bound = coupling_bound_sq(p, q)
     if bound <= lower:  # the answer lies in [lower, bound]
         return bound
@@ -223,14 +225,14 @@ def _band_dp(
     hi = -1
     running = lower
     for j in range(m):
-        d = _dist_sq(p, np.int64(0), q, j)
+        d = _dist_sq(p, ZERO, q, j)
         if d > running:
             running = d
         if running > bound:
             break
         prev[j] = running
         hi = j
-    lo = np.int64(0)
+    lo = ZERO
     flat = m  # prev[j] == flat_value for flat <= j <= hi (implicit); m: no flat part
     flat_value = inf
     if hi == m - 1:

@@ -36,6 +36,8 @@ from numba.extending import intrinsic
 from srfm.models._primitives import (
     EPS,
     EXP_ARG_MAX,
+    FALSE,
+    TRUE,
     capped_exp,
     closest_on_segment,
     desired_velocity,
@@ -765,12 +767,6 @@ def _twin_arrivals(
     return count + mark_arrivals(c_pos, c_goal, goal_radius, c_arrived, c_new)
 
 
-# Constant arguments of kernel-to-kernel calls are written np.bool_(True), np.int64(0):
-# numba types a bare constant such as True or 0 as a literal and compiles the callee once
-# per literal value (a literal passed straight through stays one), seconds of
-# compilation each for the crowd step; np.bool_ / np.int64 give it the plain type.
-
-
 @njit(cache=True)
 def twin_step_serial(
     f_pos: np.ndarray,
@@ -806,7 +802,7 @@ def twin_step_serial(
         vmax,
         params,
         robot,
-        np.bool_(True),
+        TRUE,
         segments,
         circles,
         dt,
@@ -822,7 +818,7 @@ def twin_step_serial(
         vmax,
         params,
         robot,
-        np.bool_(False),
+        FALSE,
         segments,
         circles,
         dt,
@@ -868,7 +864,7 @@ def twin_step_exact(
         vmax,
         params,
         robot,
-        np.bool_(True),
+        TRUE,
         segments,
         circles,
         dt,
@@ -884,7 +880,7 @@ def twin_step_exact(
         vmax,
         params,
         robot,
-        np.bool_(False),
+        FALSE,
         segments,
         circles,
         dt,
@@ -930,7 +926,7 @@ def twin_step_parallel(
         vmax,
         params,
         robot,
-        np.bool_(True),
+        TRUE,
         segments,
         circles,
         dt,
@@ -946,7 +942,7 @@ def twin_step_parallel(
         vmax,
         params,
         robot,
-        np.bool_(False),
+        FALSE,
         segments,
         circles,
         dt,

@@ -42,6 +42,7 @@ from srfm.models._kernels import (
     step_exact,
     twin_step_exact,
 )
+from srfm.models._primitives import TRUE
 from srfm.models._robot_kernels import (
     EVENT_GOAL,
     EVENT_NONE,
@@ -358,7 +359,7 @@ def env_step(
             agent[AGENT_VMAX],
             params,
             body,
-            np.bool_(True),
+            TRUE,
             segments,
             circles,
             dt,

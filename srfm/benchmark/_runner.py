@@ -16,6 +16,7 @@ folder, or one srfm made for a benchmark (unless ``force``).
 from __future__ import annotations
 
 import collections
+import contextlib
 import ctypes
 import ctypes.util
 import json
@@ -353,27 +354,48 @@ def one_thread() -> None:
     numba.set_num_threads(1)
 
 
-def _warm_up(task: _Task) -> None:
+def _warm_up(task: _Task, *, metrics: bool = True) -> EpisodeRecord | None:
     """One two-step episode of ``task``'s planner on its scenario, with its parameters,
-    and its metrics: compiles (or loads from numba's cache) every kernel such an episode
-    calls. Nothing is written. An error is left for the worker to report in its own
-    words."""
+    and (``metrics``) its metrics: compiles (or loads from numba's cache) every kernel
+    such an episode calls. Nothing is written. Returns the record (None on an error,
+    which is left for the worker to report in its own words)."""
     from srfm.errors import SrfmError
     from srfm.sim.episode import run_episode
 
     short = attrs.evolve(task.scenario, horizon_steps=min(2, task.scenario.horizon_steps))
     try:
         record = run_episode(short, task.seeds[0], build_planner(task.planner), task.params)
-        episode_metrics(record)
+        if metrics:
+            episode_metrics(record)
     except SrfmError:
-        return
+        return None
+    return record
 
 
-def _warm_up_all(tasks: Sequence[_Task]) -> None:
-    """:func:`_warm_up` of each task in turn (the helper process of
-    :func:`_compile_in_parent`)."""
-    for task in tasks:
-        _warm_up(task)
+def _warm_up_shared(groups: Sequence[Sequence[_Task]], counter: Any) -> None:
+    """Warm up (without metrics) the planner groups whose index this process draws from
+    ``counter`` (a shared ``multiprocessing.Value``), until none is left."""
+    while True:
+        with counter.get_lock():
+            k = counter.value
+            counter.value += 1
+        if k >= len(groups):
+            return
+        for task in groups[k]:
+            _warm_up(task, metrics=False)
+
+
+def _warm_up_helper(
+    record: EpisodeRecord | None, groups: Sequence[Sequence[_Task]], counter: Any
+) -> None:
+    """The helper process of :func:`_compile_in_parent`: the metric kernels first, then
+    planner groups drawn from ``counter``."""
+    if record is not None:
+        from srfm.errors import SrfmError
+
+        with contextlib.suppress(SrfmError):
+            episode_metrics(record)
+    _warm_up_shared(groups, counter)
 
 
 def _compile_in_parent(tasks: Sequence[_Task]) -> None:
@@ -386,15 +408,16 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
     much as the whole set. Only the kernels of the requested planners are compiled.
     Nothing is written but numba's cache.
 
-    On two cores at once: the kernels every episode needs (crowd, robot, metrics) are
-    compiled first, with the ``straight`` planner, which adds none of its own; then a
-    forked helper process warms up every second remaining planner class (planners of
-    one class share their kernels) while this process warms up the others, and once
-    the helper is done this process warms up the helper's planners too, which now
-    loads their kernels from numba's on-disk cache instead of compiling them. With an
-    empty cache that is about half the planners' compilation off this process's wall
-    time. Should the helper fail or the cache not
-    be writable, this process compiles those planners itself: slower, never
+    On two cores at once: the crowd and robot kernels, which every episode needs, are
+    compiled first, with a two-step episode of the ``straight`` planner (which adds no
+    kernel of its own). Then a forked helper process compiles the metric kernels on
+    that episode's record while this process starts on the planners; both take the
+    planners' classes (planners of one class, such as td3-base and td3-srfm, share their
+    kernels) one at a time from a shared counter until none is left. Once the helper is
+    done, this process warms up every planner with its metrics, which loads what the
+    helper compiled from numba's on-disk cache. With an empty cache that takes the
+    metrics and about half the planners off this process's wall time. Should the helper
+    fail or nothing be cached, this process compiles it all itself: slower, never
     different.
     """
     first: dict[str, _Task] = {}
@@ -402,29 +425,26 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
         first.setdefault(task.planner, task)
     if not first:
         return
-    any_task = next(iter(first.values()))
-    _warm_up(attrs.evolve(any_task, planner="straight"))  # the shared kernels
-    # Planners of one class call the same kernels (td3-base and td3-srfm differ only
-    # in their weights): one process warms up all of them.
+    straight = attrs.evolve(next(iter(first.values())), planner="straight")
+    record = _warm_up(straight, metrics=False)  # the crowd and robot kernels
     groups: dict[type, list[_Task]] = {}
     for name, task in first.items():
         if name != "straight":
             groups.setdefault(type(build_planner(name)), []).append(task)
     ordered = list(groups.values())
-    mine = [t for group in ordered[0::2] for t in group]
-    theirs = [t for group in ordered[1::2] for t in group]
-    helper = None
-    if theirs:
-        helper = multiprocessing.get_context("fork").Process(
-            target=_warm_up_all, args=(theirs,), daemon=True
+    if ordered:
+        context = multiprocessing.get_context("fork")
+        counter = context.Value("i", 0)
+        helper = context.Process(
+            target=_warm_up_helper, args=(record, ordered, counter), daemon=True
         )
         helper.start()
-    try:
-        _warm_up_all(mine)
-    finally:
-        if helper is not None:
+        try:
+            _warm_up_shared(ordered, counter)
+        finally:
             helper.join()
-    _warm_up_all(theirs)
+    for task in (straight, *first.values()):
+        _warm_up(task)
 
 
 def _init_worker() -> None:

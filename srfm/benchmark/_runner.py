@@ -88,6 +88,7 @@ MAX_SEEDS: Final = 100_000
 """Most seeds in one request (each is a file per scenario and planner)."""
 EXECUTORS: Final = ("process", "dask")
 _CHUNK: Final = 5  # seeds per worker task: small enough for a smooth progress bar
+_HELPER_TIMEOUT_S: Final = 900.0  # the warm-up helper's time limit (_compile_in_parent)
 
 
 def default_planners() -> tuple[str, ...]:
@@ -442,7 +443,10 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
         try:
             _warm_up_shared(ordered, counter)
         finally:
-            helper.join()
+            helper.join(timeout=_HELPER_TIMEOUT_S)
+            if helper.is_alive():  # stuck: what it had not compiled, the loop below does
+                helper.terminate()
+                helper.join()
     for task in (straight, *first.values()):
         _warm_up(task)
 

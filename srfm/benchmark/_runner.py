@@ -16,6 +16,7 @@ folder, or one srfm made for a benchmark (unless ``force``).
 from __future__ import annotations
 
 import collections
+import contextlib
 import ctypes
 import ctypes.util
 import json
@@ -87,6 +88,7 @@ MAX_SEEDS: Final = 100_000
 """Most seeds in one request (each is a file per scenario and planner)."""
 EXECUTORS: Final = ("process", "dask")
 _CHUNK: Final = 5  # seeds per worker task: small enough for a smooth progress bar
+_HELPER_TIMEOUT_S: Final = 900.0  # the warm-up helper's time limit (_compile_in_parent)
 
 
 def default_planners() -> tuple[str, ...]:
@@ -353,20 +355,48 @@ def one_thread() -> None:
     numba.set_num_threads(1)
 
 
-def _warm_up(task: _Task) -> None:
+def _warm_up(task: _Task, *, metrics: bool = True) -> EpisodeRecord | None:
     """One two-step episode of ``task``'s planner on its scenario, with its parameters,
-    and its metrics: compiles (or loads from numba's cache) every kernel such an episode
-    calls. Nothing is written. An error is left for the worker to report in its own
-    words."""
+    and (``metrics``) its metrics: compiles (or loads from numba's cache) every kernel
+    such an episode calls. Nothing is written. Returns the record (None on an error,
+    which is left for the worker to report in its own words)."""
     from srfm.errors import SrfmError
     from srfm.sim.episode import run_episode
 
     short = attrs.evolve(task.scenario, horizon_steps=min(2, task.scenario.horizon_steps))
     try:
         record = run_episode(short, task.seeds[0], build_planner(task.planner), task.params)
-        episode_metrics(record)
+        if metrics:
+            episode_metrics(record)
     except SrfmError:
-        return
+        return None
+    return record
+
+
+def _warm_up_shared(groups: Sequence[Sequence[_Task]], counter: Any) -> None:
+    """Warm up (without metrics) the planner groups whose index this process draws from
+    ``counter`` (a shared ``multiprocessing.Value``), until none is left."""
+    while True:
+        with counter.get_lock():
+            k = counter.value
+            counter.value += 1
+        if k >= len(groups):
+            return
+        for task in groups[k]:
+            _warm_up(task, metrics=False)
+
+
+def _warm_up_helper(
+    record: EpisodeRecord | None, groups: Sequence[Sequence[_Task]], counter: Any
+) -> None:
+    """The helper process of :func:`_compile_in_parent`: the metric kernels first, then
+    planner groups drawn from ``counter``."""
+    if record is not None:
+        from srfm.errors import SrfmError
+
+        with contextlib.suppress(SrfmError):
+            episode_metrics(record)
+    _warm_up_shared(groups, counter)
 
 
 def _compile_in_parent(tasks: Sequence[_Task]) -> None:
@@ -377,14 +407,47 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
     loaded from numba's cache) once, here, and every forked worker inherits them
     instead of compiling its own copies, which with an empty cache cost each worker as
     much as the whole set. Only the kernels of the requested planners are compiled.
-    Nothing is written but numba's cache. (Warming the planners up in forked processes
-    at once, through numba's cache, was tried: loading the kernels back from the cache
-    and the forks cost more CPU time than the parallel compilation saved.)
+    Nothing is written but numba's cache.
+
+    On two cores at once: the crowd and robot kernels, which every episode needs, are
+    compiled first, with a two-step episode of the ``straight`` planner (which adds no
+    kernel of its own). Then a forked helper process compiles the metric kernels on
+    that episode's record while this process starts on the planners; both take the
+    planners' classes (planners of one class, such as td3-base and td3-srfm, share their
+    kernels) one at a time from a shared counter until none is left. Once the helper is
+    done, this process warms up every planner with its metrics, which loads what the
+    helper compiled from numba's on-disk cache. With an empty cache that takes the
+    metrics and about half the planners off this process's wall time. Should the helper
+    fail or nothing be cached, this process compiles it all itself: slower, never
+    different.
     """
     first: dict[str, _Task] = {}
     for task in tasks:
         first.setdefault(task.planner, task)
-    for task in first.values():
+    if not first:
+        return
+    straight = attrs.evolve(next(iter(first.values())), planner="straight")
+    record = _warm_up(straight, metrics=False)  # the crowd and robot kernels
+    groups: dict[type, list[_Task]] = {}
+    for name, task in first.items():
+        if name != "straight":
+            groups.setdefault(type(build_planner(name)), []).append(task)
+    ordered = list(groups.values())
+    if ordered:
+        context = multiprocessing.get_context("fork")
+        counter = context.Value("i", 0)
+        helper = context.Process(
+            target=_warm_up_helper, args=(record, ordered, counter), daemon=True
+        )
+        helper.start()
+        try:
+            _warm_up_shared(ordered, counter)
+        finally:
+            helper.join(timeout=_HELPER_TIMEOUT_S)
+            if helper.is_alive():  # stuck: what it had not compiled, the loop below does
+                helper.terminate()
+                helper.join()
+    for task in (straight, *first.values()):
         _warm_up(task)
 
 

@@ -18,6 +18,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from srfm.models._primitives import ZERO
+
 __all__ = ["coupling_bound_sq", "frechet_sq", "frechet_sq_batch", "hausdorff_lower_sq"]
 
 
@@ -47,9 +49,9 @@ def coupling_bound_sq(p: np.ndarray, q: np.ndarray) -> float:
         d = _dist_sq(p, i, q, j)
         if d > proportional:
             proportional = d
-    i = 0
-    j = 0
-    greedy = _dist_sq(p, 0, q, 0)
+    i = ZERO  # not literals (srfm.models._primitives.ZERO)
+    j = ZERO
+    greedy = _dist_sq(p, ZERO, q, ZERO)
     while i < n - 1 or j < m - 1:
         if i == n - 1:
             j += 1
@@ -79,7 +81,9 @@ def _order_decreasing(values: np.ndarray) -> np.ndarray:
     compilation on a first run; the callers' results do not depend on the order of ties.
     """
     m = values.shape[0]
-    idx = np.arange(m)
+    idx = np.empty(m, dtype=np.int64)  # np.arange would compile an overload of its own
+    for k in range(m):
+        idx[k] = k
     # a min-heap on values: popping the smallest to the end leaves them in decreasing order
     for start in range(m // 2 - 1, -1, -1):
         _sift_down(values, idx, start, m)
@@ -171,7 +175,7 @@ def frechet_sq(p: np.ndarray, q: np.ndarray, prev: np.ndarray, cur: np.ndarray) 
     """
     n = p.shape[0]
     m = q.shape[0]
-    lower = max(_dist_sq(p, 0, q, 0), _dist_sq(p, n - 1, q, m - 1))
+    lower = max(_dist_sq(p, ZERO, q, ZERO), _dist_sq(p, n - 1, q, m - 1))
     bound = coupling_bound_sq(p, q)
     if bound <= lower:  # the answer lies in [lower, bound]
         return bound
@@ -221,14 +225,14 @@ def _band_dp(
     hi = -1
     running = lower
     for j in range(m):
-        d = _dist_sq(p, 0, q, j)
+        d = _dist_sq(p, ZERO, q, j)
         if d > running:
             running = d
         if running > bound:
             break
         prev[j] = running
         hi = j
-    lo = 0
+    lo = ZERO
     flat = m  # prev[j] == flat_value for flat <= j <= hi (implicit); m: no flat part
     flat_value = inf
     if hi == m - 1:

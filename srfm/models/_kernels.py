@@ -36,6 +36,8 @@ from numba.extending import intrinsic
 from srfm.models._primitives import (
     EPS,
     EXP_ARG_MAX,
+    FALSE,
+    TRUE,
     capped_exp,
     closest_on_segment,
     desired_velocity,
@@ -766,17 +768,6 @@ def _twin_arrivals(
 
 
 @njit(cache=True)
-def plain_bool(flag: int) -> bool:
-    """``flag != 0`` typed as a plain bool. numba types a constant argument such as ``True``
-    as a literal and compiles the callee once per literal value (a literal passed
-    straight through stays one); the robot switch of the twin step, computed by this
-    comparison, lets its two ``step_serial`` calls share one compiled specialisation
-    (several seconds of compilation each on a first run).
-    """
-    return flag != 0
-
-
-@njit(cache=True)
 def twin_step_serial(
     f_pos: np.ndarray,
     f_vel: np.ndarray,
@@ -811,7 +802,7 @@ def twin_step_serial(
         vmax,
         params,
         robot,
-        plain_bool(1),
+        TRUE,
         segments,
         circles,
         dt,
@@ -827,7 +818,7 @@ def twin_step_serial(
         vmax,
         params,
         robot,
-        plain_bool(0),
+        FALSE,
         segments,
         circles,
         dt,
@@ -873,7 +864,7 @@ def twin_step_exact(
         vmax,
         params,
         robot,
-        plain_bool(1),
+        TRUE,
         segments,
         circles,
         dt,
@@ -889,7 +880,7 @@ def twin_step_exact(
         vmax,
         params,
         robot,
-        plain_bool(0),
+        FALSE,
         segments,
         circles,
         dt,
@@ -935,7 +926,7 @@ def twin_step_parallel(
         vmax,
         params,
         robot,
-        plain_bool(1),
+        TRUE,
         segments,
         circles,
         dt,
@@ -951,7 +942,7 @@ def twin_step_parallel(
         vmax,
         params,
         robot,
-        plain_bool(0),
+        FALSE,
         segments,
         circles,
         dt,

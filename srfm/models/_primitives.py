@@ -14,6 +14,13 @@ they were when each caller carried its own copy):
 - :func:`disc_repulsion`: the anisotropic exponential push of a disc (a pedestrian, the
   robot) on an agent, A exp((r_i + r_j − d) / B) ψ n (paper Eq. 4 with Eq. 5).
 
+``ZERO``, ``TRUE`` and ``FALSE`` are 0, True and False as plain numba types, for
+constant arguments of kernel-to-kernel calls and counters started at 0: numba types
+a bare constant such as ``0`` or ``True`` as a literal and compiles the callee once per
+literal value, sometimes once more for the literal it sees before the loop's counter
+is typed as ``int64`` (seconds of compilation on a first run for the crowd step and
+ORCA's linear programs); a global NumPy scalar is typed as ``int64`` / ``bool``.
+
 ``EPS`` is the explicit epsilon below which a distance or length counts as zero (no
 ``fastmath``; the direction of a zero vector is undefined).
 
@@ -25,12 +32,17 @@ kernels inlining these functions are compiled again.
 from __future__ import annotations
 
 import math
+from typing import Final, cast
 
+import numpy as np
 from numba import njit
 
 __all__ = [
     "EPS",
     "EXP_ARG_MAX",
+    "FALSE",
+    "TRUE",
+    "ZERO",
     "anisotropy",
     "capped_exp",
     "closest_on_segment",
@@ -40,6 +52,9 @@ __all__ = [
 
 EPS = 1e-12
 EXP_ARG_MAX = 60.0
+ZERO: Final = cast(int, np.int64(0))
+TRUE: Final = cast(bool, np.bool_(True))
+FALSE: Final = cast(bool, np.bool_(False))
 
 
 @njit(cache=True, inline="always")

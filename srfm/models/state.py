@@ -157,6 +157,11 @@ class Obstacles:
         object.__setattr__(self, "segments", _read_only(seg.copy()))
         object.__setattr__(self, "circles", _read_only(circ.copy()))
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        # Unpickled (e.g. in a benchmark worker) through the constructor, so that the
+        # arrays are read-only there too: pickle itself gives writable arrays.
+        return (_obstacles, (self.segments, self.circles))
+
     @classmethod
     def create(cls, *, segments: Any = (), circles: Any = ()) -> Obstacles:
         """Validate and build; empty inputs give no obstacles."""
@@ -168,3 +173,8 @@ class Obstacles:
     def empty(self) -> bool:
         """True when there are no walls and no pillars."""
         return bool(self.segments.shape[0] == 0 and self.circles.shape[0] == 0)
+
+
+def _obstacles(segments: FloatArray, circles: FloatArray) -> Obstacles:
+    """:class:`Obstacles` from its two arrays (how it is unpickled)."""
+    return Obstacles(segments=segments, circles=circles)

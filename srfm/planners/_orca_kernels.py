@@ -11,6 +11,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numba import njit
 
+from srfm.models._primitives import FALSE, TRUE, ZERO
 from srfm.planners._geometry import (
     EPS,
     CommonParams,
@@ -243,7 +244,7 @@ def orca_lp3(
         niy = lines[i, 3]
         if -((x - lines[i, 0]) * nix + (y - lines[i, 1]) * niy) <= dist:
             continue
-        count = 0
+        count = ZERO
         for j in range(n_hard):
             proj[count, 0] = lines[j, 0]
             proj[count, 1] = lines[j, 1]
@@ -266,7 +267,7 @@ def orca_lp3(
             proj[count, 2] = mx
             proj[count, 3] = my
             count += 1
-        fail, rx, ry = orca_lp2(proj, count, vmax, nix, niy, True)
+        fail, rx, ry = orca_lp2(proj, count, vmax, nix, niy, TRUE)
         if fail == count:  # otherwise keep (x, y): can only fail by rounding
             x = rx
             y = ry
@@ -329,7 +330,7 @@ def orca_velocity(
     margin = common.margin_m
     tau = params.tau_s
     tau_obs = params.tau_obstacle_s
-    n = 0
+    n = ZERO  # not a literal (srfm.models._primitives.ZERO)
     for k in range(segments.shape[0] + circles.shape[0]):
         dx, dy, d, extra = obstacle_offset(x, y, segments, circles, k)
         gap = d - extra - radius - margin
@@ -363,10 +364,10 @@ def orca_velocity(
         )
         n = _add_line(lines, n, a, b, c, d)
     prefx, prefy = _preferred_velocity(x, y, gx, gy, vmax)
-    fail, rx, ry = orca_lp2(lines, n, vmax, prefx, prefy, False)
+    fail, rx, ry = orca_lp2(lines, n, vmax, prefx, prefy, FALSE)
     if fail < n:
         if fail < n_hard:  # the obstacles alone leave no room: relax everything
-            n_hard = 0
+            n_hard = ZERO
         rx, ry = orca_lp3(lines, n, n_hard, fail, vmax, rx, ry, proj)
     return rx, ry
 

@@ -39,10 +39,10 @@ from srfm.models._kernels import (
     _agent_forces,
     exact_cut,
     mark_arrivals,
-    plain_bool,
     step_exact,
     twin_step_exact,
 )
+from srfm.models._primitives import TRUE
 from srfm.models._robot_kernels import (
     EVENT_GOAL,
     EVENT_NONE,
@@ -359,7 +359,7 @@ def env_step(
             agent[AGENT_VMAX],
             params,
             body,
-            plain_bool(1),
+            TRUE,
             segments,
             circles,
             dt,

@@ -122,8 +122,16 @@ class TwinSimulator:
         self._all_ids = np.arange(n)
         self._range_ids = np.zeros(n, dtype=np.intp)
         self._obstacles = self.scenario.obstacles
-        self._pillar_xy = np.ascontiguousarray(self._obstacles.circles[:, :2])
-        self._pillar_r = np.ascontiguousarray(self._obstacles.circles[:, 2])
+        # The kernels' copies of the obstacles: writable and C-contiguous whatever the
+        # scenario's arrays are. numba compiles a kernel once per argument type, and
+        # read-only is part of an array's type: a scenario's arrays are read-only where
+        # it was built but writable where it was unpickled (a benchmark worker), which
+        # made every worker compile the crowd step and the robot events again (with an
+        # empty cache, seconds of CPU each).
+        self._segments = np.array(self._obstacles.segments, dtype=np.float64, order="C")
+        self._circles = np.array(self._obstacles.circles, dtype=np.float64, order="C")
+        self._pillar_xy = np.array(self._circles[:, :2], order="C")
+        self._pillar_r = np.array(self._circles[:, 2], order="C")
         self._ped_radius = self.factual.radius
         # Routes (srfm.sim.routes): the robot's planner and the pedestrians steer to
         # waypoints in scenarios with obstacles or given routes; none otherwise.
@@ -156,8 +164,8 @@ class TwinSimulator:
             f.vmax,
             self._kernel_params,
             self._robot_body,
-            self._obstacles.segments,
-            self._obstacles.circles,
+            self._segments,
+            self._circles,
             dt,
             self._force_buf,
             float(self.scenario.ped_goal_radius_m),
@@ -180,7 +188,7 @@ class TwinSimulator:
             self._robot,
             f.pos,
             self._ped_radius,
-            self._obstacles.segments,
+            self._segments,
             self._pillar_xy,
             self._pillar_r,
             self._limits,

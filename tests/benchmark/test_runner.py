@@ -371,20 +371,28 @@ def test_kernels_are_compiled_in_the_parent_before_forking(
     short_scenario: Path, tmp_path: Path
 ) -> None:
     # issue 19: the parent compiles what the workers will call (only the requested
-    # planners), so that forked workers inherit the compiled kernels; nothing is written
+    # planners), so that forked workers inherit the compiled kernels; nothing is written.
+    # The shared kernels first, then the planners split with a forked helper,
+    # whose kernels the parent then has too (loaded from numba's cache)
     from srfm.benchmark._runner import _compile_in_parent, _Task
-    from srfm.planners import _dwa_kernels
+    from srfm.metrics import _kernels as _metric_kernels
+    from srfm.planners import _dwa_kernels, _orca_kernels
 
     scenario = load_scenario(short_scenario)
-    task = _Task(
-        scenario=scenario,
-        planner="dwa",
-        seeds=(0,),
-        params=SRFMParams(),
-        out=str(tmp_path),
-        writer=None,
-        figure_seed=None,
-    )
-    _compile_in_parent([task])
-    assert _dwa_kernels.dwa_unicycle.signatures  # the planner's kernel is compiled
+    tasks = [
+        _Task(
+            scenario=scenario,
+            planner=planner,
+            seeds=(0,),
+            params=SRFMParams(),
+            out=str(tmp_path),
+            writer=None,
+            figure_seed=None,
+        )
+        for planner in ("dwa", "orca")
+    ]
+    _compile_in_parent(tasks)
+    assert _metric_kernels.frechet_sq_batch.signatures  # the shared kernels
+    assert _dwa_kernels.dwa_unicycle.signatures  # the parent's planner
+    assert _orca_kernels.orca_command.signatures  # the helper's planner
     assert list(tmp_path.iterdir()) == []

@@ -71,6 +71,20 @@ def test_obstacles_are_validated_and_read_only() -> None:
     assert srfm.Obstacles().empty
 
 
+def test_unpickled_obstacles_stay_read_only() -> None:
+    # issue 19: pickle gives writable arrays; Obstacles is rebuilt through its constructor
+    import pickle
+
+    obs = srfm.Obstacles.create(segments=[[0.0, 0.0, 1.0, 0.0]], circles=[[1.0, 1.0, 0.5]])
+    copy = pickle.loads(pickle.dumps(obs))
+    assert np.array_equal(copy.segments, obs.segments)
+    assert np.array_equal(copy.circles, obs.circles)
+    with pytest.raises(ValueError, match="read-only"):
+        copy.segments[0, 0] = 3.0
+    with pytest.raises(ValueError, match="read-only"):
+        copy.circles[0, 2] = 3.0
+
+
 def test_a_builtin_scenario_cannot_be_changed_in_place() -> None:
     scenario = srfm.load_scenario("footpath")
     before = srfm.run_episode("footpath", 0).factual_pos

@@ -159,6 +159,34 @@ def test_obstacle_collision_and_pedestrian_wall(tmp_path: Path) -> None:
         assert pos[:, 0, 1].max() < 6.0 - 0.1
 
 
+def test_kernel_types_do_not_depend_on_the_obstacles_arrays(tmp_path: Path) -> None:
+    # issue 19: numba compiles a kernel once per argument type and read-only is part of
+    # an array's type. Walls only, walls and pillars, and an unpickled scenario (as in a
+    # benchmark worker) must all run the same compiled twin step and robot events.
+    import pickle
+
+    from srfm.models import _kernels, _robot_kernels
+
+    walls = _scenario(
+        tmp_path,
+        "start = [2.0, 2.0]\ngoal = [2.0, 12.0]",
+        "starts = [[8.0, 2.0]]\ngoals = [[8.0, 12.0]]",
+        "[obstacles]\nwalls = [[0.0, 6.0, 15.0, 6.0]]",
+    )
+    pillars = _scenario(
+        tmp_path,
+        "start = [2.0, 2.0]\ngoal = [2.0, 12.0]",
+        "starts = [[8.0, 2.0]]\ngoals = [[8.0, 12.0]]",
+        "[obstacles]\nwalls = [[0.0, 6.0, 1.0, 6.0]]\npillars = [[12.0, 8.0, 0.5]]",
+    )
+    srfm.run_episode(walls, 0)
+    kernels = (_kernels.twin_step_exact, _robot_kernels.robot_event)
+    compiled = [len(k.signatures) for k in kernels]
+    srfm.run_episode(pillars, 0)
+    srfm.run_episode(pickle.loads(pickle.dumps(walls)), 0)
+    assert [len(k.signatures) for k in kernels] == compiled
+
+
 class Forward(StandStill):
     """Drives straight ahead at top speed, whatever the goal."""
 

@@ -36,6 +36,8 @@ from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Final
 
+import numpy as np
+
 from srfm.errors import FolderInUseError, OutputError, SrfmError, WriteError
 
 __all__ = [
@@ -137,6 +139,22 @@ def read_input_bytes(
         raise error(f"{path}: cannot read {what}: {_reason(exc)}") from None
     finally:
         os.close(fd)
+
+
+def toml_scalar(value: object) -> str | None:
+    """The TOML text of one scalar, or None for any other type: a boolean, an integer,
+    a float written by ``repr`` (it reads back bit for bit; callers that need finite
+    numbers refuse inf and NaN first) or a string (a JSON string is a TOML basic
+    string)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int | np.integer):
+        return str(int(value))
+    if isinstance(value, float | np.floating):
+        return repr(float(value))
+    if isinstance(value, str):
+        return json.dumps(value)
+    return None
 
 
 def read_input_text(

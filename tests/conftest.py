@@ -10,6 +10,19 @@ import numpy as np
 from srfm.sim.record import EpisodeRecord
 
 REPO = Path(__file__).resolve().parents[1]
+# The tables and data files every finished benchmark or score run writes.
+RESULT_TABLES = (
+    "table.md",
+    "table.tex",
+    "outcomes.md",
+    "table_extended.md",
+    "table_extended.tex",
+    "summary.json",
+    "episodes.csv",
+    "pedestrians.csv",
+    "episodes.parquet",
+    "pedestrians.parquet",
+)
 
 
 def record_digest(record: EpisodeRecord) -> str:

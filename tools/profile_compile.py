@@ -31,7 +31,6 @@ import datetime
 import json
 import os
 import resource
-import subprocess
 import sys
 import tempfile
 import time
@@ -39,18 +38,7 @@ from collections import defaultdict
 from pathlib import Path
 from typing import Any
 
-
-def _commit() -> str:
-    try:
-        out = subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True
-        ).stdout.strip()
-        dirty = subprocess.run(
-            ["git", "status", "--porcelain", "srfm"], capture_output=True, text=True
-        )
-        return out + (" + uncommitted changes" if dirty.stdout.strip() else "")
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
+from bench_cold_start import _commit  # the sibling script (tools/ is sys.path[0])
 
 
 def main() -> None:

@@ -214,7 +214,7 @@ def scenario(file: Path, out_dir: Path, scene_names: Sequence[str], force: bool)
     for path, text in texts.items():
         atomic_write_text(path, text)
     click.echo(f"wrote {len(texts)} scenario file(s) to {out_dir}")
-    skipped = len(dataset.scenes) - len(chosen)
+    skipped = 0 if scene_names else len(dataset.scenes) - len(chosen)
     if skipped:
         click.echo(f"skipped {skipped} scene(s) without a robot in world coordinates")
     for message in invalid:

@@ -27,7 +27,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm._io import MAX_TOML_BYTES, atomic_write_text, read_input_text
+from srfm._io import MAX_TOML_BYTES, atomic_write_text, read_input_text, toml_scalar
 from srfm._validate import finite_float, non_negative, positive, unit_interval
 from srfm.errors import ParameterError
 
@@ -256,14 +256,11 @@ def save_params(params: SRFMParams, path: str | Path, meta: dict[str, Any] | Non
 
 
 def _toml_scalar(key: Any, value: Any) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, int | np.integer):
-        return str(int(value))
-    if isinstance(value, float | np.floating):
-        return repr(finite_float(value, f"meta value {key!r}", ParameterError))
-    if isinstance(value, str):
-        return json.dumps(value)  # a JSON string (ASCII, escaped) is a TOML basic string
+    if isinstance(value, float | np.floating) and not isinstance(value, bool):
+        finite_float(value, f"meta value {key!r}", ParameterError)
+    text = toml_scalar(value)
+    if text is not None:
+        return text
     raise ParameterError(
         f"meta value {key!r} must be a string, integer, float or boolean, got {value!r}"
     )

@@ -23,7 +23,6 @@ reset on::
 
 from __future__ import annotations
 
-import json
 import math
 import re
 import tomllib
@@ -33,6 +32,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from srfm._io import toml_scalar
 from srfm.datasets._trajectories import PEDESTRIAN, Trajectories
 from srfm.errors import PlannerError, ScenarioError
 from srfm.models.robot import RobotConfig
@@ -255,18 +255,13 @@ def scenario_toml(doc: Mapping[str, Any]) -> str:
     lines: list[str] = []
 
     def value(v: Any, key: str) -> str:
-        if isinstance(v, bool):
-            return "true" if v else "false"
-        if isinstance(v, int | np.integer):
-            return str(int(v))
-        if isinstance(v, float | np.floating):
-            if not math.isfinite(float(v)):
-                raise ScenarioError(f"scenario key {key!r}: {v!r} is not a finite number")
-            return repr(float(v))
-        if isinstance(v, str):
-            return json.dumps(v)  # a JSON string is a TOML basic string
+        if isinstance(v, float | np.floating) and not math.isfinite(float(v)):
+            raise ScenarioError(f"scenario key {key!r}: {v!r} is not a finite number")
         if isinstance(v, list | tuple):
             return "[" + ", ".join(value(x, key) for x in v) + "]"
+        text = toml_scalar(v)
+        if text is not None:
+            return text
         raise ScenarioError(f"scenario key {key!r}: cannot write {type(v).__name__} to TOML")
 
     def table(mapping: Mapping[str, Any], path: str) -> None:

@@ -22,20 +22,9 @@ from srfm.cli import main
 from srfm.errors import BenchmarkError
 from srfm.metrics import episode_metrics
 from srfm.scenarios import load_scenario
-from tests.conftest import REPO, write_scenario
+from tests.conftest import REPO, RESULT_TABLES, write_scenario
 
-TABLES = (
-    "table.md",
-    "table.tex",
-    "outcomes.md",
-    "table_extended.md",
-    "table_extended.tex",
-    "summary.json",
-    "episodes.csv",
-    "pedestrians.csv",
-    "episodes.parquet",
-    "pedestrians.parquet",
-)
+TABLES = RESULT_TABLES
 
 SHORT = (REPO / "srfm/scenarios/crosswalk.toml").read_text(encoding="utf-8")
 SHORT = SHORT.replace('name = "crosswalk"', 'name = "short"').replace(

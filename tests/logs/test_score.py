@@ -22,20 +22,10 @@ from srfm.logs import (
     write_episode_mcap,
     write_score_reports,
 )
+from tests.conftest import RESULT_TABLES
 from tests.logs.conftest import files_state
 
-TABLES = (
-    "table.md",
-    "table.tex",
-    "outcomes.md",
-    "table_extended.md",
-    "table_extended.tex",
-    "summary.json",
-    "episodes.csv",
-    "pedestrians.csv",
-    "episodes.parquet",
-    "pedestrians.parquet",
-)
+TABLES = RESULT_TABLES
 
 
 @pytest.fixture(scope="module")

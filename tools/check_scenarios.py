@@ -14,7 +14,7 @@ import argparse
 import sys
 import time
 
-from srfm.scenarios import FRANCIS_SCENARIOS, NAVWARESET_SCENARIOS
+from srfm.scenarios import FLOW_SCENARIOS, FRANCIS_SCENARIOS, NAVWARESET_SCENARIOS
 from srfm.sim.checks import check_scenario
 
 PLANNERS = ("dwa", "vo", "orca", "social-force")
@@ -25,7 +25,7 @@ def main() -> int:
     parser.add_argument("--seeds", type=int, default=20)
     parser.add_argument("names", nargs="*")
     args = parser.parse_args()
-    names = args.names or [*FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS]
+    names = args.names or [*FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS, *FLOW_SCENARIOS]
     seeds = range(args.seeds)
     failed = []
     print("| scenario | pedestrians arrived | in a wall | overlaps | robot goal (planner) |")

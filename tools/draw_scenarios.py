@@ -2,8 +2,9 @@
 
 Walls and pillars in black, map points (NavWareSet) in grey, named regions shaded;
 each pedestrian's route from its start (seed 0) in blue (given or computed waypoints,
-as the simulator uses them; a standing pedestrian is a ring), the robot's start, goal
-and route (srfm.sim.routes.RobotRoute) in red.
+as the simulator uses them; a standing pedestrian is a ring); pedestrians who enter
+during the run (seed 0's entries) in orange, dotted; the robot's start, goal and route
+(srfm.sim.routes.RobotRoute) in red.
 
     .venv/bin/python tools/draw_scenarios.py [NAME ...]
 """
@@ -19,7 +20,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 from matplotlib.patches import Circle, Rectangle
 
-from srfm.scenarios import FRANCIS_SCENARIOS, NAVWARESET_SCENARIOS, episode_setup, load_scenario
+from srfm.scenarios import (
+    FLOW_SCENARIOS,
+    FRANCIS_SCENARIOS,
+    NAVWARESET_SCENARIOS,
+    episode_setup,
+    load_scenario,
+)
 from srfm.sim.routes import RobotRoute, pedestrian_waypoints
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "scenarios"
@@ -29,8 +36,9 @@ def draw(name: str) -> Path:
     scenario = load_scenario(name)
     setup = episode_setup(scenario, 0)
     w = scenario.world
-    width = 5.0
-    height = width * (w.y_max - w.y_min) / (w.x_max - w.x_min)
+    aspect = (w.x_max - w.x_min) / (w.y_max - w.y_min)
+    width = min(9.0, max(5.0, 1.5 * aspect))  # long corridors get a wider figure
+    height = width / aspect
     fig, ax = plt.subplots(figsize=(width, height + 0.7))
     ax.plot(
         [w.x_min, w.x_max, w.x_max, w.x_min, w.x_min],
@@ -46,21 +54,24 @@ def draw(name: str) -> Path:
         ax.plot([x1, x2], [y1, y2], color="black", lw=2.5, solid_capstyle="butt")
     for cx, cy, r in scenario.obstacles.circles:
         ax.add_patch(Circle((cx, cy), r, color="black"))
+    enters = setup.ped_enter_step
     for i, path in enumerate(pedestrian_waypoints(setup)):
         sx, sy = setup.crowd.pos[i]
-        if i in scenario.ped_standing:
-            ax.plot(sx, sy, "o", mfc="none", color="tab:blue", ms=8)
+        later = enters is not None and enters[i] > 0
+        colour = "tab:orange" if later else "tab:blue"
+        if i in setup.ped_standing:
+            ax.plot(sx, sy, "o", mfc="none", color=colour, ms=8)
             continue
         xs = [sx, *path[:, 0]]
         ys = [sy, *path[:, 1]]
-        ax.plot(xs[:-1], ys[:-1], "-", color="tab:blue", lw=0.8, alpha=0.7)
+        ax.plot(xs[:-1], ys[:-1], ":" if later else "-", color=colour, lw=0.8, alpha=0.7)
         ax.annotate(
             "",
             (xs[-1], ys[-1]),
             (xs[-2], ys[-2]),
-            arrowprops={"arrowstyle": "->", "color": "tab:blue"},
+            arrowprops={"arrowstyle": "->", "color": colour, "alpha": 0.5 if later else 1.0},
         )
-        ax.plot(sx, sy, "o", color="tab:blue", ms=5)
+        ax.plot(sx, sy, "o", color=colour, ms=5)
     route = RobotRoute(scenario, setup.robot_start, setup.robot_goal).waypoints
     ax.plot(
         [setup.robot_start[0], *route[:, 0]],
@@ -83,5 +94,5 @@ def draw(name: str) -> Path:
 
 
 if __name__ == "__main__":
-    for name in sys.argv[1:] or [*FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS]:
+    for name in sys.argv[1:] or [*FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS, *FLOW_SCENARIOS]:
         print(draw(name))

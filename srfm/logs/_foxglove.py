@@ -347,10 +347,15 @@ def scene_messages(
     goal_steps = {0, *(int(k) + 1 for k in goal_changes)}
     row = {k: i for i, k in enumerate(frames)}
     goal_d = [0.2] * record.n_pedestrians
+    # The pedestrians there at a sample are the first ones (entries: srfm.sim); a
+    # sample where more appear redraws the goals.
+    counts = record.present().sum(axis=1).tolist()
+    goal_steps |= {k for k in range(1, n_samples) if counts[k] != counts[k - 1]}
     for k in sorted(goal_steps | set(frames)):
         t = times_ns[k]
+        m = counts[k]
         if k in goal_steps:
-            goals = b.discs(_cm(record.factual_goal[k]), goal_d, 0.01, _YELLOW)
+            goals = b.discs(_cm(record.factual_goal[k, :m]), goal_d[:m], 0.01, _YELLOW)
             out.append((k, b.update([b.entity(t, "goals", cylinders=goals)])))
         i = row.get(k)
         if i is None:
@@ -359,14 +364,18 @@ def scene_messages(
             b.entity(
                 t,
                 "pedestrians",
-                cylinders=b.discs(peds[i], ped_d, _PED_HEIGHT, _BLUE),
+                cylinders=b.discs(peds[i][:m], ped_d[:m], _PED_HEIGHT, _BLUE),
                 arrows=(
-                    b.arrows(peds[i], ped_yaw[i], ped_len[i], _PED_HEIGHT + 0.02, _BLUE)
+                    b.arrows(peds[i][:m], ped_yaw[i][:m], ped_len[i][:m], _PED_HEIGHT + 0.02, _BLUE)
                     if velocities
                     else None
                 ),
             ),
-            b.entity(t, "counterfactual", cylinders=b.ghosts(ghosts[i], peds[i], ped_d)),
+            b.entity(
+                t,
+                "counterfactual",
+                cylinders=b.ghosts(ghosts[i][:m], peds[i][:m], ped_d[:m]),
+            ),
             b.entity(
                 t,
                 "robot",

@@ -31,6 +31,7 @@ import binascii
 import functools
 import hashlib
 import io
+import itertools
 import json
 import math
 import re
@@ -111,6 +112,14 @@ def _scenario_info(scenario: Scenario, record: EpisodeRecord) -> dict[str, Any]:
     crowd = episode_setup(scenario, record.seed).crowd
     w = scenario.world
     robot = scenario.robot
+    pedestrians: dict[str, Any] = {
+        "radius_m": record.ped_radius.tolist(),
+        "desired_speed_mps": crowd.v0.tolist(),
+        "max_speed_mps": crowd.vmax.tolist(),
+        "goal_radius_m": scenario.ped_goal_radius_m,
+    }
+    if record.ped_enter_step is not None:
+        pedestrians["enter_step"] = record.ped_enter_step.tolist()
     return {
         "scenario": record.scenario,
         "scenario_description": scenario.description,
@@ -124,12 +133,7 @@ def _scenario_info(scenario: Scenario, record: EpisodeRecord) -> dict[str, Any]:
             "segments": scenario.obstacles.segments.tolist(),
             "circles": scenario.obstacles.circles.tolist(),
         },
-        "pedestrians": {
-            "radius_m": record.ped_radius.tolist(),
-            "desired_speed_mps": crowd.v0.tolist(),
-            "max_speed_mps": crowd.vmax.tolist(),
-            "goal_radius_m": scenario.ped_goal_radius_m,
-        },
+        "pedestrians": pedestrians,
         "robot": {
             "kinematics": record.robot_kinematics,
             "radius_m": record.robot_radius,
@@ -833,6 +837,21 @@ def load_episode(
     return episode_from_log(read_log(path), counterfactuals=counterfactuals)
 
 
+def _enter_steps(path: Path, value: Any, n: int, horizon: int) -> NDArray[np.int64] | None:
+    """The pedestrians' entry samples of a log (None when it has none): N integers in
+    0..horizon, in increasing order."""
+    if value is None:
+        return None
+    ok = isinstance(value, list) and len(value) == n
+    ok = ok and all(type(v) is int and 0 <= v <= horizon for v in value)
+    if not ok or any(b < a for a, b in itertools.pairwise(value)):
+        raise LogError(
+            f"{path}: pedestrians.enter_step must be {n} increasing sample indices in "
+            f"0..{horizon}, got {value!r:.200}"
+        )
+    return np.array(value, dtype=np.int64)
+
+
 def episode_from_log(
     log: LogFile, *, counterfactuals: dict[Path, LogFile] | None = None
 ) -> LoggedEpisode:
@@ -855,6 +874,7 @@ def episode_from_log(
     try:
         params = SRFMParams(**_get(p, info, "params", dict))
         radius = np.array(info["pedestrians"]["radius_m"], dtype=np.float64)
+        enter_step = _enter_steps(p, info["pedestrians"].get("enter_step"), n, horizon)
         robot = info["robot"]
         robot_goal = np.array(robot["goal"], dtype=np.float64)
         robot_radius = float(robot["radius_m"])
@@ -934,6 +954,7 @@ def episode_from_log(
         outcome=outcome,
         end_step=end_step,
         events=_events(p, log.events),
+        ped_enter_step=enter_step,
     )
     return LoggedEpisode(
         path=p,

@@ -216,15 +216,17 @@ def _forces(record: EpisodeRecord, scenario: Scenario) -> dict[str, FloatArray]:
     from srfm.models.state import CrowdState
 
     crowd0 = episode_setup(scenario, record.seed).crowd
-    out = {k: np.empty_like(record.factual_pos) for k in _FORCE_COLORS}
+    out = {k: np.zeros_like(record.factual_pos) for k in _FORCE_COLORS}
+    counts = record.present().sum(axis=1)
     for k in range(record.time_s.shape[0]):
+        m = int(counts[k])  # those there (the first m) feel and exert forces
         crowd = CrowdState(
-            pos=np.ascontiguousarray(record.factual_pos[k]),
-            vel=np.ascontiguousarray(record.factual_vel[k]),
-            goal=np.ascontiguousarray(record.factual_goal[k]),
-            radius=crowd0.radius,
-            v0=crowd0.v0,
-            vmax=crowd0.vmax,
+            pos=np.ascontiguousarray(record.factual_pos[k, :m]),
+            vel=np.ascontiguousarray(record.factual_vel[k, :m]),
+            goal=np.ascontiguousarray(record.factual_goal[k, :m]),
+            radius=crowd0.radius[:m],
+            v0=crowd0.v0[:m],
+            vmax=crowd0.vmax[:m],
         )
         x, y = record.robot_pose[k, :2]
         fc = force_components(
@@ -233,10 +235,10 @@ def _forces(record: EpisodeRecord, scenario: Scenario) -> dict[str, FloatArray]:
             RobotBody(x=float(x), y=float(y), radius=record.robot_radius),
             scenario.obstacles,
         )
-        out["goal"][k] = fc.goal
-        out["pedestrians"][k] = fc.pedestrians
-        out["robot"][k] = fc.robot
-        out["obstacles"][k] = fc.obstacles
+        out["goal"][k, :m] = fc.goal
+        out["pedestrians"][k, :m] = fc.pedestrians
+        out["robot"][k, :m] = fc.robot
+        out["obstacles"][k, :m] = fc.obstacles
     return out
 
 
@@ -252,11 +254,18 @@ def _log_temporal(
         rr.TimeColumn("step", sequence=steps),
         rr.TimeColumn("sim_time", duration=record.time_s),
     ]
-    per_step = [n] * n_samples
+    # The pedestrians there at each sample are the first ones (entries: srfm.sim): a
+    # sample's instances are rows [:count] of the arrays, matching the static labels.
+    present = record.present()
+    per_step = present.sum(axis=1).tolist()
+
+    def there(a: FloatArray) -> FloatArray:
+        """The rows of the pedestrians there, sample by sample, as (M, ...)."""
+        return np.asarray(a[present])
 
     def points(entity: str, pos: FloatArray) -> None:
         rec.send_columns(
-            entity, index, rr.Points2D.columns(positions=pos.reshape(-1, 2)).partition(per_step)
+            entity, index, rr.Points2D.columns(positions=there(pos)).partition(per_step)
         )
 
     def arrows(
@@ -278,8 +287,8 @@ def _log_temporal(
     points("world/pedestrians/counterfactual", record.counterfactual_pos)
     arrows(
         "world/pedestrians/factual/velocity",
-        record.factual_pos,
-        record.factual_vel * VELOCITY_ARROW_S,
+        there(record.factual_pos),
+        there(record.factual_vel * VELOCITY_ARROW_S),
         per_step,
     )
     rec.log(
@@ -295,7 +304,9 @@ def _log_temporal(
             rr.TimeColumn("step", sequence=changed),
             rr.TimeColumn("sim_time", duration=record.time_s[changed]),
         ],
-        rr.Points2D.columns(positions=goal[changed].reshape(-1, 2)).partition([n] * changed.size),
+        rr.Points2D.columns(positions=goal[changed][present[changed]]).partition(
+            [per_step[k] for k in changed]
+        ),
     )
     rec.log(
         "world/pedestrians/factual/goals",
@@ -312,7 +323,7 @@ def _log_temporal(
     if forces:
         for name, f in _forces(record, scenario).items():
             entity = f"world/forces/{name}"
-            arrows(entity, record.factual_pos, f * FORCE_ARROW_SCALE_S2, per_step)
+            arrows(entity, there(record.factual_pos), there(f * FORCE_ARROW_SCALE_S2), per_step)
             rec.log(
                 entity,
                 rr.Arrows2D.from_fields(colors=[_FORCE_COLORS[name]], radii=0.015),
@@ -322,9 +333,11 @@ def _log_temporal(
     rec.send_columns(
         "metrics/twin_separation",
         index,
-        rr.Scalars.columns(scalars=sep.reshape(-1)).partition(per_step),
+        rr.Scalars.columns(scalars=there(sep)).partition(per_step),
     )
-    dist = np.linalg.norm(record.factual_pos - pose[:, None, :2], axis=2).min(axis=1)
+    gaps = np.linalg.norm(record.factual_pos - pose[:, None, :2], axis=2)
+    dist = np.where(present, gaps, np.inf).min(axis=1) if n else np.full(n_samples, np.inf)
+    dist[np.isinf(dist)] = np.nan  # nobody there
     rec.send_columns("metrics/robot_distance", index, rr.Scalars.columns(scalars=dist))
     for e in record.events:
         rec.set_time("step", sequence=e.step)

@@ -123,7 +123,15 @@ EPISODE: Final = _srfm_schema(
                 "desired_speed_mps": _nums("(N,) desired speeds v0"),
                 "max_speed_mps": _nums("(N,) speed caps"),
                 "goal_radius_m": _num("arrival radius"),
-            }
+                "enter_step": {
+                    "type": "array",
+                    "items": {"type": "integer"},
+                    "description": "(N,) the sample at which each pedestrian appears, "
+                    "in increasing order (before it, it stands at its start and counts for "
+                    "nothing); absent when every pedestrian is there from sample 0",
+                },
+            },
+            required=["radius_m", "desired_speed_mps", "max_speed_mps", "goal_radius_m"],
         ),
         "robot": _obj(
             {

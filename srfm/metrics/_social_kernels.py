@@ -6,7 +6,9 @@ objects, no allocation inside the loops, no raising. Shapes: ``pos`` (T + 1, N, 
 pedestrian positions, ``robot_xy`` (T + 1, 2), ``radius`` (N,). Velocities are the
 displacement of the step that ended at a sample divided by dt (0 at sample 0): what
 the positions say, so that a log without velocities (compact MCAP) gives the same
-numbers bit for bit.
+numbers bit for bit. ``enter`` (N,) int64 is the sample at which each pedestrian
+appears (:meth:`srfm.sim.record.EpisodeRecord.enter_steps`): the samples before it
+count for nothing.
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ def min_time_to_collision(
     robot_radius: float,
     end: int,
     dt: float,
+    enter: np.ndarray,
     out: np.ndarray,
 ) -> None:
     """Smallest constant-velocity time to collision of each pedestrian with the robot.
@@ -57,6 +60,8 @@ def min_time_to_collision(
             rvx = (robot_xy[k, 0] - robot_xy[k - 1, 0]) / dt
             rvy = (robot_xy[k, 1] - robot_xy[k - 1, 1]) / dt
         for i in range(n):
+            if k < enter[i]:
+                continue
             px = pos[k, i, 0] - robot_xy[k, 0]
             py = pos[k, i, 1] - robot_xy[k, 1]
             vx, vy = _step_velocity(pos, k, i, dt)
@@ -87,6 +92,7 @@ def near_miss_entries(
     robot_radius: float,
     end: int,
     threshold: float,
+    enter: np.ndarray,
     out: np.ndarray,
 ) -> None:
     """Times each pedestrian's clearance to the robot goes below ``threshold``.
@@ -99,7 +105,7 @@ def near_miss_entries(
     for i in range(n):
         out[i] = 0.0
         inside = False
-        for k in range(end + 1):
+        for k in range(enter[i], end + 1):
             dx = pos[k, i, 0] - robot_xy[k, 0]
             dy = pos[k, i, 1] - robot_xy[k, 1]
             clearance = math.sqrt(dx * dx + dy * dy) - radius[i] - robot_radius
@@ -120,6 +126,7 @@ def force_exposure(
     b_r: float,
     lambda_r: float,
     dt: float,
+    enter: np.ndarray,
     magnitude: np.ndarray,
     work: np.ndarray,
 ) -> None:
@@ -130,7 +137,8 @@ def force_exposure(
     primitive :func:`srfm.models._primitives.disc_repulsion`), with the heading the
     direction of the step velocity, else of the goal, else none (ψ = 1); into
     ``magnitude[k, i]`` ((T, N)). ``work[i]`` gets Σ_k |f_k| |x_(k+1) − x_k|, the force
-    integrated along the pedestrian's path (m²/s², J per kg).
+    integrated along the pedestrian's path (m²/s², J per kg). Before its entry sample a
+    pedestrian gets 0.
     """
     steps = pos.shape[0] - 1
     n = pos.shape[1]
@@ -143,7 +151,7 @@ def force_exposure(
             px = pos[k, i, 0]
             py = pos[k, i, 1]
             mag = 0.0
-            if a_r != 0.0:
+            if a_r != 0.0 and k >= enter[i]:
                 hx, hy = _step_velocity(pos, k, i, dt)
                 speed = math.sqrt(hx * hx + hy * hy)
                 has_h = True

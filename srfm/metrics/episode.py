@@ -7,6 +7,9 @@ definitions (a test checks that the page lists exactly these rows). Each is comp
 from the episode record alone (:class:`srfm.sim.record.EpisodeRecord`), with the named
 thresholds of :class:`MetricParams`, so that ``srfm score`` recomputes it bit for bit
 from an MCAP log.
+
+Pedestrians entering during the run (``EpisodeRecord.ped_enter_step``) count from their
+entry sample on: before it they are nowhere, for the robot and for every metric.
 """
 
 from __future__ import annotations
@@ -148,8 +151,9 @@ PEDESTRIAN_METRICS: Final[tuple[MetricInfo, ...]] = (
         "mean_separation_m",
         "m",
         "lower",
-        "Mean over the T + 1 samples of the distance between the factual and the "
-        "counterfactual twin at the same time.",
+        "Mean over the T + 1 samples (from its entry on, for a pedestrian entering during "
+        "the run) of the distance between the factual and the counterfactual twin at the "
+        "same time.",
     ),
     MetricInfo(
         "max_separation_m",
@@ -163,7 +167,8 @@ PEDESTRIAN_METRICS: Final[tuple[MetricInfo, ...]] = (
         "m",
         "higher",
         "Smallest centre-to-centre distance between the robot and the factual pedestrian "
-        "over the robot's episode (samples 0 to end_step).",
+        "over the robot's episode (samples 0 to end_step; from its entry on, NaN if it "
+        "enters after that).",
         _PAPER,
     ),
     MetricInfo(
@@ -198,7 +203,8 @@ PEDESTRIAN_METRICS: Final[tuple[MetricInfo, ...]] = (
         "s",
         "lower",
         "Time of the factual pedestrian's first arrival within the goal radius (NaN if "
-        "it never arrives). Standing pedestrians (goal = start) arrive at the first step.",
+        "it never arrives), from its entry (0 unless it enters during the run). Standing "
+        "pedestrians (goal = start) arrive at the first step.",
     ),
     MetricInfo(
         "counterfactual_time_to_goal_s",
@@ -738,6 +744,18 @@ def _first_arrivals(record: EpisodeRecord, twin: str) -> tuple[FloatArray, NDArr
     return times, steps
 
 
+def _finite_mean(x: FloatArray) -> float:
+    """Mean of the finite entries of ``x`` (NaN when there are none)."""
+    finite = x[np.isfinite(x)]
+    return float(finite.mean()) if finite.size else math.nan
+
+
+def _finite_min(x: FloatArray) -> float:
+    """Smallest non-NaN entry of ``x`` (NaN when there is none)."""
+    kept = x[~np.isnan(x)]
+    return float(kept.min()) if kept.size else math.nan
+
+
 def _nanmean(x: FloatArray) -> float:
     finite = x[~np.isnan(x)]
     return float(finite.mean()) if finite.size else math.nan
@@ -761,6 +779,7 @@ def _pedestrian_side(
     magnitude = np.empty((steps, n))
     work = np.empty(n)
     p = record.params
+    enter = record.enter_steps()
     force_exposure(
         pos,
         np.ascontiguousarray(record.factual_goal),
@@ -771,6 +790,7 @@ def _pedestrian_side(
         float(p.b_robot),
         float(p.lambda_robot),
         float(record.dt_s),
+        enter,
         magnitude,
         work,
     )
@@ -784,12 +804,16 @@ def _pedestrian_side(
         stopped,
     )
     min_samples = max(1, math.ceil(round(params.ped_stop_min_s / record.dt_s, 9)))
-    if steps:
+    if not steps:
+        f_mean = f_max = f_p95 = np.full(n, np.nan)
+    elif record.ped_enter_step is None:
         f_mean = magnitude.mean(axis=0)
         f_max = magnitude.max(axis=0)
         f_p95 = np.percentile(magnitude, 95.0, axis=0)
-    else:
-        f_mean = f_max = f_p95 = np.full(n, np.nan)
+    else:  # over the steps each pedestrian is there for (it enters before the horizon)
+        f_mean = np.array([magnitude[e:, i].mean() for i, e in enumerate(enter)])
+        f_max = np.array([magnitude[e:, i].max() for i, e in enumerate(enter)])
+        f_p95 = np.array([np.percentile(magnitude[e:, i], 95.0) for i, e in enumerate(enter)])
     return {
         "robot_force_mean_mps2": f_mean,
         "robot_force_max_mps2": f_max,
@@ -810,27 +834,32 @@ def _social(
     robot_xy = np.ascontiguousarray(record.robot_pose[: end + 1, :2])
     radius = np.ascontiguousarray(record.ped_radius)
     n = record.n_pedestrians
+    enter = record.enter_steps()
     ttc = np.empty(n)
-    min_time_to_collision(pos, radius, robot_xy, float(record.robot_radius), end, record.dt_s, ttc)
+    min_time_to_collision(
+        pos, radius, robot_xy, float(record.robot_radius), end, record.dt_s, enter, ttc
+    )
     near = np.empty(n)
     near_miss_entries(
-        pos, radius, robot_xy, float(record.robot_radius), end, params.near_miss_m, near
+        pos, radius, robot_xy, float(record.robot_radius), end, params.near_miss_m, enter, near
     )
     if record.outcome == "collision":
         hit = next((e.agent for e in record.events if e.kind == "robot_collision"), -1)
         if hit >= 0 and near[hit] > 0:
             near[hit] -= 1.0  # that entry ended in the collision: not a near miss
     ttc[np.isinf(ttc)] = np.nan
-    clearance = (
-        np.linalg.norm(pos - robot_xy[:, None, :], axis=2) - radius[None, :] - record.robot_radius
-    ).min(axis=1)
+    centres = np.linalg.norm(pos - robot_xy[:, None, :], axis=2)
+    gaps = centres - radius[None, :] - record.robot_radius
+    if record.ped_enter_step is not None:  # nobody there: no clearance at that sample
+        gaps = np.where(record.present()[: end + 1], gaps, np.inf)
+    clearance = gaps.min(axis=1) if n else np.full(end + 1, np.inf)
     samples = end + 1
     inside_intimate = int(np.count_nonzero(clearance < params.intimate_m))
     inside_personal = int(np.count_nonzero(clearance < params.personal_m))
     per_ped = {"min_ttc_s": ttc, "near_misses": near}
     finite_ttc = ttc[~np.isnan(ttc)]
     values = {
-        "mean_robot_clearance_m": float(clearance.mean()),
+        "mean_robot_clearance_m": _finite_mean(clearance),
         "intimate_space_compliance": 1.0 - inside_intimate / samples,
         "personal_space_compliance": 1.0 - inside_personal / samples,
         "intimate_space_time_s": inside_intimate * record.dt_s,
@@ -913,15 +942,29 @@ def episode_metrics(record: EpisodeRecord, params: MetricParams | None = None) -
     end = record.end_step
     separation = record.twin_separation_m()
     robot_xy = record.robot_pose[: end + 1, None, :2]
-    robot_dist = np.linalg.norm(f_pos[: end + 1] - robot_xy, axis=2).min(axis=0)
+    robot_gap = np.linalg.norm(f_pos[: end + 1] - robot_xy, axis=2)
     f_len = _path_lengths(f_pos)
     c_len = _path_lengths(c_pos)
     f_time, f_step = _first_arrivals(record, "factual")
     c_time, _ = _first_arrivals(record, "counterfactual")
+    if record.ped_enter_step is None:
+        robot_dist = robot_gap.min(axis=0)
+        mean_separation = separation.mean(axis=0)
+    else:
+        # Entering pedestrians: only the samples from each one's entry on count; one
+        # that enters after the robot's episode has no distance to it (NaN); times to
+        # the goal run from the entry.
+        enter = record.enter_steps()
+        robot_gap = np.where(record.present()[: end + 1], robot_gap, np.inf)
+        robot_dist = robot_gap.min(axis=0)
+        robot_dist[np.isinf(robot_dist)] = np.nan
+        mean_separation = separation.sum(axis=0) / (record.horizon_steps + 1 - enter)
+        f_time = f_time - enter * record.dt_s
+        c_time = c_time - enter * record.dt_s
     social_ped, social_values = _social(record, params)
     ped: dict[str, FloatArray] = {
         "frechet_m": frechet_distances(f_pos, c_pos),
-        "mean_separation_m": separation.mean(axis=0),
+        "mean_separation_m": mean_separation,
         "max_separation_m": separation.max(axis=0),
         "min_robot_distance_m": robot_dist,
         "min_robot_clearance_m": robot_dist - record.ped_radius - record.robot_radius,
@@ -953,8 +996,8 @@ def episode_metrics(record: EpisodeRecord, params: MetricParams | None = None) -
         "robot_force_p95_mps2": float(ped["robot_force_p95_mps2"].mean()),
         "social_work_m2ps2": float(ped["social_work_m2ps2"].mean()),
         "pedestrians_stopped": float(ped["stopped_by_robot"].sum()),
-        "min_robot_distance_m": float(robot_dist.min()),
-        "min_robot_clearance_m": float(ped["min_robot_clearance_m"].min()),
+        "min_robot_distance_m": _finite_min(robot_dist),
+        "min_robot_clearance_m": _finite_min(ped["min_robot_clearance_m"]),
         **social_values,
         "robot_success": float(record.outcome == "goal_reached"),
         "robot_collision": float(record.outcome == "collision"),

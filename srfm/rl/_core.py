@@ -54,6 +54,14 @@ class EnvCore:
     """
 
     def __init__(self, scenario: Scenario, config: EnvConfig, params: SRFMParams) -> None:
+        if scenario.ped_enter_s is not None:
+            # The fused kernel steps every row of its packed crowd array.
+            raise ScenarioError(
+                f"{scenario.source}: pedestrians enter during the run (pedestrians.enter_s "
+                "or pedestrians.sources); the gymnasium environment does not support "
+                "entering pedestrians yet: evaluate policies on it with srfm.run_episode "
+                "or srfm benchmark"
+            )
         self.scenario = scenario
         self.config = config
         self.params = params

@@ -22,27 +22,40 @@ from srfm.scenarios._schema import (
     parse_scenario,
     read_scenario_file,
 )
-from srfm.scenarios._setup import EpisodeSetup, episode_setup, next_goal, validate_seed
-from srfm.scenarios._v2 import RobotRecording
+from srfm.scenarios._setup import (
+    EpisodeSetup,
+    entry_steps,
+    entry_times,
+    episode_setup,
+    next_goal,
+    source_goals,
+    validate_seed,
+)
+from srfm.scenarios._v2 import EntrySource, RobotRecording
 
 __all__ = [
     "BUILTIN_SCENARIOS",
     "EVALUATION_SCENARIOS",
+    "FLOW_SCENARIOS",
     "FRANCIS_SCENARIOS",
     "LARGE_SCENARIOS",
     "MAX_HORIZON_STEPS",
     "NAVWARESET_SCENARIOS",
     "SCHEMA_VERSION",
+    "EntrySource",
     "EpisodeSetup",
     "RandomSpec",
     "RobotRecording",
     "Scenario",
     "WorldBounds",
     "builtin_scenarios",
+    "entry_steps",
+    "entry_times",
     "episode_setup",
     "load_scenario",
     "next_goal",
     "parse_scenario",
+    "source_goals",
     "validate_seed",
 ]
 
@@ -78,11 +91,14 @@ NAVWARESET_SCENARIOS: Final = (
     "navwareset_perpendicular_crossing",
     "navwareset_circular_crossing",
 )
+# Pedestrians entering during the run (sources and entry times; issue 17).
+FLOW_SCENARIOS: Final = ("corridor_flow",)
 BUILTIN_SCENARIOS: Final = (
     *EVALUATION_SCENARIOS,
     "random",
     *FRANCIS_SCENARIOS,
     *NAVWARESET_SCENARIOS,
+    *FLOW_SCENARIOS,
 )
 # Large crowds (issue 19; 300-400 pedestrians, stepped with the cell list and the
 # interaction cut-off): built in and loadable by name, run by `srfm benchmark --suite

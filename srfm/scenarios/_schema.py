@@ -1,7 +1,8 @@
 """Scenario classes and the TOML schema (versions 1 and 2) they are read from.
 
 Version 2 adds pedestrian routes, waits, groups, standing pedestrians, speed noise,
-wall thickness, doors, named regions and map points (:mod:`srfm.scenarios._v2`,
+entering pedestrians (entry times and sources), wall thickness, doors, named regions
+and map points (:mod:`srfm.scenarios._v2`,
 ``docs/scenarios.md``); version-1 files load as before and refuse those keys.
 
 A scenario file is TOML with these tables (every key is checked; unknown keys and
@@ -97,6 +98,9 @@ _V2_PEDESTRIAN_KEYS: Final = (
     "standing",
     "switch_radius_m",
     "speed_noise_mps",
+    "enter_s",
+    "enter_noise_s",
+    "sources",
 )
 _NAME_RE: Final = re.compile(r"[a-z0-9][a-z0-9_-]*")  # used with fullmatch
 
@@ -169,6 +173,12 @@ class Scenario:
     regions: Mapping[str, tuple[float, float, float, float]] = attrs.field(factory=dict)
     map_points: FloatArray | None = None
     robot_recording: _v2.RobotRecording | None = None
+    # Entering pedestrians (version 2): each one's scenario-given entry time (s), None
+    # when every pedestrian is there at the start; the per-seed noise on the times
+    # > 0; the sources (srfm.scenarios.entry_times makes the times of a seed).
+    ped_enter_s: FloatArray | None = None
+    ped_enter_noise_s: float = 0.0
+    ped_sources: tuple[_v2.EntrySource, ...] = ()
 
     def region(self, name: str) -> tuple[float, float, float, float]:
         """The named region (x_min, y_min, x_max, y_max) (m).
@@ -388,6 +398,9 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     w.finish()
     if world.x_max <= world.x_min or world.y_max <= world.y_min:
         raise ScenarioError(f"{source}: world: x_max > x_min and y_max > y_min needed, got {world}")
+    regions: dict[str, tuple[float, float, float, float]] = {}
+    if v2:
+        regions = _v2.read_regions(top, world)
 
     r = top.table("robot")
     fixed = kind == "fixed"
@@ -431,7 +444,7 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         for key in _V2_PEDESTRIAN_KEYS:
             if p.has(key):
                 raise p.fail(key, "needs schema_version = 2")
-    extra = v2 and any(p.has(k) for k in ("groups", "standing"))
+    extra = v2 and any(p.has(k) for k in ("groups", "standing", "sources"))
     starts = p.bounded_array("starts", 2, required=fixed and not extra, kinds=("coordinate",))
     goals = p.bounded_array("goals", 2, required=fixed and not extra, kinds=("coordinate",))
     n: int | None = None
@@ -446,7 +459,7 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         raise p.fail("goals", "given without starts")
     layout: _v2.PedestrianLayout | None = None
     if v2 and fixed:
-        layout = _v2.read_pedestrians(p, starts, goals)
+        layout = _v2.read_pedestrians(p, starts, goals, horizon * dt_s, regions)
         starts, goals = layout.starts, layout.goals
         n = starts.shape[0]
     elif v2 and any(p.has(k) for k in _V2_PEDESTRIAN_KEYS):
@@ -454,6 +467,7 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         raise p.fail(key, "is only allowed with kind = 'fixed'")
     switch_radius = p.number("switch_radius_m", DEFAULT_SWITCH_RADIUS_M, strict=True, kind="radius")
     speed_noise = p.number("speed_noise_mps", 0.0, kind="speed")
+    enter_noise = p.number("enter_noise_s", 0.0, minimum=0.0, maximum=horizon * dt_s)
     ped_radius = p.per_agent("radius_m", 0.3, n, MAX_RADIUS_M)
     ped_v0 = p.per_agent("desired_speed_mps", 1.25, n, MAX_SPEED_MPS)
     ped_vmax = p.per_agent("max_speed_mps", 1.25, n, MAX_SPEED_MPS)
@@ -503,14 +517,11 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         )
     except SrfmError as exc:
         raise ScenarioError(f"{source}: obstacles: {exc}") from None
-    regions: dict[str, tuple[float, float, float, float]] = {}
     map_points: FloatArray | None = None
-    if v2:
-        regions = _v2.read_regions(top, world)
-        if top.has("map"):
-            m = top.table("map")
-            map_points = m.bounded_array("points", 2, required=True, kinds=("coordinate",))
-            m.finish()
+    if v2 and top.has("map"):
+        m = top.table("map")
+        map_points = m.bounded_array("points", 2, required=True, kinds=("coordinate",))
+        m.finish()
     top.finish()
     if layout is not None:
         assert robot_start is not None
@@ -562,6 +573,13 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         regions=regions,
         map_points=map_points,
         robot_recording=recording,
+        ped_enter_s=(
+            layout.enter_s
+            if layout is not None and (layout.enter_s.any() or layout.sources)
+            else None
+        ),
+        ped_enter_noise_s=enter_noise,
+        ped_sources=() if layout is None else layout.sources,
     )
 
 

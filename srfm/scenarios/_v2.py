@@ -4,8 +4,11 @@ Pedestrians (``[pedestrians]``): per-pedestrian routes (``routes``: one list of
 waypoints per listed pedestrian, walked in order before the goal; ``waits_s``: seconds
 spent at each waypoint; ``switch_radius_m``: how close a pedestrian comes to a waypoint
 before it steers to the next), groups walking side by side (``[[pedestrians.groups]]``),
-standing pedestrians (``standing``: goal = start) and per-seed speed noise
-(``speed_noise_mps``). Obstacles: walls with a thickness (a fifth number per wall),
+standing pedestrians (``standing``: goal = start), per-seed speed noise
+(``speed_noise_mps``) and pedestrians entering during the run (``enter_s`` per listed
+pedestrian or group, ``enter_noise_s``, and ``[[pedestrians.sources]]``: a stream of
+``count`` pedestrians entering at ``rate_per_s``; the per-seed times are drawn in
+:func:`srfm.scenarios.entry_times`). Obstacles: walls with a thickness (a fifth number per wall),
 doors (``doors``: openings cut out of the walls they lie on). Named regions
 (``[regions]``) and map points for drawing (``[map] points``).
 
@@ -17,6 +20,7 @@ the key.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any, Final
 
 import attrs
@@ -35,16 +39,45 @@ FloatArray = NDArray[np.float64]
 
 MAX_WAYPOINTS: Final = 1_000
 MAX_GROUP_SIZE: Final = 100
+MAX_SOURCE_COUNT: Final = 10_000
+DEFAULT_HEADWAY_S: Final = 1.0
 # Walls are drawn as the outline of their rectangle: this thin a wall (m) is one segment.
 THIN_WALL_M: Final = 1e-9
 
 
 @attrs.frozen(kw_only=True)
-class PedestrianLayout:
-    """The pedestrians of a fixed scenario after expanding groups and standing ones.
+class EntrySource:
+    """``[[pedestrians.sources]]``: ``count`` pedestrians (layout indices ``first`` ..
+    ``first + count - 1``) that enter at ``start`` during the run, at ``rate_per_s`` on
+    average from ``start_s`` on, at least ``headway_s`` apart (the per-seed times:
+    :func:`srfm.scenarios.entry_times`), walking to ``goal`` or to a point of the named
+    region ``goal_region`` (:func:`srfm.scenarios.source_goals`)."""
 
-    Order: listed pedestrians, then each group's members, then standing pedestrians.
-    ``labels[i]`` names the key that pedestrian i came from (for error messages).
+    first: int
+    count: int
+    rate_per_s: float
+    start_s: float
+    headway_s: float
+    # goal_region: each member's goal is drawn per seed, uniform in this named region
+    # (x_min, y_min, x_max, y_max), so that a stream does not crowd onto one point.
+    goal_region: str | None = None
+    goal_box: tuple[float, float, float, float] | None = None
+
+    @property
+    def window_s(self) -> float:
+        """The span of the entries: ``count / rate_per_s`` seconds from ``start_s``."""
+        return self.count / self.rate_per_s
+
+
+@attrs.frozen(kw_only=True)
+class PedestrianLayout:
+    """The pedestrians of a fixed scenario after expanding groups, standing ones and
+    sources.
+
+    Order: listed pedestrians, then each group's members, then standing pedestrians,
+    then each source's members. ``labels[i]`` names the key that pedestrian i came from
+    (for error messages). ``enter_s[i]`` is its scenario-given entry time (0: there at
+    the start; a source's members get their source's ``start_s``).
     """
 
     starts: FloatArray
@@ -54,6 +87,15 @@ class PedestrianLayout:
     groups: tuple[tuple[int, ...], ...]
     standing: tuple[int, ...]
     labels: tuple[str, ...]
+    enter_s: FloatArray
+    sources: tuple[EntrySource, ...] = ()
+
+    def at_start(self) -> NDArray[np.bool_]:
+        """(N,) True for the pedestrians that are there at sample 0 of every seed."""
+        out: NDArray[np.bool_] = np.asarray(self.enter_s == 0.0)
+        for source in self.sources:
+            out[source.first : source.first + source.count] = False
+        return out
 
 
 def _points(reader: _Reader, value: Any, label: str) -> FloatArray:
@@ -89,10 +131,27 @@ def _seconds(reader: _Reader, value: Any, label: str, count: int) -> FloatArray:
     return out
 
 
+def _entry_time(reader: _Reader, value: Any, label: str, horizon_s: float) -> float:
+    """An entry time (s): a number in [0, horizon)."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise reader.fail(label, f"must be a number of seconds, got {value!r}")
+    if not 0.0 <= float(value) < horizon_s:  # also false for NaN
+        raise reader.fail(
+            label, f"must be in [0, {horizon_s:g}) s (before the horizon), got {value!r}"
+        )
+    return float(value)
+
+
 def read_pedestrians(
-    p: _Reader, starts: FloatArray | None, goals: FloatArray | None
+    p: _Reader,
+    starts: FloatArray | None,
+    goals: FloatArray | None,
+    horizon_s: float,
+    regions: Mapping[str, tuple[float, float, float, float]],
 ) -> PedestrianLayout:
-    """Routes, waits, groups and standing pedestrians of ``[pedestrians]`` (version 2)."""
+    """Routes, waits, groups, standing pedestrians, entry times and sources of
+    ``[pedestrians]`` (version 2); ``horizon_s`` bounds the entry times, ``regions``
+    are the scenario's named regions (a source's ``goal_region``)."""
     n_listed = 0 if starts is None else starts.shape[0]
     s_list = [] if starts is None else list(starts)
     g_list = [] if goals is None else list(goals)
@@ -114,6 +173,15 @@ def read_pedestrians(
                 "waits_s", f"needs one list per listed pedestrian ({n_listed}), got {value!r}"
             )
         waits = [_seconds(p, v, f"waits_s[{i}]", len(routes[i])) for i, v in enumerate(value)]
+    enter = [0.0] * n_listed
+    if p.has("enter_s"):
+        value = p.raw("enter_s")
+        if not isinstance(value, list) or len(value) != n_listed:
+            raise p.fail(
+                "enter_s",
+                f"needs one entry time per listed pedestrian ({n_listed}), got {value!r}",
+            )
+        enter = [_entry_time(p, v, f"enter_s[{i}]", horizon_s) for i, v in enumerate(value)]
     groups: list[tuple[int, ...]] = []
     if p.has("groups"):
         value = p.raw("groups")
@@ -122,7 +190,7 @@ def read_pedestrians(
         for gi, table in enumerate(value):
             if not isinstance(table, dict):
                 raise p.fail(f"groups[{gi}]", f"must be a table, got {table!r}")
-            members = _group(p, table, gi)
+            members, group_enter = _group(p, table, gi, horizon_s)
             first = len(s_list)
             for start, goal, route in members:
                 s_list.append(start)
@@ -130,6 +198,7 @@ def read_pedestrians(
                 routes.append(route)
                 waits.append(np.zeros(len(route)))
                 labels.append(f"pedestrians.groups[{gi}]")
+                enter.append(group_enter)
             groups.append(tuple(range(first, len(s_list))))
     standing: list[int] = []
     if p.has("standing"):
@@ -140,10 +209,32 @@ def read_pedestrians(
             routes.append(np.zeros((0, 2)))
             waits.append(np.zeros(0))
             labels.append(f"pedestrians.standing[{k}]")
+            enter.append(0.0)
+    sources: list[EntrySource] = []
+    if p.has("sources"):
+        value = p.raw("sources")
+        if not isinstance(value, list):
+            raise p.fail("sources", f"must be an array of tables, got {value!r}")
+        for si, table in enumerate(value):
+            if not isinstance(table, dict):
+                raise p.fail(f"sources[{si}]", f"must be a table, got {table!r}")
+            source, (start, goal, route) = _source(p, table, si, len(s_list), horizon_s, regions)
+            for _ in range(source.count):
+                s_list.append(start.copy())
+                g_list.append(goal.copy())
+                routes.append(route)
+                waits.append(np.zeros(len(route)))
+                labels.append(f"pedestrians.sources[{si}]")
+                enter.append(source.start_s)
+            sources.append(source)
     if not s_list:
-        raise p.fail("starts", "needs at least one pedestrian (starts, groups or standing)")
+        raise p.fail(
+            "starts", "needs at least one pedestrian (starts, groups, standing or sources)"
+        )
     for arr in (*routes, *waits):
         arr.setflags(write=False)
+    enter_s = np.array(enter, dtype=np.float64)
+    enter_s.setflags(write=False)
     return PedestrianLayout(
         starts=np.array(s_list, dtype=np.float64).reshape(-1, 2),
         goals=np.array(g_list, dtype=np.float64).reshape(-1, 2),
@@ -152,14 +243,80 @@ def read_pedestrians(
         groups=tuple(groups),
         standing=tuple(standing),
         labels=tuple(labels),
+        enter_s=enter_s,
+        sources=tuple(sources),
     )
 
 
+def _source(
+    p: _Reader,
+    table: dict[str, Any],
+    si: int,
+    first: int,
+    horizon_s: float,
+    regions: Mapping[str, tuple[float, float, float, float]],
+) -> tuple[EntrySource, tuple[FloatArray, FloatArray, FloatArray]]:
+    """Source ``si``: its entry schedule and its members' (start, goal, route); with a
+    ``goal_region`` (instead of ``goal``) the goal is the region's centre until a seed
+    draws each member's own.
+
+    Its ``count`` entries lie in [start_s, start_s + count / rate_per_s], which must
+    end before the horizon, and at least ``headway_s`` apart, which must fit in it.
+    """
+    from srfm.scenarios._schema import _Reader
+
+    q = _Reader(table, p.key(f"sources[{si}]"), p.file)
+    start = q.bounded_array("start", 0, required=True, kinds=("coordinate",))
+    region = q.string("goal_region") if q.has("goal_region") else None
+    goal = q.bounded_array("goal", 0, required=region is None, kinds=("coordinate",))
+    box: tuple[float, float, float, float] | None = None
+    if region is not None:
+        if goal is not None:
+            raise q.fail("goal", "give either goal or goal_region, not both")
+        if region not in regions:
+            known = ", ".join(sorted(regions)) or "none"
+            raise q.fail("goal_region", f"no region {region!r} in [regions]; regions: {known}")
+        box = regions[region]
+        goal = np.array([(box[0] + box[2]) / 2.0, (box[1] + box[3]) / 2.0])
+    route = _points(q, q.raw("route"), "route") if q.has("route") else np.zeros((0, 2))
+    count = q.integer("count", 1, minimum=1, maximum=MAX_SOURCE_COUNT)
+    rate = q.number("rate_per_s", minimum=0.0, strict=True, maximum=1e3)
+    start_s = _entry_time(q, q.raw("start_s"), "start_s", horizon_s) if q.has("start_s") else 0.0
+    headway = q.number("headway_s", DEFAULT_HEADWAY_S, minimum=0.0, maximum=1e6)
+    q.finish()
+    assert start is not None
+    assert goal is not None
+    source = EntrySource(
+        first=first,
+        count=count,
+        rate_per_s=rate,
+        start_s=start_s,
+        headway_s=headway,
+        goal_region=region,
+        goal_box=box,
+    )
+    end = start_s + source.window_s
+    if end >= horizon_s:
+        raise q.fail(
+            "rate_per_s",
+            f"{count} entries at {rate:g} per s from {start_s:g} s last until {end:g} s, "
+            f"not before the horizon ({horizon_s:g} s); raise the rate or lower count",
+        )
+    if (count - 1) * headway > source.window_s:
+        raise q.fail(
+            "headway_s",
+            f"{count} entries {headway:g} s apart need {(count - 1) * headway:g} s, more "
+            f"than the {source.window_s:g} s that count / rate_per_s gives them",
+        )
+    return source, (start, goal, route)
+
+
 def _group(
-    p: _Reader, table: dict[str, Any], gi: int
-) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
-    """The members (start, goal, route) of group ``gi``: side by side across the
-    direction of its first leg, ``spacing_m`` apart, sharing the route's shape."""
+    p: _Reader, table: dict[str, Any], gi: int, horizon_s: float
+) -> tuple[list[tuple[FloatArray, FloatArray, FloatArray]], float]:
+    """The members (start, goal, route) of group ``gi`` (side by side across the
+    direction of its first leg, ``spacing_m`` apart, sharing the route's shape) and
+    the group's entry time."""
     from srfm.scenarios._schema import _Reader
 
     g = _Reader(table, p.key(f"groups[{gi}]"), p.file)
@@ -168,6 +325,7 @@ def _group(
     size = g.integer("size", 2, minimum=1, maximum=MAX_GROUP_SIZE)
     spacing = g.number("spacing_m", 0.8, kind="length")
     route = _points(g, g.raw("route"), "route") if g.has("route") else np.zeros((0, 2))
+    enter = _entry_time(g, g.raw("enter_s"), "enter_s", horizon_s) if g.has("enter_s") else 0.0
     g.finish()
     assert start is not None
     assert goal is not None
@@ -181,7 +339,7 @@ def _group(
     for j in range(size):
         offset = (j - (size - 1) / 2.0) * spacing * across
         out.append((start + offset, goal + offset, route + offset))
-    return out
+    return out, enter
 
 
 def read_walls(o: _Reader) -> tuple[FloatArray, list[str]]:
@@ -297,15 +455,18 @@ def check_layout(
     robot_goal: FloatArray,
     robot_radius: float,
 ) -> None:
-    """Refuse walls through a start, goal or waypoint, overlapping starts and waypoints
-    that no path reaches (the router's free space for a disc of the pedestrian's radius).
+    """Refuse walls through a start, goal or waypoint, overlapping starts (of the robot
+    and the pedestrians there at sample 0; those entering later may come where others
+    stood) and waypoints that no path reaches (the router's free space for a disc of
+    the pedestrian's radius).
 
     Raises:
         ScenarioError: naming the file and the key.
     """
-    starts = np.vstack([robot_start[None], layout.starts])
-    radii = np.concatenate([[robot_radius], radius])
-    names = ["robot.start", *layout.labels]
+    there = np.flatnonzero(layout.at_start())
+    starts = np.vstack([robot_start[None], layout.starts[there]])
+    radii = np.concatenate([[robot_radius], radius[there]])
+    names = ["robot.start", *(layout.labels[i] for i in there)]
     gap = np.linalg.norm(starts[:, None] - starts[None], axis=2) - radii[:, None] - radii[None]
     np.fill_diagonal(gap, np.inf)
     if gap.min() < 0.0:
@@ -335,6 +496,17 @@ def check_layout(
 
     clear(robot_start, robot_radius, "robot.start")
     clear(robot_goal, robot_radius, "robot.goal")
+    for si, src in enumerate(layout.sources):
+        if src.goal_box is None:
+            continue
+        r = float(radius[src.first])
+        d = float(shapely.distance(shapely.box(*src.goal_box), walls))
+        if d < r:
+            raise ScenarioError(
+                f"{source}: pedestrians.sources[{si}].goal_region: region "
+                f"{src.goal_region!r} comes {d:.3g} m from a wall or pillar, less than "
+                f"the radius {r:g} m (every point of it may be drawn as a goal)"
+            )
     routers: dict[float, Router] = {}
     for p, label in enumerate(layout.labels):
         r = float(radius[p])

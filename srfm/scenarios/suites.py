@@ -2,9 +2,10 @@
 
 A suite is a tuple of built-in scenario names, run in that order. ``paper`` is the
 default of ``srfm benchmark`` (the paper's five evaluation scenarios), ``large`` the
-large-crowd scenarios of issue 19, ``francis`` the scenarios after Francis et al. 2023
-and ``navwareset`` the NavWareSet room's five layouts (issue 17); ``all`` is paper,
-francis and navwareset (not ``large``, a performance suite of 300-400 pedestrians).
+large-crowd scenarios of issue 19, ``francis`` the scenarios after Francis et al. 2023,
+``navwareset`` the NavWareSet room's five layouts and ``flows`` the scenarios with
+pedestrians entering during the run (issue 17); ``all`` is paper, francis, navwareset
+and flows (not ``large``, a performance suite of 300-400 pedestrians).
 Add a suite by adding an entry here.
 """
 
@@ -14,6 +15,7 @@ from typing import Final
 
 from srfm.scenarios import (
     EVALUATION_SCENARIOS,
+    FLOW_SCENARIOS,
     FRANCIS_SCENARIOS,
     LARGE_SCENARIOS,
     NAVWARESET_SCENARIOS,
@@ -26,6 +28,7 @@ SUITES: Final[dict[str, tuple[str, ...]]] = {
     "large": LARGE_SCENARIOS,
     "francis": FRANCIS_SCENARIOS,
     "navwareset": NAVWARESET_SCENARIOS,
-    "all": (*EVALUATION_SCENARIOS, *FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS),
+    "flows": FLOW_SCENARIOS,
+    "all": (*EVALUATION_SCENARIOS, *FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS, *FLOW_SCENARIOS),
 }
 DEFAULT_SUITE: Final = "paper"

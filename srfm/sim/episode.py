@@ -320,4 +320,5 @@ def run_episode(
         outcome=sim.outcome,
         end_step=sim.end_step,
         events=tuple(events),
+        ped_enter_step=None if setup.ped_enter_step is None else setup.ped_enter_step.copy(),
     )

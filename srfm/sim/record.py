@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Final, Literal
 
 import attrs
@@ -87,6 +88,10 @@ class EpisodeRecord:
         end_step: the sample at which it ended (T on timeout).
         events: every event, in time order.
         robot_goal_radius_m: the robot's goal counts as reached within this distance (m).
+        ped_enter_step: (N,) the sample at which each pedestrian appears (scenarios
+            with entering pedestrians; None: everyone from sample 0). Before it a
+            pedestrian stands at its start in both twins with zero velocity and
+            counts for no metric (:meth:`enter_steps`).
     """
 
     scenario: str
@@ -114,11 +119,23 @@ class EpisodeRecord:
     end_step: int
     events: tuple[Event, ...]
     robot_goal_radius_m: float = 0.5
+    ped_enter_step: NDArray[np.int64] | None = None
 
     @property
     def n_pedestrians(self) -> int:
         """N."""
         return int(self.factual_pos.shape[1])
+
+    def enter_steps(self) -> NDArray[np.int64]:
+        """(N,) the sample at which each pedestrian appears (zeros without entries)."""
+        if self.ped_enter_step is None:
+            return np.zeros(self.n_pedestrians, dtype=np.int64)
+        return np.asarray(self.ped_enter_step, dtype=np.int64)
+
+    def present(self) -> NDArray[np.bool_]:
+        """(T + 1, N) True where a pedestrian is there (at or after its entry sample)."""
+        samples = np.arange(self.horizon_steps + 1)[:, None]
+        return np.asarray(samples >= self.enter_steps()[None, :])
 
     def arrays(self) -> dict[str, NDArray[np.generic]]:
         """Every array field by name (for hashing, saving or comparing records)."""
@@ -133,9 +150,12 @@ class EpisodeRecord:
         return float(np.sum(np.linalg.norm(np.diff(self.robot_pose[:, :2], axis=0), axis=1)))
 
     def min_robot_distance_m(self) -> float:
-        """Smallest centre distance between the robot and a factual pedestrian (m)."""
+        """Smallest centre distance between the robot and a factual pedestrian that is
+        there (m); inf when nobody ever is."""
         d = np.linalg.norm(self.factual_pos - self.robot_pose[:, None, :2], axis=2)
-        return float(d.min())
+        if self.ped_enter_step is not None:
+            d = np.where(self.present(), d, np.inf)
+        return float(d.min()) if d.size else math.inf
 
     def twin_separation_m(self) -> FloatArray:
         """(T + 1, N) distance between each pedestrian's factual and counterfactual twin."""

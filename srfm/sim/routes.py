@@ -155,7 +155,7 @@ def _pedestrian_plans(setup: EpisodeSetup) -> list[tuple[FloatArray, NDArray[np.
         if given is not None and len(given[i]):
             wps = np.vstack([given[i], goal[None]])
             out.append((wps, np.zeros(len(wps), dtype=bool)))
-        elif scenario.obstacles.empty or i in scenario.ped_standing:
+        elif scenario.obstacles.empty or i in setup.ped_standing:
             out.append((goal[None].copy(), np.zeros(1, dtype=bool)))
         else:
             wps = _computed_route(scenario, crowd.pos[i], goal, float(crowd.radius[i]))
@@ -219,7 +219,7 @@ class PedestrianRoutes:
         n = len(plans)
         self.index = np.zeros(n, dtype=np.int64)
         self.wait_steps: list[NDArray[np.int64]] = []
-        waits = setup.scenario.ped_waits_s
+        waits = setup.ped_waits_s
         for i, wps in enumerate(self.waypoints):
             w = np.zeros(len(wps), dtype=np.int64)
             if waits is not None and len(waits[i]) == len(wps) - 1:
@@ -229,7 +229,7 @@ class PedestrianRoutes:
         # The pedestrians still on their way to an intermediate waypoint.
         self.active = [i for i, wps in enumerate(self.waypoints) if len(wps) > 1]
         # Replanning needs obstacles; standing pedestrians never replan.
-        standing = set(scenario.ped_standing)
+        standing = set(setup.ped_standing)
         self._walkers = (
             [] if scenario.obstacles.empty else [i for i in range(n) if i not in standing]
         )
@@ -265,19 +265,25 @@ class PedestrianRoutes:
         line = shapely.LineString([tuple(a), tuple(b)])
         return bool(routers[-1].free.covers(line))
 
-    def advance(self, pos: FloatArray, goal: FloatArray) -> None:
+    def advance(self, pos: FloatArray, goal: FloatArray, present: int | None = None) -> None:
         """Move each pedestrian within the switch radius of its waypoint on to the next
         one (after its wait), replan where a wall hides the waypoint; write the current
-        waypoints into ``goal`` (N, 2)."""
+        waypoints into ``goal`` (N, 2). Only the first ``present`` pedestrians (all for
+        None) are there yet (:meth:`srfm.scenarios.EpisodeSetup.n_present`)."""
         self._steps += 1
+        n = len(self.waypoints) if present is None else present
         if self._walkers and self._steps % self.REPLAN_STEPS == 0:
             for i in self._walkers:
+                if i >= n:
+                    break
                 if not self._visible(i, pos[i], goal[i]):
                     self._replan(i, pos[i], goal)
         r2 = self.switch_radius_m * self.switch_radius_m
         check_skips = self._steps % self.SKIP_CHECK_STEPS == 0
         done = []
         for i in self.active:
+            if i >= n:
+                break  # sorted: the rest are not there yet
             k = int(self.index[i])
             wp = self.waypoints[i][k]
             dx = pos[i, 0] - wp[0]

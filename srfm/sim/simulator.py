@@ -14,9 +14,16 @@ One step, from sample k to k + 1:
    robot where it is at sample k;
 2. the robot moves under the planner's command (clipped to its limits), or stays put
    once its episode has ended;
-3. events are detected at sample k + 1: pedestrian arrivals (and new goals in
+3. pedestrians whose entry sample is k + 1 appear at their start (schema 2 entries);
+4. events are detected at sample k + 1: pedestrian arrivals (and new goals in
    re-goaling scenarios), then robot collision, out of bounds, goal reached, and a
    timeout when k + 1 is the horizon.
+
+Entering pedestrians: the set-up orders the pedestrians by entry
+(:func:`srfm.scenarios.episode_setup`), so the ones present at a sample are the first
+``n_present``; the kernels get those rows (views of the same arrays, so no copy and no
+other kernel), and a pedestrian not there yet neither moves nor is felt or seen. Both
+twins get the same pedestrians at the same samples.
 
 The robot's motion and checks are the robot kernels of
 :mod:`srfm.models._robot_kernels` (the ones :func:`srfm.apply_command` and the RL
@@ -147,34 +154,12 @@ class TwinSimulator:
                 if routes.any:
                     crowd.goal[:] = routes.targets()
                     self._ped_routes[twin] = routes
+        # The pedestrians there at the current sample are the first n_present.
+        self._enter_step = setup.ped_enter_step
+        self.n_present = setup.n_present(0)
         # The per-step kernels, their argument types resolved once (srfm._jit.specialize),
         # and their arguments, the same arrays (updated in place) at every step.
-        dt = float(self.scenario.dt_s)
-        f = self.factual
-        c = self.counterfactual
-        self._twin_step_args = (
-            f.pos,
-            f.vel,
-            f.goal,
-            c.pos,
-            c.vel,
-            c.goal,
-            f.radius,
-            f.v0,
-            f.vmax,
-            self._kernel_params,
-            self._robot_body,
-            self._segments,
-            self._circles,
-            dt,
-            self._force_buf,
-            float(self.scenario.ped_goal_radius_m),
-            self._arrived["factual"],
-            self._arrived["counterfactual"],
-            self._new_arrivals["factual"],
-            self._new_arrivals["counterfactual"],
-            self._cut,
-        )
+        self._pack(self.n_present)
         if parallel:
             twin_kernel = _kernels.twin_step_parallel
         elif math.isinf(self._cut[0]):
@@ -182,21 +167,51 @@ class TwinSimulator:
         else:
             twin_kernel = _kernels.twin_step_serial
         self._twin_step = specialize(twin_kernel, *self._twin_step_args)
+        dt = float(self.scenario.dt_s)
         self._move_robot = specialize(_rk.move_robot, self._robot, 0.0, 0.0, self._limits, dt)
+        self._robot_event = specialize(_rk.robot_event, *self._event_args, 0)
+        # A robot that starts in collision, out of bounds or at its goal ends at sample 0.
+        self.initial_events: list[Event] = self._robot_events()
+
+    def _pack(self, m: int) -> None:
+        """The twin step's and the robot events' arguments for the first ``m``
+        pedestrians (views of the crowds' arrays: the kernels update them in place)."""
+        f = self.factual
+        c = self.counterfactual
+        self._twin_step_args = (
+            f.pos[:m],
+            f.vel[:m],
+            f.goal[:m],
+            c.pos[:m],
+            c.vel[:m],
+            c.goal[:m],
+            f.radius[:m],
+            f.v0[:m],
+            f.vmax[:m],
+            self._kernel_params,
+            self._robot_body,
+            self._segments,
+            self._circles,
+            float(self.scenario.dt_s),
+            self._force_buf[:m],
+            float(self.scenario.ped_goal_radius_m),
+            self._arrived["factual"][:m],
+            self._arrived["counterfactual"][:m],
+            self._new_arrivals["factual"][:m],
+            self._new_arrivals["counterfactual"][:m],
+            self._cut,
+        )
         # robot_event's arguments but the sample index
         self._event_args = (
             self._robot,
-            f.pos,
-            self._ped_radius,
+            f.pos[:m],
+            self._ped_radius[:m],
             self._segments,
             self._pillar_xy,
             self._pillar_r,
             self._limits,
             self._task,
         )
-        self._robot_event = specialize(_rk.robot_event, *self._event_args, 0)
-        # A robot that starts in collision, out of bounds or at its goal ends at sample 0.
-        self.initial_events: list[Event] = self._robot_events()
 
     @property
     def time_s(self) -> float:
@@ -233,9 +248,9 @@ class TwinSimulator:
     def observe(self, detection_range_m: float | None) -> Observation:
         """The planner's view of the current sample: factual pedestrians closer than
         ``detection_range_m`` (all of them for None)."""
-        pos = self.factual.pos
+        pos = self.factual.pos[: self.n_present]
         if detection_range_m is None:
-            ids = self._all_ids.copy()
+            ids = self._all_ids[: self.n_present].copy()
         else:
             k = _kernels.within_range(
                 pos, self.robot.x, self.robot.y, float(detection_range_m), self._range_ids
@@ -285,9 +300,14 @@ class TwinSimulator:
             self._robot[_rk.VX :] = 0.0
         else:
             next_robot = robot
-        n_new = self._twin_step(*self._twin_step_args)  # body at sample k
+        n_new = self._twin_step(*self._twin_step_args) if self.n_present else 0  # body at k
         self.robot = next_robot
         self.step_index += 1
+        if self._enter_step is not None:
+            m = self.setup.n_present(self.step_index)
+            if m != self.n_present:  # new pedestrians at their starts
+                self.n_present = m
+                self._pack(m)
         events: list[Event] = []
         if n_new:
             events += self._pedestrian_events("factual", self.factual)
@@ -295,7 +315,7 @@ class TwinSimulator:
         if self._ped_routes:  # after the arrivals, which were flagged on these legs
             for twin, routes in self._ped_routes.items():
                 crowd = self.factual if twin == "factual" else self.counterfactual
-                routes.advance(crowd.pos, crowd.goal)
+                routes.advance(crowd.pos, crowd.goal, self.n_present)
         if self._robot_route is not None and self.robot_active:
             self._robot_route.update(next_robot.x, next_robot.y)
         if self.robot_active:

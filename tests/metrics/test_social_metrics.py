@@ -385,22 +385,25 @@ def test_kernels_equal_their_python_versions(episode: EpisodeRecord) -> None:
     n = episode.n_pedestrians
     end = episode.end_step
     out_jit, out_py = np.empty(n), np.empty(n)
+    enter = episode.enter_steps()
     kernels.min_time_to_collision(
-        a["pos"], a["radius"], a["robot_xy"], 0.2, end, episode.dt_s, out_jit
+        a["pos"], a["radius"], a["robot_xy"], 0.2, end, episode.dt_s, enter, out_jit
     )
     kernels.min_time_to_collision.py_func(
-        a["pos"], a["radius"], a["robot_xy"], 0.2, end, episode.dt_s, out_py
+        a["pos"], a["radius"], a["robot_xy"], 0.2, end, episode.dt_s, enter, out_py
     )
     np.testing.assert_array_equal(out_jit, out_py)
-    kernels.near_miss_entries(a["pos"], a["radius"], a["robot_xy"], 0.2, end, 1.0, out_jit)
-    kernels.near_miss_entries.py_func(a["pos"], a["radius"], a["robot_xy"], 0.2, end, 1.0, out_py)
+    kernels.near_miss_entries(a["pos"], a["radius"], a["robot_xy"], 0.2, end, 1.0, enter, out_jit)
+    kernels.near_miss_entries.py_func(
+        a["pos"], a["radius"], a["robot_xy"], 0.2, end, 1.0, enter, out_py
+    )
     np.testing.assert_array_equal(out_jit, out_py)
     t = episode.horizon_steps
     mag_jit, mag_py = np.empty((t, n)), np.empty((t, n))
     work_jit, work_py = np.empty(n), np.empty(n)
     args = (a["pos"], episode.factual_goal, a["radius"], a["robot_xy"], 0.2, 7.93, 0.99, 0.4)
-    kernels.force_exposure(*args, episode.dt_s, mag_jit, work_jit)
-    kernels.force_exposure.py_func(*args, episode.dt_s, mag_py, work_py)
+    kernels.force_exposure(*args, episode.dt_s, enter, mag_jit, work_jit)
+    kernels.force_exposure.py_func(*args, episode.dt_s, enter, mag_py, work_py)
     np.testing.assert_array_equal(mag_jit, mag_py)
     np.testing.assert_array_equal(work_jit, work_py)
     until = np.full(n, t + 1, dtype=np.int64)

@@ -18,6 +18,7 @@ from srfm.models.state import Obstacles
 from srfm.scenarios import (
     BUILTIN_SCENARIOS,
     EVALUATION_SCENARIOS,
+    FLOW_SCENARIOS,
     FRANCIS_SCENARIOS,
     NAVWARESET_SCENARIOS,
     load_scenario,
@@ -27,7 +28,7 @@ from srfm.sim.checks import check_scenario, wall_distance
 from tests.scenarios.test_scenarios import write_scenario
 
 SEEDS = range(20)
-LIBRARY = (*FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS)
+LIBRARY = (*FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS, *FLOW_SCENARIOS)
 
 
 @pytest.mark.parametrize("name", LIBRARY)
@@ -46,7 +47,8 @@ def test_library_size_and_suites() -> None:
     assert SUITES["paper"] == EVALUATION_SCENARIOS
     assert SUITES["francis"] == FRANCIS_SCENARIOS
     assert SUITES["navwareset"] == NAVWARESET_SCENARIOS
-    assert SUITES["all"] == (*EVALUATION_SCENARIOS, *FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS)
+    assert SUITES["flows"] == FLOW_SCENARIOS
+    assert SUITES["all"] == (*EVALUATION_SCENARIOS, *LIBRARY)
     for name in LIBRARY:
         scenario = load_scenario(name)
         assert scenario.schema_version == 2

@@ -12,6 +12,7 @@ import srfm
 from srfm.scenarios import (
     BUILTIN_SCENARIOS,
     EVALUATION_SCENARIOS,
+    FLOW_SCENARIOS,
     FRANCIS_SCENARIOS,
     NAVWARESET_SCENARIOS,
     episode_setup,
@@ -36,7 +37,7 @@ goals = [[3.0, 0.5], [0.5, 4.0]]
 
 
 def test_every_paper_builtin_loads_with_paper_defaults() -> None:
-    library = (*FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS)
+    library = (*FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS, *FLOW_SCENARIOS)
     assert (*EVALUATION_SCENARIOS, "random", *library) == BUILTIN_SCENARIOS
     for name in (*EVALUATION_SCENARIOS, "random"):
         s = load_scenario(name)

@@ -144,8 +144,8 @@ def _split(values: tuple[str, ...]) -> list[str]:
     help="A named set of built-in scenarios instead of --scenario: paper (the five "
     "evaluation scenarios, the default), francis (17 scenarios after Francis et al. "
     "2023: walls, doors, corners, rooms), navwareset (the NavWareSet room's five "
-    "layouts), all (paper, francis and navwareset) or large (crowds of 300-400 "
-    "pedestrians).",
+    "layouts), flows (pedestrians entering during the run), all (paper, francis, "
+    "navwareset and flows) or large (crowds of 300-400 pedestrians).",
 )
 @click.option(
     "--planner",

@@ -19,6 +19,7 @@ import collections
 import contextlib
 import ctypes
 import ctypes.util
+import functools
 import json
 import multiprocessing
 import os
@@ -61,7 +62,7 @@ from srfm.metrics.report import MANIFEST, render_tables, write_tables
 from srfm.models.params import SRFMParams
 from srfm.planners import available_planners
 from srfm.scenarios import EVALUATION_SCENARIOS, Scenario, load_scenario
-from srfm.sim.episode import build_planner, check_episode_memory
+from srfm.sim.episode import build_planner, check_episode_memory, first_command
 from srfm.sim.record import EpisodeRecord
 
 __all__ = [
@@ -373,9 +374,21 @@ def _warm_up(task: _Task, *, metrics: bool = True) -> EpisodeRecord | None:
     return record
 
 
-def _warm_up_shared(groups: Sequence[Sequence[_Task]], counter: Any) -> None:
-    """Warm up (without metrics) the planner groups whose index this process draws from
-    ``counter`` (a shared ``multiprocessing.Value``), until none is left."""
+def _warm_up_planner(task: _Task) -> None:
+    """Compile (or load) ``task``'s planner's own kernels and the observation's, but not
+    the crowd's: the planner's first command on its scenario
+    (:func:`srfm.sim.episode.first_command`). Errors are left for the worker."""
+    # Any error (a user's planner raises what it likes) is left for the worker, which
+    # reports it in its own words; here it only means nothing is compiled.
+    with contextlib.suppress(Exception):
+        first_command(task.scenario, task.seeds[0], build_planner(task.planner), task.params)
+
+
+def _warm_up_shared(
+    groups: Sequence[Sequence[_Task]], counter: Any, warm_up: Callable[[_Task], object]
+) -> None:
+    """``warm_up`` the planner groups whose index this process draws from ``counter``
+    (a shared ``multiprocessing.Value``), until none is left."""
     while True:
         with counter.get_lock():
             k = counter.value
@@ -383,20 +396,7 @@ def _warm_up_shared(groups: Sequence[Sequence[_Task]], counter: Any) -> None:
         if k >= len(groups):
             return
         for task in groups[k]:
-            _warm_up(task, metrics=False)
-
-
-def _warm_up_helper(
-    record: EpisodeRecord | None, groups: Sequence[Sequence[_Task]], counter: Any
-) -> None:
-    """The helper process of :func:`_compile_in_parent`: the metric kernels first, then
-    planner groups drawn from ``counter``."""
-    if record is not None:
-        from srfm.errors import SrfmError
-
-        with contextlib.suppress(SrfmError):
-            episode_metrics(record)
-    _warm_up_shared(groups, counter)
+            warm_up(task)
 
 
 def _compile_in_parent(tasks: Sequence[_Task]) -> None:
@@ -409,17 +409,21 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
     much as the whole set. Only the kernels of the requested planners are compiled.
     Nothing is written but numba's cache.
 
-    On two cores at once: the crowd and robot kernels, which every episode needs, are
-    compiled first, with a two-step episode of the ``straight`` planner (which adds no
-    kernel of its own). Then a forked helper process compiles the metric kernels on
-    that episode's record while this process starts on the planners; both take the
-    planners' classes (planners of one class, such as td3-base and td3-srfm, share their
-    kernels) one at a time from a shared counter until none is left. Once the helper is
-    done, this process warms up every planner with its metrics, which loads what the
-    helper compiled from numba's on-disk cache. With an empty cache that takes the
-    metrics and about half the planners off this process's wall time. Should the helper
-    fail or nothing be cached, this process compiles it all itself: slower, never
-    different.
+    On two cores at once, from the start: a forked helper process compiles the
+    planners' own kernels (:func:`_warm_up_planner`: each planner's first command,
+    without stepping the crowd), while this process compiles the crowd, robot and
+    metric kernels, which every episode needs, with a two-step episode of the
+    ``straight`` planner (which adds no kernel of its own) and its metrics; then this
+    process joins in on the planners. Both take the planners' classes (planners of one
+    class, such as td3-base and td3-srfm, share their kernels) one at a time from a
+    shared counter until none is left. Once the helper is done, this process warms up
+    every planner with its metrics, which loads what the helper compiled from numba's
+    on-disk cache. Should the helper fail or nothing be cached, this process compiles
+    it all itself: slower, never different.
+
+    Measured (docs/performance.md, "First run with an empty numba cache"): the earlier
+    order (the crowd kernels first, alone, then the helper) left the second core idle
+    for the first 5-6 s of a cold run.
     """
     first: dict[str, _Task] = {}
     for task in tasks:
@@ -427,21 +431,23 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
     if not first:
         return
     straight = attrs.evolve(next(iter(first.values())), planner="straight")
-    record = _warm_up(straight, metrics=False)  # the crowd and robot kernels
     groups: dict[type, list[_Task]] = {}
     for name, task in first.items():
         if name != "straight":
             groups.setdefault(type(build_planner(name)), []).append(task)
     ordered = list(groups.values())
-    if ordered:
+    if not ordered:
+        _warm_up(straight)
+    else:
         context = multiprocessing.get_context("fork")
         counter = context.Value("i", 0)
         helper = context.Process(
-            target=_warm_up_helper, args=(record, ordered, counter), daemon=True
+            target=_warm_up_shared, args=(ordered, counter, _warm_up_planner), daemon=True
         )
         helper.start()
         try:
-            _warm_up_shared(ordered, counter)
+            _warm_up(straight)  # the crowd, robot and metric kernels
+            _warm_up_shared(ordered, counter, functools.partial(_warm_up, metrics=False))
         finally:
             helper.join(timeout=_HELPER_TIMEOUT_S)
             if helper.is_alive():  # stuck: what it had not compiled, the loop below does

@@ -13,6 +13,7 @@ import re
 from pathlib import Path
 from typing import Final
 
+import attrs
 import numpy as np
 
 from srfm._user_code import call_user_code, is_user_code, user_code_error
@@ -186,6 +187,63 @@ def _detection_range(planner: Planner) -> float | None:
     return float(value)
 
 
+@attrs.frozen
+class _Start:
+    """An episode before its first step: the planner reset on the twin simulator."""
+
+    planner: Planner
+    name: str  # the planner's name (it names the logs)
+    detection: float | None  # the planner's detection range (None: everyone)
+    sim: TwinSimulator
+    user: bool  # a user's planner: its exceptions are reported as such
+    where: str  # " (scenario NAME, seed K)", for messages
+
+
+def _start(
+    scenario: Scenario,
+    seed: int,
+    planner: Planner | str,
+    params: SRFMParams | None,
+    *,
+    parallel: bool = False,
+    cutoff: Cutoff = "auto",
+) -> _Start:
+    """Build the planner (by name) or check it, set up the episode and the twin
+    simulator, and reset the planner: everything :func:`run_episode` does before its
+    first step."""
+    if isinstance(planner, str):
+        planner = build_planner(planner)
+    else:
+        check_planner(planner)
+    name = path_name(planner.name, "planner name", PlannerError)
+    detection = _detection_range(planner)
+    setup = episode_setup(scenario, seed)
+    check_episode_memory(scenario)
+    sim = TwinSimulator(setup, params, parallel=parallel, cutoff=cutoff)
+    user = is_user_code(planner)
+    where = f" (scenario {scenario.name}, seed {setup.seed})"
+    context = sim.planner_context()
+    rng = planner_rng(setup.seed)
+    chosen = planner
+    if user:
+        call_user_code(name, "reset()", lambda: chosen.reset(context, rng), where)
+    else:
+        planner.reset(context, rng)
+    return _Start(planner=planner, name=name, detection=detection, sim=sim, user=user, where=where)
+
+
+def first_command(
+    scenario: Scenario, seed: int, planner: Planner | str, params: SRFMParams | None = None
+) -> object:
+    """The planner's command for the first observation of episode ``seed``, without
+    stepping the crowd: what :func:`run_episode` asks first. It runs the planner's own
+    kernels (and the observation's) but not the crowd's, so a process can compile a
+    planner's kernels while another compiles the crowd step (the benchmark's warm-up,
+    :func:`srfm.benchmark._runner._compile_in_parent`). The command is not checked."""
+    start = _start(scenario, seed, planner, params)
+    return start.planner.act(start.sim.observe(start.detection))
+
+
 def run_episode(
     scenario: Scenario | str,
     seed: int,
@@ -221,23 +279,10 @@ def run_episode(
     """
     if not isinstance(scenario, Scenario):
         scenario = load_scenario(scenario)
-    if isinstance(planner, str):
-        planner = build_planner(planner)
-    else:
-        check_planner(planner)
-    name = path_name(planner.name, "planner name", PlannerError)
-    detection = _detection_range(planner)
-    setup = episode_setup(scenario, seed)
-    check_episode_memory(scenario)
-    sim = TwinSimulator(setup, params, parallel=parallel, cutoff=cutoff)
-    user = is_user_code(planner)
-    where = f" (scenario {scenario.name}, seed {setup.seed})"
-    context = sim.planner_context()
-    rng = planner_rng(setup.seed)
-    if user:
-        call_user_code(name, "reset()", lambda: planner.reset(context, rng), where)
-    else:
-        planner.reset(context, rng)
+    start = _start(scenario, seed, planner, params, parallel=parallel, cutoff=cutoff)
+    planner, name, detection = start.planner, start.name, start.detection
+    sim, user, where = start.sim, start.user, start.where
+    setup = sim.setup
 
     T = scenario.horizon_steps
     n = sim.factual.n

@@ -361,8 +361,8 @@ def test_kernels_are_compiled_in_the_parent_before_forking(
 ) -> None:
     # issue 19: the parent compiles what the workers will call (only the requested
     # planners), so that forked workers inherit the compiled kernels; nothing is written.
-    # The shared kernels first, then the planners split with a forked helper,
-    # whose kernels the parent then has too (loaded from numba's cache)
+    # A forked helper compiles the planners' kernels while the parent compiles the
+    # shared ones; the parent then has the helper's too (loaded from numba's cache)
     from srfm.benchmark._runner import _compile_in_parent, _Task
     from srfm.metrics import _kernels as _metric_kernels
     from srfm.planners import _dwa_kernels, _orca_kernels
@@ -382,6 +382,6 @@ def test_kernels_are_compiled_in_the_parent_before_forking(
     ]
     _compile_in_parent(tasks)
     assert _metric_kernels.frechet_sq_batch.signatures  # the shared kernels
-    assert _dwa_kernels.dwa_unicycle.signatures  # the parent's planner
-    assert _orca_kernels.orca_command.signatures  # the helper's planner
+    assert _dwa_kernels.dwa_unicycle.signatures  # the planners
+    assert _orca_kernels.orca_command.signatures
     assert list(tmp_path.iterdir()) == []

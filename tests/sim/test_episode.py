@@ -101,3 +101,17 @@ def test_a_complete_planner_runs() -> None:
     record = srfm.run_episode("footpath", 0, planner=planner)
     assert record.planner == "counting"
     assert planner.calls == 1 + np.count_nonzero(record.robot_active[:-1])  # reset + acts
+
+
+@pytest.mark.parametrize(
+    ("scenario", "planner"), [("crosswalk", "dwa"), ("narrow_doorway", "orca"), ("circle", "vo")]
+)
+def test_first_command_is_the_episode_s_first_command(scenario: str, planner: str) -> None:
+    """first_command (the benchmark's warm-up of a planner's kernels) asks what the
+    episode asks first: the same command, bit for bit (a walled scenario: the planner
+    steers to the route's first waypoint in both)."""
+    from srfm.sim.episode import first_command
+
+    record = srfm.run_episode(scenario, 3, planner)
+    command = first_command(srfm.load_scenario(scenario), 3, planner)
+    assert np.array_equal(np.asarray(command, dtype=np.float64), record.robot_cmd[0])

@@ -60,8 +60,11 @@ def _frames(record: EpisodeRecord, stride: int) -> list[int]:
 
 
 def _goal_steps(record: EpisodeRecord) -> set[int]:
+    """Samples where the scene redraws the goals: the first, after a goal changed, and
+    where pedestrians entered."""
     changed = np.flatnonzero(np.any(record.factual_goal[1:] != record.factual_goal[:-1], (1, 2)))
-    return {0, *(int(k) + 1 for k in changed)}
+    entered = np.flatnonzero(np.diff(record.present().sum(axis=1)))
+    return {0, *(int(k) + 1 for k in changed), *(int(k) + 1 for k in entered)}
 
 
 def expected_counts(record: EpisodeRecord, profile: str, *, shared: bool) -> dict[str, int]:
@@ -740,3 +743,40 @@ def test_the_foxglove_layout_shows_srfm_topics() -> None:
         paths = [config.get("topicPath")] + [p["value"] for p in config.get("paths", [])]
         for path in filter(None, paths):
             assert path.split(".")[0] in topics, (panel_id, path)
+
+
+def test_official_readers_take_a_run_with_entering_pedestrians(
+    tmp_path: Path, episode, mcap_core
+) -> None:  # type: ignore[no-untyped-def]
+    """corridor_flow (people enter during the run): the mcap library and @mcap/core read
+    the file, every JSON message fits its schema (with ``pedestrians.enter_step``), and
+    the Foxglove scene draws at each frame exactly the pedestrians there."""
+    scenario, record, metrics = episode("corridor_flow", 1, "dwa")
+    path = tmp_path / "flow.mcap"
+    write_episode_mcap(path, record, scenario=scenario, metrics=metrics, profile="compact")
+    summary, msgs = _messages(path)
+    schemas = {
+        channel.topic: json.loads(summary.schemas[channel.schema_id].data)
+        for channel in summary.channels.values()
+        if channel.message_encoding == "json"
+    }
+    for _, channel, message in msgs:
+        if channel.topic in schemas:
+            check_json_schema(json.loads(message.data), schemas[channel.topic], channel.topic)
+    (info,) = _by_topic(msgs)["/srfm/episode"]
+    assert record.ped_enter_step is not None
+    assert info[1]["pedestrians"]["enter_step"] == record.ped_enter_step.tolist()
+    (decoded,) = mcap_core([path])
+    assert decoded["counts"] == expected_counts(record, "compact", shared=False)
+    present = record.present()
+    frames = _frames(record, 15)
+    peds = _scene(decoded)["pedestrians"]
+    assert len(peds) == len(frames)
+    counts = []
+    for k, (_, entity) in zip(frames, peds, strict=True):
+        m = int(present[k].sum())
+        xy = np.array(entity["cylinders"]).reshape(-1, 4)[:, :2]
+        assert len(xy) == m, k
+        assert np.abs(xy - record.factual_pos[k, :m]).max(initial=0) <= 0.005
+        counts.append(m)
+    assert counts[0] == 0 < counts[-1] == record.factual_pos.shape[1]

@@ -208,3 +208,31 @@ def test_rrd_file_mode_is_that_of_every_output(tmp_path: Path, episode, short_sc
     finally:
         os.umask(old)
     assert stat.S_IMODE((tmp_path / "ep.rrd").stat().st_mode) == 0o644
+
+
+def test_a_run_with_entering_pedestrians(tmp_path: Path, episode) -> None:  # type: ignore[no-untyped-def]
+    """corridor_flow: `rerun rrd verify` accepts the recording, and at every step it
+    shows exactly the pedestrians there (none at step 0, where nobody has entered)."""
+    scenario, record, metrics = episode("corridor_flow", 1, "dwa")
+    path = tmp_path / "flow.rrd"
+    write_rrd(path, record, scenario=scenario, metrics=metrics, forces=True)
+    done = subprocess.run(
+        [sys.executable, "-m", "rerun", "rrd", "verify", str(path)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    _, temporal, _ = _read(path)
+    present = record.present()
+    steps, values = _column(temporal["/world/pedestrians/factual"], "Points2D:positions")
+    shown = {
+        int(k): np.array(v, dtype=np.float64).reshape(-1, 2)
+        for k, v in zip(steps, values, strict=True)
+    }
+    for k in range(record.time_s.shape[0]):
+        m = int(present[k].sum())
+        xy = shown.get(k, np.zeros((0, 2)))
+        assert len(xy) == m, k
+        assert np.array_equal(xy, record.factual_pos[k, :m].astype(np.float32).astype(np.float64))
+    assert int(present[0].sum()) == 0

@@ -670,7 +670,9 @@ def cell_pair_forces(
     lam = params.lambda_ped
     w = (1.0 - lam) * 0.5
     order, starts, grid = build_rows(pos, cutoff / ROW_SPLIT)
-    inv_b = 1.0 / params.b_ped
+    # 1/B capped: finite even for a subnormal B, so that r / B and d / B stay finite or
+    # clip to the exponential's range instead of making inf − inf
+    inv_b = min(1.0 / params.b_ped, 1e300)
     # per agent in row order: x, y, r / B, then (hx', hy', c) with A ψ_k = c + (hx', hy')·u
     # for u the unit vector from the source to k
     dat = np.empty((6, n + LANE_PAD))

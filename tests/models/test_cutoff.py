@@ -235,6 +235,17 @@ def test_fast_exp_matches_math_exp() -> None:
     assert _kernels.fast_exp(-1e300) == pytest.approx(math.exp(-60.0), rel=4e-15)
 
 
+@pytest.mark.parametrize("b_ped", [1e-320, 1e-300, 1e-3])
+def test_tiny_range_gives_finite_forces_in_the_cell_list(b_ped: float) -> None:
+    # overlapping agents and a (subnormal) tiny B: capped exponents, never inf or NaN
+    c = uniform(40, side=10.0, seed=12)
+    params = srfm.SRFMParams(b_ped=b_ped)
+    cut = force_components(c, params, cutoff=13.5).pedestrians
+    exact = force_components(c, params, cutoff="exact").pedestrians
+    assert np.all(np.isfinite(cut))
+    np.testing.assert_allclose(cut, exact, rtol=1e-12, atol=1e-12)
+
+
 def test_coincident_and_stacked_agents_get_no_pair_force() -> None:
     # three agents on one point and one 1 m away: the coincident pairs push nothing
     # (direction undefined), as in the exact kernel

@@ -160,10 +160,12 @@ def _agent_forces(
     return gfx, gfy, pfx, pfy, rfx, rfy, ofx, ofy
 
 
-# Most cells a cell list may have per agent (plus a floor): a crowd spread far apart gets
-# wider cells instead of a huge, mostly empty grid.
+# Most cells a row list may have per agent (plus a floor): a crowd spread far apart
+# gets larger cells instead of a huge, mostly empty grid.
 MAX_CELLS_PER_AGENT = 4
 MIN_CELLS = 64
+# Largest cell sorted by insertion (larger ones, only in a widened grid, by merge sort).
+INSERTION_SORT_MAX = 32
 
 
 @njit(cache=True, inline="always")
@@ -174,22 +176,21 @@ def exact_cut() -> tuple[np.ndarray, np.ndarray]:
 
 
 @njit(cache=True)
-def build_cells(
-    pos: np.ndarray, radius: np.ndarray, cell_size: float
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A cell list of the positions ``pos`` for cells at least ``cell_size`` wide.
+def build_rows(pos: np.ndarray, row_height: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A row list of the positions ``pos``: horizontal bands at least ``row_height``
+    tall, each sorted by x.
 
-    Returns ``(cells, grid, xyr)``: ``grid`` (5,) = (x0, y0, size, nx, ny), the lower
-    left corner, the cell width and the number of cells along x and y; ``cells``
-    (nx·ny + 1 + N,) int64, first the start of each cell's run in row-major order
-    (counting sort, agents in index order within a cell), then the agent indices of
-    every run; ``xyr`` (N, 3) the agents' (x, y, radius) in that order. With
-    ``cell_size = inf`` (no cut-off), a size <= 0 or no agents both are empty
-    placeholders.
+    Returns ``(order, starts, grid)``: ``grid`` (3,) = (y0, height, ny), the lowest y,
+    the row height and the number of rows; ``starts`` (ny + 1,) the start of each row's
+    run in ``order``; ``order`` (N,) the agent indices, row by row and within a row by
+    x, ties in index order. A counting sort puts the agents into square cells of the
+    row height, row-major, in index order within a cell; sorting each cell by x (stable)
+    then sorts each row. With ``row_height = inf`` (no cut-off), a height <= 0 or no
+    agents all are empty placeholders.
     """
     n = pos.shape[0]
-    if n == 0 or not 0.0 < cell_size < np.inf:
-        return np.zeros(0, dtype=np.int64), np.zeros(5), np.zeros((0, 3))
+    if n == 0 or not 0.0 < row_height < np.inf:
+        return np.zeros(0, dtype=np.int64), np.zeros(1, dtype=np.int64), np.zeros(3)
     x0 = pos[0, 0]
     y0 = pos[0, 1]
     x1 = x0
@@ -199,50 +200,71 @@ def build_cells(
         x1 = max(x1, pos[i, 0])
         y0 = min(y0, pos[i, 1])
         y1 = max(y1, pos[i, 1])
-    size = cell_size
+    size = row_height
     max_cells = max(MAX_CELLS_PER_AGENT * n, MIN_CELLS)
     # widen the cells until the grid has at most max_cells cells
     while (np.floor((x1 - x0) / size) + 1.0) * (np.floor((y1 - y0) / size) + 1.0) > max_cells:
         size *= 2.0  # (in float64: no integer overflow for a tiny cut-off)
     nx = math.floor((x1 - x0) / size) + 1
     ny = math.floor((y1 - y0) / size) + 1
-    grid = np.array([x0, y0, size, float(nx), float(ny)])
     n_cells = nx * ny
-    cells = np.zeros(n_cells + 1 + n, dtype=np.int64)
+    cell = np.empty(n, dtype=np.int64)
+    counts = np.zeros(n_cells + 1, dtype=np.int64)
     for i in range(n):
-        cx, cy = _cell_of(pos[i, 0], pos[i, 1], grid)
-        cells[cy * nx + cx + 1] += 1
+        cx = min(max(math.floor((pos[i, 0] - x0) / size), 0), nx - 1)
+        cy = min(max(math.floor((pos[i, 1] - y0) / size), 0), ny - 1)
+        cell[i] = cy * nx + cx
+        counts[cell[i] + 1] += 1
     for c in range(n_cells):
-        cells[c + 1] += cells[c]
-    fill = cells[:n_cells].copy()
-    xyr = np.empty((n, 3))
+        counts[c + 1] += counts[c]
+    fill = counts[:n_cells].copy()
+    order = np.empty(n, dtype=np.int64)
     for i in range(n):
-        cx, cy = _cell_of(pos[i, 0], pos[i, 1], grid)
-        c = cy * nx + cx
-        k = fill[c]
-        cells[n_cells + 1 + k] = i
-        xyr[k, 0] = pos[i, 0]
-        xyr[k, 1] = pos[i, 1]
-        xyr[k, 2] = radius[i]
-        fill[c] = k + 1
-    return cells, grid, xyr
+        order[fill[cell[i]]] = i
+        fill[cell[i]] += 1
+    for c in range(n_cells):
+        _sort_by_x(order, counts[c], counts[c + 1], pos)
+    starts = np.empty(ny + 1, dtype=np.int64)
+    for r in range(ny + 1):
+        starts[r] = counts[r * nx]
+    return order, starts, np.array([y0, size, float(ny)])
 
 
 @njit(cache=True, inline="always")
-def _cell_of(x: float, y: float, grid: np.ndarray) -> tuple[int, int]:
-    """The (column, row) of the cell of (x, y), clipped to the grid."""
-    nx = int(grid[3])
-    ny = int(grid[4])
-    cx = min(max(math.floor((x - grid[0]) / grid[2]), 0), nx - 1)
-    cy = min(max(math.floor((y - grid[1]) / grid[2]), 0), ny - 1)
-    return cx, cy
+def _sort_by_x(order: np.ndarray, a: int, b: int, pos: np.ndarray) -> None:
+    """Sort ``order[a:b]`` by the agents' x, stable (ties keep their order): by insertion
+    for up to INSERTION_SORT_MAX agents, else by merge sort."""
+    if b - a <= INSERTION_SORT_MAX:
+        for k in range(a + 1, b):
+            i = order[k]
+            x = pos[i, 0]
+            j = k
+            while j > a and pos[order[j - 1], 0] > x:
+                order[j] = order[j - 1]
+                j -= 1
+            order[j] = i
+        return
+    xs = np.empty(b - a)
+    for k in range(a, b):
+        xs[k - a] = pos[order[k], 0]
+    run = order[a:b].copy()
+    by_x = np.argsort(xs, kind="mergesort")
+    for k in range(b - a):
+        order[a + k] = run[by_x[k]]
 
 
-# Cells per cut-off: the cells are cut-off / CELL_SPLIT wide, and a pedestrian's
-# neighbours lie within CELL_SPLIT cells of its own. Narrower cells test fewer pairs
-# beyond the cut-off (the stencil covers (2·CELL_SPLIT + 1)² / CELL_SPLIT² cut-off
-# squares instead of 9) at the price of shorter runs.
-CELL_SPLIT = 2
+# Rows per cut-off: the rows are cut-off / ROW_SPLIT tall. Thinner rows follow the
+# cut-off circle more closely (fewer candidate pairs beyond it) at the price of more,
+# shorter runs per pedestrian (3 was the fastest of 2, 3, 4 and 6 at N = 1000 and 10,000).
+ROW_SPLIT = 3
+# The pair loop runs over whole multiples of this many candidates (the vector width of
+# AVX-512 in float64; a multiple of AVX2's 4), the lanes past a run masked out, so that
+# no scalar remainder loop runs: a short run costs one vector iteration, not up to 7
+# scalar ones. dat and acc have this many padding columns.
+LANE_PAD = 8
+# Pedestrians of a row that share one window per row in the pair loop (_pair_block):
+# four independent chains per vector lane, and a quarter of the runs.
+PAIR_BLOCK = 4
 # Flags of the pair pass only (never of the exact kernel): reassociation and contraction
 # let LLVM vectorise the inner loop (a reduction, fused multiply-adds). The pass stays
 # deterministic (same input, same machine, same bits); it is not bit for bit the
@@ -314,58 +336,307 @@ def fast_exp(arg: float) -> float:
     return p * scale
 
 
+@njit(cache=True, fastmath=PAIR_FASTMATH, inline="always")
+def _pair_terms(
+    xk: float,
+    yk: float,
+    rk: float,
+    hxk: float,
+    hyk: float,
+    ck: float,
+    xq: float,
+    yq: float,
+    rq: float,
+    hxq: float,
+    hyq: float,
+    cq: float,
+    live: bool,
+    cut2: float,
+    inv_b: float,
+) -> tuple[float, float, float, float]:
+    """The forces of one pair (k, q) on k and on q, (x, y) each; zero unless ``live`` and
+    the pair is closer than the cut-off (``cut2`` its square) and not closer than EPS.
+    Branch-free (a select), so that the loop around it vectorises; the columns are those
+    of :func:`cell_pair_forces` (radii over B, A in c and h'): A exp((r_k + r_q − d) / B)
+    ψ times the unit vector (dx, dy) / d from q to k, for each."""
+    eps2 = EPS * EPS
+    dx = xk - xq
+    dy = yk - yq
+    d2 = dx * dx + dy * dy
+    d = math.sqrt(max(d2, eps2))
+    inv_d = 1.0 / d
+    e = fast_exp(rk + rq - d * inv_b)
+    # e / d: the unit vector from q to k is (dx, dy) / d
+    s = e * inv_d if live & (d2 < cut2) & (d2 >= eps2) else 0.0
+    mk = s * (ck + (hxk * dx + hyk * dy) * inv_d)
+    mq = s * (cq - (hxq * dx + hyq * dy) * inv_d)
+    return mk * dx, mk * dy, mq * dx, mq * dy
+
+
 @njit(cache=True, fastmath=PAIR_FASTMATH)
-def _pair_run(
-    k: int,
+def _pair_block(
+    k: np.ndarray,
     lo: int,
     hi: int,
     dat: np.ndarray,
     cut2: float,
     inv_b: float,
-    a_p: float,
     acc: np.ndarray,
-) -> tuple[float, float]:
-    """The pairs (k, q) for q in [lo, hi) of the cell-ordered agents ``dat`` (columns x,
-    y, r, hx', hy', c: ψ = c ± (hx', hy')·u, see :func:`cell_pair_forces`): q's share
-    goes into ``acc[q]``, k's share is returned. Pairs at or beyond the cut-off (``cut2``
-    its square) or closer than EPS get no force; branch-free, so it vectorises.
+) -> None:
+    """The pairs (k[j], q) for the PAIR_BLOCK agents ``k`` and q in [lo, hi) with q > k[j]
+    of the row-ordered agents ``dat`` (columns x, y, r / B, hx', hy', c: A ψ = c ±
+    (hx', hy')·u, see :func:`cell_pair_forces`), each share added into ``acc``.
+
+    The loop runs over q, a whole number of LANE_PAD lanes past ``lo`` (``dat`` and
+    ``acc`` have LANE_PAD padding columns; the lanes past ``hi`` get no force): without
+    a scalar remainder and with the PAIR_BLOCK agents' independent chains in every lane
+    it vectorises well even for the short runs of the row windows.
     """
-    xk = dat[0, k]
-    yk = dat[1, k]
-    rk = dat[2, k]
-    hxk = dat[3, k]
-    hyk = dat[4, k]
-    ck = dat[5, k]
+    k0 = k[0]
+    k1 = k[1]
+    k2 = k[2]
+    k3 = k[3]
+    x0, y0, r0, hx0, hy0, c0 = (
+        dat[0, k0],
+        dat[1, k0],
+        dat[2, k0],
+        dat[3, k0],
+        dat[4, k0],
+        dat[5, k0],
+    )
+    x1, y1, r1, hx1, hy1, c1 = (
+        dat[0, k1],
+        dat[1, k1],
+        dat[2, k1],
+        dat[3, k1],
+        dat[4, k1],
+        dat[5, k1],
+    )
+    x2, y2, r2, hx2, hy2, c2 = (
+        dat[0, k2],
+        dat[1, k2],
+        dat[2, k2],
+        dat[3, k2],
+        dat[4, k2],
+        dat[5, k2],
+    )
+    x3, y3, r3, hx3, hy3, c3 = (
+        dat[0, k3],
+        dat[1, k3],
+        dat[2, k3],
+        dat[3, k3],
+        dat[4, k3],
+        dat[5, k3],
+    )
     # row slices of the run, indexed from 0: a loop index known to be >= 0 lets LLVM
     # drop numba's negative-index wraparound and vectorise the loop
-    xs = dat[0, lo:hi]
-    ys = dat[1, lo:hi]
-    rs = dat[2, lo:hi]
-    hxs = dat[3, lo:hi]
-    hys = dat[4, lo:hi]
-    cs = dat[5, lo:hi]
-    ax = acc[0, lo:hi]
-    ay = acc[1, lo:hi]
-    eps2 = EPS * EPS
-    fx = 0.0
-    fy = 0.0
-    for q in range(hi - lo):
-        dx = xk - xs[q]
-        dy = yk - ys[q]
-        d2 = dx * dx + dy * dy
-        d = math.sqrt(max(d2, eps2))
-        inv_d = 1.0 / d
-        ux = dx * inv_d  # unit vector from q to k
-        uy = dy * inv_d
-        e = a_p * fast_exp((rk + rs[q] - d) * inv_b)
-        e = e if (d2 < cut2) & (d2 >= eps2) else 0.0
-        mk = e * (ck + (hxk * ux + hyk * uy))
-        mq = e * (cs[q] - (hxs[q] * ux + hys[q] * uy))
-        fx += mk * ux
-        fy += mk * uy
-        ax[q] -= mq * ux
-        ay[q] -= mq * uy
-    return fx, fy
+    xs = dat[0, lo:]
+    ys = dat[1, lo:]
+    rs = dat[2, lo:]
+    hxs = dat[3, lo:]
+    hys = dat[4, lo:]
+    cs = dat[5, lo:]
+    ax = acc[0, lo:]
+    ay = acc[1, lo:]
+    # q (from lo) must be past k[j]: q > k[j] − lo
+    m0 = k0 - lo
+    m1 = k1 - lo
+    m2 = k2 - lo
+    m3 = k3 - lo
+    m = hi - lo
+    fx0 = fy0 = fx1 = fy1 = fx2 = fy2 = fx3 = fy3 = 0.0
+    for q in range((m + LANE_PAD - 1) & -LANE_PAD):
+        xq = xs[q]
+        yq = ys[q]
+        rq = rs[q]
+        hxq = hxs[q]
+        hyq = hys[q]
+        cq = cs[q]
+        inside = q < m
+        a0, b0, gx0, gy0 = _pair_terms(
+            x0, y0, r0, hx0, hy0, c0, xq, yq, rq, hxq, hyq, cq, inside & (q > m0), cut2, inv_b
+        )
+        a1, b1, gx1, gy1 = _pair_terms(
+            x1, y1, r1, hx1, hy1, c1, xq, yq, rq, hxq, hyq, cq, inside & (q > m1), cut2, inv_b
+        )
+        a2, b2, gx2, gy2 = _pair_terms(
+            x2, y2, r2, hx2, hy2, c2, xq, yq, rq, hxq, hyq, cq, inside & (q > m2), cut2, inv_b
+        )
+        a3, b3, gx3, gy3 = _pair_terms(
+            x3, y3, r3, hx3, hy3, c3, xq, yq, rq, hxq, hyq, cq, inside & (q > m3), cut2, inv_b
+        )
+        fx0 += a0
+        fy0 += b0
+        fx1 += a1
+        fy1 += b1
+        fx2 += a2
+        fy2 += b2
+        fx3 += a3
+        fy3 += b3
+        ax[q] -= (gx0 + gx1) + (gx2 + gx3)
+        ay[q] -= (gy0 + gy1) + (gy2 + gy3)
+    acc[0, k0] += fx0
+    acc[1, k0] += fy0
+    acc[0, k1] += fx1
+    acc[1, k1] += fy1
+    acc[0, k2] += fx2
+    acc[1, k2] += fy2
+    acc[0, k3] += fx3
+    acc[1, k3] += fy3
+
+
+@njit(cache=True)
+def window_setup(cutoff: float, grid: np.ndarray, scale: float) -> tuple[float, np.ndarray]:
+    """``(reach, chord)`` of the row windows for a pedestrian ``cutoff`` on the rows of
+    ``grid`` (:func:`build_rows`), coordinates up to ``scale`` in magnitude.
+
+    ``reach`` is the cut-off plus a margin for rounding (1e-9 of the cut-off and of the
+    coordinates' magnitude): windows may hold a few pairs beyond the cut-off, which the
+    pair pass leaves out, but never miss a pair within it. ``chord[o]`` (o = 1, 2, …) is
+    the half-width in x of the window in the o-th row above a pedestrian's own: two
+    agents o rows apart are at least (o − 1) row heights apart in y, so a neighbour's x
+    lies within sqrt(reach² − ((o − 1) h)²) of the pedestrian's. ``chord[0]`` holds the
+    margin.
+    """
+    margin = 1e-9 * (cutoff + scale)
+    reach = cutoff + margin
+    height = grid[1]
+    n_up = math.floor(reach / height) + 1  # rows o with (o − 1) h < reach
+    chord = np.zeros(n_up + 1)
+    chord[0] = margin  # (the own row has no chord)
+    for o in range(1, n_up + 1):
+        dy = max((o - 1) * height - margin, 0.0)
+        chord[o] = math.sqrt(max(reach * reach - dy * dy, 0.0)) + margin
+    return reach, chord
+
+
+@njit(cache=True, inline="always")
+def _row_windows(
+    first: int,
+    last: int,
+    row: int,
+    xs: np.ndarray,
+    ys: np.ndarray,
+    starts: np.ndarray,
+    grid: np.ndarray,
+    reach: float,
+    chord: np.ndarray,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    run: np.ndarray,
+) -> int:
+    """The runs of row-ordered agents that may lie within the cut-off of the agents
+    ``first`` to ``last`` (consecutive in row ``row``) and come after them in the
+    pair-once order, written into ``run`` (2, ·) as ``[run[0, o], run[1, o])`` for o
+    below the returned count: o = 0 the agents after ``first`` in its own row up to
+    those whose x is within ``reach`` of ``last``'s, o >= 1 the agents of row
+    ``row + o`` whose x is within the cut-off circle's chord of the block's x range
+    (from ``first``'s x to ``last``'s) at the row's distance from the block's highest
+    agent.
+
+    ``lo`` and ``hi`` are the bounds for ``chord[o]``, the widest chord of any agent of
+    the row; they carry over from the previous block of the row (reset them with
+    :func:`_reset_windows` at each row's start): x grows along a row, so each only moves
+    forward. Each run narrows them to this block's own chord.
+    """
+    x_first = xs[first]
+    x_last = xs[last]
+    y_high = ys[first]  # the block's agent closest to the rows above
+    for k in range(first + 1, last + 1):
+        y_high = max(y_high, ys[k])
+    end = starts[row + 1]
+    h0 = max(hi[0], last + 1)
+    while h0 < end and xs[h0] < x_last + reach:
+        h0 += 1
+    hi[0] = h0
+    run[0, 0] = first + 1
+    run[1, 0] = h0
+    ny = starts.shape[0] - 1
+    margin = chord[0]
+    count = 1
+    for o in range(1, chord.shape[0]):
+        r = row + o
+        dy = grid[0] + r * grid[1] - y_high - margin  # at most the distance to row r
+        if r >= ny or dy >= reach:
+            break  # this row (and every one above it) starts beyond the cut-off
+        end = starts[r + 1]
+        ch = chord[o]
+        a = lo[o]
+        while a < end and xs[a] <= x_first - ch:
+            a += 1
+        b = max(hi[o], a)
+        while b < end and xs[b] < x_last + ch:
+            b += 1
+        lo[o] = a
+        hi[o] = b
+        ch = min(math.sqrt(max(reach * reach - max(dy, 0.0) ** 2, 0.0)) + margin, ch)
+        while a < b and xs[a] <= x_first - ch:
+            a += 1
+        while b > a and xs[b - 1] >= x_last + ch:
+            b -= 1
+        run[0, o] = a
+        run[1, o] = b
+        count += 1
+    return count
+
+
+@njit(cache=True, inline="always")
+def _reset_windows(row: int, starts: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> None:
+    """Point every window bound at the start of its row, before the first agent of ``row``."""
+    ny = starts.shape[0] - 1
+    for o in range(lo.shape[0]):
+        s = starts[min(row + o, ny)]
+        lo[o] = s
+        hi[o] = s
+
+
+@njit(cache=True)
+def window_pairs(pos: np.ndarray, cutoff: float) -> np.ndarray:
+    """Every pair (i, j) of agents closer than ``cutoff`` that the row windows of
+    :func:`cell_pair_forces` find, as (P, 2) agent indices (for tests: it must be every
+    pair closer than the cut-off, each once)."""
+    n = pos.shape[0]
+    order, starts, grid = build_rows(pos, cutoff / ROW_SPLIT)
+    if n == 0:
+        return np.zeros((0, 2), dtype=np.int64)
+    xs = np.empty(n)
+    ys = np.empty(n)
+    for k in range(n):
+        xs[k] = pos[order[k], 0]
+        ys[k] = pos[order[k], 1]
+    reach, chord = window_setup(cutoff, grid, _magnitude(pos))
+    lo = np.zeros(chord.shape[0], dtype=np.int64)
+    hi = np.zeros(chord.shape[0], dtype=np.int64)
+    run = np.zeros((2, chord.shape[0]), dtype=np.int64)
+    cut2 = cutoff * cutoff
+    out = []
+    for row in range(starts.shape[0] - 1):
+        _reset_windows(row, starts, lo, hi)
+        for first in range(starts[row], starts[row + 1], PAIR_BLOCK):
+            last = min(first + PAIR_BLOCK, starts[row + 1]) - 1
+            for o in range(
+                _row_windows(first, last, row, xs, ys, starts, grid, reach, chord, lo, hi, run)
+            ):
+                for k in range(first, last + 1):
+                    for q in range(max(run[0, o], k + 1), run[1, o]):
+                        dx = xs[k] - xs[q]
+                        dy = ys[k] - ys[q]
+                        if dx * dx + dy * dy < cut2:
+                            out.append((order[k], order[q]))
+    pairs = np.empty((len(out), 2), dtype=np.int64)
+    for p in range(len(out)):
+        pairs[p, 0] = out[p][0]
+        pairs[p, 1] = out[p][1]
+    return pairs
+
+
+@njit(cache=True, inline="always")
+def _magnitude(pos: np.ndarray) -> float:
+    """The largest coordinate magnitude in ``pos``."""
+    m = 0.0
+    for i in range(pos.shape[0]):
+        m = max(m, abs(pos[i, 0]), abs(pos[i, 1]))
+    return m
 
 
 @njit(cache=True)
@@ -379,17 +650,18 @@ def cell_pair_forces(
     cutoff: float,
 ) -> np.ndarray:
     """The pedestrian repulsion on every agent (N, 2), over the pairs closer than
-    ``cutoff``, found with a cell list (:func:`build_cells`, cells cutoff / CELL_SPLIT
-    wide); empty (0, 2) without a cut-off (``inf``) or with A_p = 0.
+    ``cutoff``, found with a row list (:func:`build_rows`, rows cutoff / ROW_SPLIT
+    tall, each sorted by x); empty (0, 2) without a cut-off (``inf``) or with A_p = 0.
 
-    Each pair is visited once, cell by cell in row-major order: the rest of the agent's
-    own cell and the CELL_SPLIT cells to its right (one contiguous run of the cell
-    order), then CELL_SPLIT rows above, each from CELL_SPLIT cells left to CELL_SPLIT
-    cells right (one run per row). The exponential A exp((r_i + r_j − d) / B)
-    (:func:`fast_exp`) is shared, each agent gets its own ψ, written as
-    ψ = (λ + w) − w e·u with w = (1 − λ)/2 (ψ = 1 without a heading), the terms of
-    :func:`disc_repulsion`. Sums follow that visiting order, so the result is
-    deterministic and equals the exact kernel's up to rounding (a few units in the last place).
+    Each pair is visited once, row by row and along each row in x order: the agents
+    after the pedestrian in its own row whose x is within the cut-off, then in each row
+    above the agents whose x is within the cut-off circle's chord at that row's distance
+    (:func:`_row_windows`: contiguous runs, so the pair loop vectorises). The
+    exponential A exp((r_i + r_j − d) / B) (:func:`fast_exp`) is shared, each agent gets
+    its own ψ, written as ψ = (λ + w) − w e·u with w = (1 − λ)/2 (ψ = 1 without a
+    heading), the terms of :func:`disc_repulsion`. Sums follow that visiting order, so
+    the result is deterministic and equals the exact kernel's up to rounding (a few
+    units in the last place).
     """
     n = pos.shape[0]
     a_p = params.a_ped
@@ -397,58 +669,54 @@ def cell_pair_forces(
         return np.zeros((0, 2))
     lam = params.lambda_ped
     w = (1.0 - lam) * 0.5
-    cells, grid, xyr = build_cells(pos, radius, cutoff / CELL_SPLIT)
-    nx = int(grid[3])
-    ny = int(grid[4])
-    n_cells = nx * ny
-    # per agent in cell order: x, y, r, then (hx', hy', c) with ψ_k = c + (hx', hy')·u for
-    # u the unit vector from the source to k
-    dat = np.empty((6, n))
+    order, starts, grid = build_rows(pos, cutoff / ROW_SPLIT)
+    # 1/B capped: finite even for a subnormal B, so that r / B and d / B stay finite or
+    # clip to the exponential's range instead of making inf − inf
+    inv_b = min(1.0 / params.b_ped, 1e300)
+    # per agent in row order: x, y, r / B, then (hx', hy', c) with A ψ_k = c + (hx', hy')·u
+    # for u the unit vector from the source to k
+    dat = np.empty((6, n + LANE_PAD))
+    dat[:, n:] = 0.0
+    dat[0, n:] = 1e30  # padding, far from everyone
     for k in range(n):
-        i = cells[n_cells + 1 + k]
+        i = order[k]
         dvx, dvy = desired_velocity(pos[i, 0], pos[i, 1], goal[i, 0], goal[i, 1], v0[i])
         hx, hy, has_h = _heading(vel[i, 0], vel[i, 1], dvx, dvy)
-        dat[0, k] = xyr[k, 0]
-        dat[1, k] = xyr[k, 1]
-        dat[2, k] = xyr[k, 2]
+        dat[0, k] = pos[i, 0]
+        dat[1, k] = pos[i, 1]
+        dat[2, k] = radius[i] * inv_b
         if has_h:
-            dat[3, k] = -w * hx
-            dat[4, k] = -w * hy
-            dat[5, k] = lam + w
+            dat[3, k] = -a_p * w * hx
+            dat[4, k] = -a_p * w * hy
+            dat[5, k] = a_p * (lam + w)
         else:
             dat[3, k] = 0.0
             dat[4, k] = 0.0
-            dat[5, k] = 1.0
-    acc = np.zeros((2, n))
+            dat[5, k] = a_p
+    acc = np.zeros((2, n + LANE_PAD))
     cut2 = cutoff * cutoff
-    inv_b = 1.0 / params.b_ped
-    reach = CELL_SPLIT
-    for cy in range(ny):
-        for cx in range(nx):
-            c = cy * nx + cx
-            own_end = cells[cy * nx + min(cx + reach, nx - 1) + 1]
-            left = max(cx - reach, 0)
-            right = min(cx + reach, nx - 1)
-            for k in range(cells[c], cells[c + 1]):
-                fx, fy = _pair_run(k, k + 1, own_end, dat, cut2, inv_b, a_p, acc)
-                for ry in range(cy + 1, min(cy + reach, ny - 1) + 1):
-                    gx, gy = _pair_run(
-                        k,
-                        cells[ry * nx + left],
-                        cells[ry * nx + right + 1],
-                        dat,
-                        cut2,
-                        inv_b,
-                        a_p,
-                        acc,
-                    )
-                    fx += gx
-                    fy += gy
-                acc[0, k] += fx
-                acc[1, k] += fy
+    reach, chord = window_setup(cutoff, grid, _magnitude(pos))
+    lo = np.zeros(chord.shape[0], dtype=np.int64)
+    hi = np.zeros(chord.shape[0], dtype=np.int64)
+    run = np.zeros((2, chord.shape[0]), dtype=np.int64)
+    xs = dat[0]
+    ys = dat[1]
+    block = np.empty(PAIR_BLOCK, dtype=np.int64)
+    for row in range(starts.shape[0] - 1):
+        _reset_windows(row, starts, lo, hi)
+        for first in range(starts[row], starts[row + 1], PAIR_BLOCK):
+            last = min(first + PAIR_BLOCK, starts[row + 1]) - 1
+            for j in range(PAIR_BLOCK):
+                # a block short of PAIR_BLOCK agents is filled with the first padding
+                # column, far from everyone
+                block[j] = first + j if first + j <= last else n
+            for o in range(
+                _row_windows(first, last, row, xs, ys, starts, grid, reach, chord, lo, hi, run)
+            ):
+                _pair_block(block, run[0, o], run[1, o], dat, cut2, inv_b, acc)
     out = np.empty((n, 2))
     for k in range(n):
-        i = cells[n_cells + 1 + k]
+        i = order[k]
         out[i, 0] = acc[0, k]
         out[i, 1] = acc[1, k]
     return out
@@ -576,7 +844,7 @@ def step_serial(
 
     ``cut`` (2,) = (pedestrian cut-off, obstacle cut-off) in m: ``inf`` for none (the
     exact kernel: every pair, in index order); a finite pedestrian cut-off builds a
-    cell list of the snapshot (:func:`build_cells`) and sums only the pairs closer than it.
+    row list of the snapshot (:func:`build_rows`) and sums only the pairs closer than it.
     """
     ped = cell_pair_forces(pos, vel, goal, radius, v0, params, cut[0])
     for i in range(pos.shape[0]):

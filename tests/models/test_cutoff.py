@@ -111,10 +111,75 @@ def test_spread_out_crowd_widens_the_cells() -> None:
     a = np.random.default_rng(0).uniform(0.0, 5.0, (30, 2))
     c = crowd(np.vstack([a, a + 1e6]), seed=2)
     assert_within_tolerance(c, 13.5, srfm.Obstacles())
-    cells, grid, xyr = _kernels.build_cells(c.pos, c.radius, 13.5)
-    assert grid[3] * grid[4] <= max(_kernels.MAX_CELLS_PER_AGENT * c.n, _kernels.MIN_CELLS)
-    assert sorted(cells[int(grid[3] * grid[4]) + 1 :]) == list(range(c.n))
-    np.testing.assert_array_equal(np.sort(xyr[:, 0]), np.sort(c.pos[:, 0]))
+    order, starts, grid = _kernels.build_rows(c.pos, 13.5)
+    assert grid[2] <= max(_kernels.MAX_CELLS_PER_AGENT * c.n, _kernels.MIN_CELLS)
+    assert sorted(order) == list(range(c.n))
+    assert starts[0] == 0
+    assert starts[-1] == c.n
+    assert np.all(np.diff(starts) >= 0)
+
+
+def brute_force_pairs(pos: np.ndarray, cutoff: float) -> set[tuple[int, int]]:
+    """Every pair (i < j) of agents closer than ``cutoff``, from all N² distances."""
+    d = pos[:, None, :] - pos[None, :, :]
+    i, j = np.nonzero(np.triu((d**2).sum(axis=-1) < cutoff * cutoff, 1))
+    return set(zip(i.tolist(), j.tolist(), strict=True))
+
+
+def assert_windows_find_every_pair_once(pos: np.ndarray, cutoff: float) -> None:
+    pairs = _kernels.window_pairs(pos, cutoff)
+    found = [(min(i, j), max(i, j)) for i, j in pairs.tolist()]
+    assert len(set(found)) == len(found)  # none twice
+    assert set(found) == brute_force_pairs(pos, cutoff)
+
+
+@pytest.mark.parametrize("n", [0, 1, 2, 3, 5, 33, 300, 1500])
+@pytest.mark.parametrize("side", [0.5, 7.0, 40.0])
+def test_row_windows_find_the_pairs_of_a_brute_force_search(n: int, side: float) -> None:
+    rng = np.random.default_rng(n + int(side))
+    pos = rng.uniform(0.0, side, (n, 2))
+    for cutoff in (13.5, 2.0, 0.3):
+        assert_windows_find_every_pair_once(pos, cutoff)
+
+
+def test_row_windows_on_borders_ties_and_spread_crowds() -> None:
+    cut = 2.0
+    # a lattice with spacing = row height: agents on row and cell borders, many pairs
+    # exactly at the cut-off, many equal x (ties in the sort) and y
+    g = np.arange(0.0, 10.01, cut / _kernels.ROW_SPLIT)
+    lattice = np.array([[x, y] for x in g for y in g])
+    assert_windows_find_every_pair_once(lattice, cut)
+    nudged = lattice.copy()
+    nudged[1::7] += 1e-12
+    nudged[2::5] -= 1e-12
+    assert_windows_find_every_pair_once(nudged, cut)
+    # all on one point, all on one vertical or horizontal line
+    assert_windows_find_every_pair_once(np.zeros((40, 2)), cut)
+    line = np.stack([np.zeros(60), np.linspace(0.0, 20.0, 60)], axis=1)
+    assert_windows_find_every_pair_once(line, cut)
+    assert_windows_find_every_pair_once(line[:, ::-1].copy(), cut)
+    # clumps far apart (widened cells, merge-sorted cells) and negative coordinates
+    rng = np.random.default_rng(5)
+    clump = rng.uniform(-3.0, 3.0, (120, 2))
+    assert_windows_find_every_pair_once(np.vstack([clump, clump + 1e5, clump - 1e3]), cut)
+    # rows that are empty between occupied ones
+    bands = np.vstack(
+        [rng.uniform(0.0, 30.0, (50, 2)) * [1.0, 0.05] + [0.0, 12.0 * k] for k in range(4)]
+    )
+    assert_windows_find_every_pair_once(bands, 13.5)
+
+
+def test_rows_are_sorted_by_x_with_ties_in_index_order() -> None:
+    rng = np.random.default_rng(9)
+    pos = np.round(rng.uniform(0.0, 20.0, (500, 2)), 0)  # many equal x within a row
+    pos = np.vstack([pos, rng.uniform(0.0, 1.0, (100, 2))])  # a crowded cell (merge sort)
+    order, starts, grid = _kernels.build_rows(pos, 3.0)
+    for r in range(int(grid[2])):
+        run = order[starts[r] : starts[r + 1]]
+        rows = np.clip(np.floor((pos[run, 1] - grid[0]) / grid[1]), 0, grid[2] - 1)
+        assert np.all(rows == r)
+        keys = list(zip(pos[run, 0].tolist(), run.tolist(), strict=True))
+        assert keys == sorted(keys)
 
 
 def test_cell_list_steps_are_deterministic_and_threading_independent() -> None:
@@ -168,6 +233,17 @@ def test_fast_exp_matches_math_exp() -> None:
     # clipped at ±EXP_ARG_MAX like capped_exp, never inf or 0
     assert _kernels.fast_exp(1e300) == pytest.approx(math.exp(60.0), rel=4e-15)
     assert _kernels.fast_exp(-1e300) == pytest.approx(math.exp(-60.0), rel=4e-15)
+
+
+@pytest.mark.parametrize("b_ped", [1e-320, 1e-300, 1e-3])
+def test_tiny_range_gives_finite_forces_in_the_cell_list(b_ped: float) -> None:
+    # overlapping agents and a (subnormal) tiny B: capped exponents, never inf or NaN
+    c = uniform(40, side=10.0, seed=12)
+    params = srfm.SRFMParams(b_ped=b_ped)
+    cut = force_components(c, params, cutoff=13.5).pedestrians
+    exact = force_components(c, params, cutoff="exact").pedestrians
+    assert np.all(np.isfinite(cut))
+    np.testing.assert_allclose(cut, exact, rtol=1e-12, atol=1e-12)
 
 
 def test_coincident_and_stacked_agents_get_no_pair_force() -> None:

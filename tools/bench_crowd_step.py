@@ -32,8 +32,20 @@ growth of the resident set of a fresh process (warmed up on a small crowd) that 
 a crowd of ``--memory-n`` pedestrians and steps it three times, divided by that N.
 
 Timing: after a warm-up call (JIT compilation, reported separately), steps are run in
-chunks timed with ``time.perf_counter`` until each repeat's share of the time budget
-is spent; the state is reset before every repeat and the best repeat is reported.
+chunks timed with ``time.perf_counter`` (or the CPU time, ``--cpu-time``) until each
+repeat's share of the time budget is spent; the best repeat is reported.
+
+The same crowd, the same density (``--window-s``): every pedestrian walks to the point
+mirrored through the centre, so the crowd converges and its density, and with it the
+work per step, grows with the simulated time (at N = 1000 the mean number of others
+within srfm's 13.5 m cut-off is 117 at the start, 128 after 2 s, 158 after 5 s, 221
+after 10 s and 383 after 50 s). A simulator with a longer step would otherwise be timed
+on a denser crowd: in one time budget srfm (dt 1/15 s) covered about 50 simulated
+seconds at N = 1000, JuPedSim (dt 0.01 s) about 2. Each simulator is therefore timed
+over the same window of simulated time from the start, ``--window-s`` seconds (default
+2 s, in which the neighbour count stays within 10 % of the start's at N = 1000; the
+state is reset, untimed, whenever a chunk would pass the window's end); ``--window-s 0``
+times from the start on without a reset, as before 2026-11-27.
 
 Usage::
 
@@ -274,33 +286,47 @@ def pysocialforce_bench(psf: Any, config: Path, pos: FloatArray, goal: FloatArra
 CLOCK: Callable[[], float] = time.perf_counter
 
 
-def measure(bench: Bench, n: int, budget_s: float, repeats: int) -> Result:
-    """Best of ``repeats`` throughputs in agent-steps/s, each over ``budget_s / repeats``."""
+def measure(bench: Bench, n: int, budget_s: float, repeats: int, window_steps: int = 0) -> Result:
+    """Best of ``repeats`` throughputs in agent-steps/s, each over ``budget_s / repeats``
+    of timed steps. With ``window_steps`` > 0 only the first ``window_steps`` steps from
+    the start are timed: the state is reset (untimed) before a chunk would pass them."""
     bench.reset()
     t0 = time.perf_counter()
     bench.run(1)
     first = time.perf_counter() - t0
+    limit = window_steps if window_steps > 0 else 1 << 20
     chunk = 1
+    bench.reset()
     while True:
         t0 = CLOCK()
         bench.run(chunk)
-        if CLOCK() - t0 >= CHUNK_MIN_S or chunk >= 1 << 20:
+        if CLOCK() - t0 >= CHUNK_MIN_S or 2 * chunk > limit:
             break
+        bench.reset()
         chunk *= 2
     share = budget_s / repeats
     best = 0.0
     for _ in range(repeats):
         bench.reset()
+        since_reset = 0
         steps = 0
-        t0 = CLOCK()
-        while True:
+        elapsed = 0.0
+        while elapsed < share:
+            if window_steps > 0 and since_reset + chunk > window_steps:
+                bench.reset()
+                since_reset = 0
+            t0 = CLOCK()
             bench.run(chunk)
+            elapsed += CLOCK() - t0
             steps += chunk
-            elapsed = CLOCK() - t0
-            if elapsed >= share:
-                break
+            since_reset += chunk
         best = max(best, steps * n / elapsed)
     return Result(best, first)
+
+
+def window_steps(window_s: float, dt_s: float) -> int:
+    """Steps of ``dt_s`` in the timed window of simulated time (0: no window)."""
+    return max(1, round(window_s / dt_s)) if window_s > 0 else 0
 
 
 class OtherLoad:
@@ -429,6 +455,13 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
         "--repeats", type=int, default=10, help="repeats per measurement; best kept"
     )
     parser.add_argument("--seed", type=int, default=0, help="seed of the initial states")
+    parser.add_argument(
+        "--window-s",
+        type=float,
+        default=2.0,
+        help="time every simulator over this window of simulated time from the start, so "
+        "all see the same density (0: from the start on, without a reset)",
+    )
     parser.add_argument("--no-pysocialforce", action="store_true", help="leave PySocialForce out")
     parser.add_argument("--no-jupedsim", action="store_true", help="leave JuPedSim out")
     parser.add_argument(
@@ -457,6 +490,8 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     args = parser.parse_args(argv)
     if any(n < 2 for n in args.sizes) or args.seconds <= 0 or args.repeats < 1:
         parser.error("sizes must be >= 2, --seconds > 0 and --repeats >= 1")
+    if not math.isfinite(args.window_s) or args.window_s < 0:
+        parser.error(f"--window-s must be a finite number >= 0, got {args.window_s}")
     return args
 
 
@@ -481,6 +516,11 @@ def main(argv: list[str] | None = None) -> int:
         print("## Crowd step throughput (agent-steps/s, higher is better)\n")
         print(f"- date: {time.strftime('%Y-%m-%d %H:%M', time.gmtime())} UTC")
         print(f"- command: `{' '.join([Path(sys.executable).name, *sys.argv])}`")
+        print(
+            f"- timed window: the first {args.window_s:g} s of simulated time from the start"
+            if args.window_s > 0
+            else "- timed window: none (from the start on, without a reset)"
+        )
         print(*machine_info(), sep="\n")
         print(
             f"- srfm and PySocialForce dt = {DT_S:.6f} s, JuPedSim dt = {JUPEDSIM_DT_S} s;"
@@ -507,17 +547,20 @@ def main(argv: list[str] | None = None) -> int:
             rows: list[tuple[int, str, list[float]]] = []
             for n in args.sizes:
                 pos, goal = initial_state(n, args.seed)
+                w_ours = window_steps(args.window_s, DT_S)
                 rates = [
-                    measure(srfm_bench(pos, goal, p), n, args.seconds, args.repeats).rate
+                    measure(srfm_bench(pos, goal, p), n, args.seconds, args.repeats, w_ours).rate
                     for p in (False, True, None)
                 ]
                 if psf is not None and config is not None and n <= args.max_pysocialforce:
                     bench = pysocialforce_bench(psf, config, pos, goal)
-                    rates.append(measure(bench, n, args.seconds, args.repeats).rate)
+                    rates.append(measure(bench, n, args.seconds, args.repeats, w_ours).rate)
                 else:
                     rates.append(math.nan)
                 if jps:
-                    rates.append(measure(jupedsim_bench(pos, goal), n, args.seconds, 3).rate)
+                    w_jps = window_steps(args.window_s, JUPEDSIM_DT_S)
+                    bench = jupedsim_bench(pos, goal)
+                    rates.append(measure(bench, n, args.seconds, 3, w_jps).rate)
                 else:
                     rates.append(math.nan)
                 default_kernel = "serial"

@@ -131,6 +131,17 @@ def _seconds(reader: _Reader, value: Any, label: str, count: int) -> FloatArray:
     return out
 
 
+def _tables(reader: _Reader, key: str) -> list[dict[str, Any]]:
+    """``key`` as an array of tables (``[[pedestrians.groups]]``, ...)."""
+    value = reader.raw(key)
+    if not isinstance(value, list):
+        raise reader.fail(key, f"must be an array of tables, got {value!r}")
+    for i, table in enumerate(value):
+        if not isinstance(table, dict):
+            raise reader.fail(f"{key}[{i}]", f"must be a table, got {table!r}")
+    return value
+
+
 def _entry_time(reader: _Reader, value: Any, label: str, horizon_s: float) -> float:
     """An entry time (s): a number in [0, horizon)."""
     if isinstance(value, bool) or not isinstance(value, int | float):
@@ -184,12 +195,7 @@ def read_pedestrians(
         enter = [_entry_time(p, v, f"enter_s[{i}]", horizon_s) for i, v in enumerate(value)]
     groups: list[tuple[int, ...]] = []
     if p.has("groups"):
-        value = p.raw("groups")
-        if not isinstance(value, list):
-            raise p.fail("groups", f"must be an array of tables, got {value!r}")
-        for gi, table in enumerate(value):
-            if not isinstance(table, dict):
-                raise p.fail(f"groups[{gi}]", f"must be a table, got {table!r}")
+        for gi, table in enumerate(_tables(p, "groups")):
             members, group_enter = _group(p, table, gi, horizon_s)
             first = len(s_list)
             for start, goal, route in members:
@@ -212,12 +218,7 @@ def read_pedestrians(
             enter.append(0.0)
     sources: list[EntrySource] = []
     if p.has("sources"):
-        value = p.raw("sources")
-        if not isinstance(value, list):
-            raise p.fail("sources", f"must be an array of tables, got {value!r}")
-        for si, table in enumerate(value):
-            if not isinstance(table, dict):
-                raise p.fail(f"sources[{si}]", f"must be a table, got {table!r}")
+        for si, table in enumerate(_tables(p, "sources")):
             source, (start, goal, route) = _source(p, table, si, len(s_list), horizon_s, regions)
             for _ in range(source.count):
                 s_list.append(start.copy())

@@ -20,6 +20,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from srfm.benchmark._runner import BenchmarkRequest
+    from srfm.models.state import Obstacles
 
 __all__ = [
     "FigureEpisode",
@@ -133,11 +134,19 @@ def load_figure_episode(out: Path, scenario: str, planner: str, seed: int) -> Fi
     return episode if shapes_ok else None
 
 
-def _draw_episode(ax: Axes, record: FigureEpisode, world: Sequence[float]) -> None:
+def _draw_episode(
+    ax: Axes, record: FigureEpisode, world: Sequence[float], obstacles: Obstacles | None
+) -> None:
     from matplotlib import colormaps
+    from matplotlib.patches import Circle
 
     x0, x1, y0, y1 = world
     ax.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], color="0.6", lw=0.8)
+    if obstacles is not None:
+        for sx0, sy0, sx1, sy1 in obstacles.segments:
+            ax.plot([sx0, sx1], [sy0, sy1], color="0.25", lw=2.0, solid_capstyle="butt")
+        for cx, cy, r in obstacles.circles:
+            ax.add_patch(Circle((cx, cy), r, color="0.25"))
     colors = colormaps["tab10"](np.arange(record.n_pedestrians) % 10)
     for i in range(record.n_pedestrians):
         c = record.counterfactual_pos[:, i]
@@ -156,17 +165,25 @@ def _draw_episode(ax: Axes, record: FigureEpisode, world: Sequence[float]) -> No
     ax.tick_params(labelsize=7)
 
 
-def paths_figure(records: Sequence[FigureEpisode], world: Sequence[float]) -> Figure:
-    """One panel per planner: factual paths (solid), counterfactual paths (dashed, same
-    colour per pedestrian), the robot path (black, square start, star goal)."""
+def paths_figure(
+    records: Sequence[FigureEpisode],
+    world: Sequence[float],
+    obstacles: Obstacles | None = None,
+) -> Figure:
+    """One panel per planner: walls and pillars (dark grey), factual paths (solid),
+    counterfactual paths (dashed, same colour per pedestrian), the robot path (black,
+    square start, star goal). A panel's height follows the world's aspect ratio."""
     from matplotlib.figure import Figure
 
     cols = min(len(records), 4)
     rows = -(-len(records) // cols)
-    fig = Figure(figsize=(3.2 * cols, 3.3 * rows), layout="constrained")
+    x0, x1, y0, y1 = world
+    aspect = (y1 - y0 + 1.0) / (x1 - x0 + 1.0)  # the axes' limits add 0.5 m per side
+    height = min(3.3, max(1.2, 3.0 * aspect + 0.5))
+    fig = Figure(figsize=(3.2 * cols, height * rows), layout="constrained")
     axes = fig.subplots(rows, cols, squeeze=False)
     for ax, record in zip(axes.flat, records, strict=False):
-        _draw_episode(ax, record, world)
+        _draw_episode(ax, record, world, obstacles)
     for ax in list(axes.flat)[len(records) :]:
         ax.set_axis_off()
     first = records[0]
@@ -244,7 +261,7 @@ def render_figures(
                 saved = _figure_episode(record)
             records.append(saved)
         w = scenario.world
-        fig = paths_figure(records, (w.x_min, w.x_max, w.y_min, w.y_max))
+        fig = paths_figure(records, (w.x_min, w.x_max, w.y_min, w.y_max), scenario.obstacles)
         written[f"figures/paths_{scenario.name}.png"] = _png(fig)
     written["figures/deviation.png"] = _png(deviation_figure(table))
     if extended is not None:

@@ -54,22 +54,22 @@ class EnvCore:
     """
 
     def __init__(self, scenario: Scenario, config: EnvConfig, params: SRFMParams) -> None:
-        if scenario.ped_enter_s is not None:
-            # The fused kernel steps every row of its packed crowd array.
-            raise ScenarioError(
-                f"{scenario.source}: pedestrians enter during the run (pedestrians.enter_s "
-                "or pedestrians.sources); the gymnasium environment does not support "
-                "entering pedestrians yet: evaluate policies on it with srfm.run_episode "
-                "or srfm benchmark"
-            )
         self.scenario = scenario
         self.config = config
         self.params = params
         n = scenario.n_pedestrians
         self.n = n
+        # The kernels' arrays hold the m pedestrians there (the first m of the episode's
+        # order, srfm.scenarios.EpisodeSetup.n_present; m = n without entries): fresh
+        # C-contiguous arrays of m rows whenever m grows (_resize), so that the kernels
+        # keep their argument types. Every pedestrian's state at its entry (its start,
+        # at rest, its first goal or waypoint) is kept in entry_crowd / entry_agent.
+        self.m = n
         self.crowd = np.zeros((6, n, 2))
         self.agent = np.zeros((3, n))
         self.flags = np.zeros((4, n), dtype=np.bool_)
+        self.entry_crowd = self.crowd.copy()
+        self.entry_agent = self.agent.copy()
         self.kernel_params = params.for_kernels()
         self.robot = np.zeros(_rk.ROBOT_SIZE)
         self.body = np.array([0.0, 0.0, scenario.robot.radius_m])
@@ -238,17 +238,16 @@ class EnvCore:
         """Start episode ``episode_seed`` (the scenario's set-up for that seed)."""
         setup = episode_setup(self.scenario, episode_seed)
         crowd = setup.crowd
-        c = self.crowd
+        c = self.entry_crowd
         c[_k.FACTUAL_POS] = crowd.pos
         c[_k.FACTUAL_VEL] = crowd.vel
         c[_k.FACTUAL_GOAL] = crowd.goal
         c[_k.COUNTERFACTUAL_POS] = crowd.pos
         c[_k.COUNTERFACTUAL_VEL] = crowd.vel
         c[_k.COUNTERFACTUAL_GOAL] = crowd.goal
-        self.agent[_k.AGENT_RADIUS] = crowd.radius
-        self.agent[_k.AGENT_V0] = crowd.v0
-        self.agent[_k.AGENT_VMAX] = crowd.vmax
-        self.flags[:] = False
+        self.entry_agent[_k.AGENT_RADIUS] = crowd.radius
+        self.entry_agent[_k.AGENT_V0] = crowd.v0
+        self.entry_agent[_k.AGENT_VMAX] = crowd.vmax
         self.goal_count[:] = 0
         self._goal_cache.clear()
         r = self.robot
@@ -274,8 +273,9 @@ class EnvCore:
         self.reward = self.reward._replace(
             goal_distance_m=math.hypot(goal[0] - r[_rk.X], goal[1] - r[_rk.Y])
         )
-        self._pack()  # with the episode's task and reward
         self.setup = setup
+        self.m = 0
+        self._resize(setup.n_present(0))  # and _pack, with the episode's task and reward
         self.step_index = 0
         self.action[:] = 0.0
         event, _ = self._robot_event(*self._event_args, 0)
@@ -313,6 +313,12 @@ class EnvCore:
             step_args = self._step_args if last else self._held_step_args
             event = self._env_step(*step_args, self.step_index)
             self.step_index += 1
+            if self.m < self.n and self._entered():
+                # The sample k + 1 has new pedestrians (at their starts): the robot's event
+                # and the reward terms and observation at k + 1 again, with them there.
+                event, _ = self._robot_event(*self._event_args, self.step_index)
+                reward_args = self._reward_args if last else self._held_reward_args
+                self._reward_and_observation(*reward_args, event)
             if self._ped_routes or self._robot_route is not None:
                 self._follow_routes(event, last)
             if self.regoal and (out[_k.OUT_NEW_F] or out[_k.OUT_NEW_C]):
@@ -327,6 +333,43 @@ class EnvCore:
         self.event = event
         return event
 
+    def _entered(self) -> bool:
+        """Grow the kernels' arrays to the pedestrians there at the current sample;
+        whether any entered."""
+        assert self.setup is not None
+        m = self.setup.n_present(self.step_index)
+        if m == self.m:
+            return False
+        self._resize(m)
+        return True
+
+    def _resize(self, m: int) -> None:
+        """The kernels' arrays for the first ``m`` pedestrians: those there keep their
+        state, the ones entering come in at their entry state; then :meth:`_pack`."""
+        old = self.m
+        crowd = np.empty((6, m, 2))
+        crowd[:, :old] = self.crowd[:, :old]
+        crowd[:, old:] = self.entry_crowd[:, old:m]
+        agent = np.empty((3, m))
+        agent[:, :old] = self.agent[:, :old]
+        agent[:, old:] = self.entry_agent[:, old:m]
+        flags = np.zeros((4, m), dtype=np.bool_)
+        flags[:, :old] = self.flags[:, :old]
+        self.crowd, self.agent, self.flags = crowd, agent, flags
+        self.force_buf = np.zeros((m, 2))
+        self.dist_buf = np.zeros(max(m, 1))
+        self.idx_buf = np.zeros(max(m, 1), dtype=np.int64)
+        self.m = m
+        self._pack()
+
+    def full(self, row: int) -> FloatArray:
+        """(N, 2) row ``row`` of the crowd array (``_k.FACTUAL_POS``, ...) for every
+        pedestrian, a copy: those not there yet at their entry state, as the
+        simulator's arrays hold them."""
+        out: FloatArray = self.entry_crowd[row].copy()
+        out[: self.m] = self.crowd[row]
+        return out
+
     def _steer_task(self, point: FloatArray) -> _rk.RobotTask:
         return self.task._replace(goal_x=float(point[0]), goal_y=float(point[1]))
 
@@ -338,12 +381,13 @@ class EnvCore:
             (_k.FACTUAL_POS, _k.FACTUAL_GOAL, _k.ARRIVED_F),
             (_k.COUNTERFACTUAL_POS, _k.COUNTERFACTUAL_GOAL, _k.ARRIVED_C),
         )
+        m = self.m
         for routes, (pos_row, goal_row, arrived_row) in zip(self._ped_routes, rows, strict=False):
             before = routes.index.copy()
-            routes.advance(self.crowd[pos_row], self.crowd[goal_row])
+            routes.advance(self.crowd[pos_row], self.crowd[goal_row], m)
             # a pedestrian near a waypoint is not at its goal: forget such arrivals
-            self.flags[arrived_row, np.flatnonzero(routes.index != before)] = False
-            self.flags[arrived_row, routes.active] = False
+            self.flags[arrived_row, np.flatnonzero(routes.index[:m] != before[:m])] = False
+            self.flags[arrived_row, [i for i in routes.active if i < m]] = False
         route = self._robot_route
         if route is None or event != _rk.EVENT_NONE:
             return

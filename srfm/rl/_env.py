@@ -119,10 +119,11 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
       collides with a pedestrian (centre distance below the sum of radii) or overlaps
       a wall or pillar, or leaves the world;
     - **truncated** at the scenario's horizon (750 steps = 50 s in every built-in
-      scenario), a timeout. ``gym.make`` registers ``max_episode_steps`` =
-      ``MAX_EPISODE_STEPS`` (750), so its ``TimeLimit`` truncates at the same step as
-      the environment itself; for a scenario file with another horizon pass
-      ``max_episode_steps=scenario.horizon_steps`` to ``gym.make``.
+      scenario but ``corridor_flow``, 1200), a timeout. ``gym.make`` registers
+      ``max_episode_steps`` = ``MAX_EPISODE_STEPS`` (750), so its ``TimeLimit``
+      truncates at the same step as the environment itself; for a scenario with
+      another horizon pass ``max_episode_steps=scenario.horizon_steps`` to
+      ``gym.make``.
 
     After the episode's end, ``step`` raises :class:`srfm.SimulationError` until the
     next ``reset``.
@@ -298,25 +299,26 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
 
     @property
     def factual_pos(self) -> NDArray[np.float64]:
-        """(N, 2) factual pedestrian positions (m), a copy."""
-        out: NDArray[np.float64] = self._core.crowd[_k.FACTUAL_POS].copy()
+        """(N, 2) factual pedestrian positions (m), a copy (in the episode's order: a
+        pedestrian not there yet at its start, at rest, as in the simulator)."""
+        out: NDArray[np.float64] = self._core.full(_k.FACTUAL_POS)
         return out
 
     @property
     def factual_vel(self) -> NDArray[np.float64]:
         """(N, 2) factual pedestrian velocities (m/s), a copy."""
-        out: NDArray[np.float64] = self._core.crowd[_k.FACTUAL_VEL].copy()
+        out: NDArray[np.float64] = self._core.full(_k.FACTUAL_VEL)
         return out
 
     @property
     def counterfactual_pos(self) -> NDArray[np.float64]:
         """(N, 2) counterfactual pedestrian positions (m), a copy; frozen at the start
         when ``config.counterfactual_twin`` is False."""
-        out: NDArray[np.float64] = self._core.crowd[_k.COUNTERFACTUAL_POS].copy()
+        out: NDArray[np.float64] = self._core.full(_k.COUNTERFACTUAL_POS)
         return out
 
     @property
     def factual_goal(self) -> NDArray[np.float64]:
         """(N, 2) factual pedestrian goals (m), a copy."""
-        out: NDArray[np.float64] = self._core.crowd[_k.FACTUAL_GOAL].copy()
+        out: NDArray[np.float64] = self._core.full(_k.FACTUAL_GOAL)
         return out

@@ -39,7 +39,7 @@ def test_registered_with_gymnasium() -> None:
     env.close()
 
 
-# The environment refuses scenarios with entering pedestrians (tests/sim/test_entries.py).
+# corridor_flow's horizon is 1200 steps: gym.make needs max_episode_steps for it (docs/rl.md).
 @pytest.mark.parametrize(
     "name", [n for n in srfm.BUILTIN_SCENARIOS if n not in srfm.scenarios.FLOW_SCENARIOS]
 )

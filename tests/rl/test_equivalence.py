@@ -61,6 +61,7 @@ LOCKSTEP_SCENARIOS = (
     "entering_room",
     "robot_crowding",
     "navwareset_circular_crossing",
+    "corridor_flow",  # pedestrians entering during the run
 )
 
 
@@ -122,6 +123,8 @@ def _random_actor(obs_size: int, seed: int) -> NumpyActor:
         ("circle", "holonomic", 4),
         ("blind_corner", "unicycle", 1),
         ("navwareset_circular_crossing", "holonomic", 3),
+        ("corridor_flow", "unicycle", 1),
+        ("corridor_flow", "holonomic", 3),
     ],
 )
 def test_policy_sees_the_same_observation_in_env_and_episode(

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import srfm
-from srfm.errors import LogError, ScenarioError
+from srfm.errors import LogError
 from srfm.logs import load_episode, write_episode_mcap, write_rrd
 from srfm.logs._mcap import _enter_steps
 from srfm.metrics import episode_metrics
@@ -167,8 +167,28 @@ def test_malformed_entry_steps_in_a_log_are_named(tmp_path: Path) -> None:
             _enter_steps(p, bad, 3, 10)
 
 
-def test_the_environment_refuses_entering_pedestrians() -> None:
+def test_the_environment_lets_pedestrians_enter() -> None:
+    """The gymnasium environment on corridor_flow: nobody at sample 0, the pedestrians
+    there are the first ones, the others wait at their starts, at rest (bit-for-bit
+    agreement with the simulator: tests/rl/test_equivalence.py)."""
     from srfm.rl import SocialNavEnv
 
-    with pytest.raises(ScenarioError, match=r"corridor_flow\.toml: pedestrians enter during"):
-        SocialNavEnv(scenario="corridor_flow")
+    env = SocialNavEnv(scenario="corridor_flow")
+    env.reset(seed=2)
+    setup = srfm.episode_setup(env.scenario, 2)
+    starts = setup.crowd.pos
+    seen = set()
+    for _ in range(300):
+        m = setup.n_present(env.step_index)
+        seen.add(m)
+        pos = env.factual_pos
+        assert pos.shape == starts.shape
+        np.testing.assert_array_equal(pos[m:], starts[m:])
+        assert not env.factual_vel[m:].any()
+        _, _, terminated, truncated, _ = env.step(np.array([0.2, 0.0], dtype=np.float32))
+        assert not terminated
+        assert not truncated
+    assert 0 in seen
+    assert max(seen) > 5
+    env.reset(seed=2)  # a second episode starts with nobody there again
+    np.testing.assert_array_equal(env.factual_pos, starts)

@@ -381,7 +381,7 @@ def _warm_up_planner(task: _Task) -> None:
     # Any error (a user's planner raises what it likes) is left for the worker, which
     # reports it in its own words; here it only means nothing is compiled.
     with contextlib.suppress(Exception):
-        first_command(task.scenario, task.seeds[0], build_planner(task.planner), task.params)
+        first_command(task.scenario, task.seeds[0], task.planner, task.params)
 
 
 def _warm_up_shared(

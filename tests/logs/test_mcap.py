@@ -45,6 +45,18 @@ def _messages(path: Path) -> tuple[Any, list[tuple[Any, Any, Any]]]:
     return summary, msgs
 
 
+def _check_json_messages(summary: Any, msgs: list[tuple[Any, Any, Any]]) -> None:
+    """Every JSON message fits the JSON schema its channel names in the file."""
+    schemas = {
+        c.topic: json.loads(summary.schemas[c.schema_id].data)
+        for c in summary.channels.values()
+        if c.message_encoding == "json"
+    }
+    for _, channel, message in msgs:
+        if channel.topic in schemas:
+            check_json_schema(json.loads(message.data), schemas[channel.topic], channel.topic)
+
+
 def _by_topic(msgs: list[tuple[Any, Any, Any]]) -> dict[str, list[tuple[int, dict[str, Any]]]]:
     """The JSON messages by topic (the protobuf scene is decoded by @mcap/core)."""
     out: dict[str, list[tuple[int, dict[str, Any]]]] = defaultdict(list)
@@ -297,14 +309,7 @@ def test_compact_log_with_a_shared_counterfactual(tmp_path: Path, episode) -> No
     )
     summary, msgs = _messages(path)
     counts = Counter(c.topic for _, c, _ in msgs)
-    schemas = {
-        c.topic: json.loads(summary.schemas[c.schema_id].data)
-        for c in summary.channels.values()
-        if c.message_encoding == "json"
-    }
-    for _, channel, message in msgs:
-        if channel.topic in schemas:
-            check_json_schema(json.loads(message.data), schemas[channel.topic], channel.topic)
+    _check_json_messages(summary, msgs)
     cf_summary, cf_msgs = _messages(cf)
     for _, channel, message in cf_msgs:
         schema = json.loads(cf_summary.schemas[channel.schema_id].data)
@@ -755,14 +760,7 @@ def test_official_readers_take_a_run_with_entering_pedestrians(
     path = tmp_path / "flow.mcap"
     write_episode_mcap(path, record, scenario=scenario, metrics=metrics, profile="compact")
     summary, msgs = _messages(path)
-    schemas = {
-        channel.topic: json.loads(summary.schemas[channel.schema_id].data)
-        for channel in summary.channels.values()
-        if channel.message_encoding == "json"
-    }
-    for _, channel, message in msgs:
-        if channel.topic in schemas:
-            check_json_schema(json.loads(message.data), schemas[channel.topic], channel.topic)
+    _check_json_messages(summary, msgs)
     (info,) = _by_topic(msgs)["/srfm/episode"]
     assert record.ped_enter_step is not None
     assert info[1]["pedestrians"]["enter_step"] == record.ped_enter_step.tolist()

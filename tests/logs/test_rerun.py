@@ -171,8 +171,8 @@ def test_default_blueprint_is_in_the_file(rrd) -> None:  # type: ignore[no-untyp
     assert classes == {"2D", "TimeSeries", "TextDocument", "TextLog"}
 
 
-def test_rerun_rrd_verify_accepts_it(rrd) -> None:  # type: ignore[no-untyped-def]
-    path, _, _ = rrd
+def _verify(path: Path) -> None:
+    """`rerun rrd verify` accepts the file."""
     done = subprocess.run(
         [sys.executable, "-m", "rerun", "rrd", "verify", str(path)],
         capture_output=True,
@@ -181,6 +181,11 @@ def test_rerun_rrd_verify_accepts_it(rrd) -> None:  # type: ignore[no-untyped-de
     )
     assert done.returncode == 0, done.stderr
     assert "verified without error" in done.stdout + done.stderr
+
+
+def test_rerun_rrd_verify_accepts_it(rrd) -> None:  # type: ignore[no-untyped-def]
+    path, _, _ = rrd
+    _verify(path)
 
 
 def test_without_forces_and_atomic(tmp_path: Path, episode) -> None:  # type: ignore[no-untyped-def]
@@ -216,13 +221,7 @@ def test_a_run_with_entering_pedestrians(tmp_path: Path, episode) -> None:  # ty
     scenario, record, metrics = episode("corridor_flow", 1, "dwa")
     path = tmp_path / "flow.rrd"
     write_rrd(path, record, scenario=scenario, metrics=metrics, forces=True)
-    done = subprocess.run(
-        [sys.executable, "-m", "rerun", "rrd", "verify", str(path)],
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    assert done.returncode == 0, done.stderr
+    _verify(path)
     _, temporal, _ = _read(path)
     present = record.present()
     steps, values = _column(temporal["/world/pedestrians/factual"], "Points2D:positions")

@@ -41,9 +41,9 @@ pytest: $(STAMP)
 # Performance measurements (docs/performance.md); needs the bench extra.
 bench-perf: $(STAMP)
 	$(PIP_INSTALL) -e '.[dev,bench]'
-	$(BIN)/python tools/bench_crowd_step.py
-	$(BIN)/python tools/bench_episode.py
-	$(BIN)/python tools/bench_frechet.py
+	$(BIN)/python tools/bench/bench_crowd_step.py
+	$(BIN)/python tools/bench/bench_episode.py
+	$(BIN)/python tools/bench/bench_frechet.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache .hypothesis

@@ -176,7 +176,7 @@ PRESETS: Final[dict[str, SRFMParams]] = {
     # pedestrian part by `srfm fit --stage pedestrian` on ETH/UCY without the resampled
     # biwi_eth copy (seq_eth and zara02 obsmat, biwi_hotel, students003, uni_examples,
     # crowds_zara03; 10,053 windows of 1,443 tracks); robot part (A_r, B_r, λ_r) by
-    # tools/fit_navwareset.py on the NavWareSet-Quant interaction windows (32 scenes,
+    # tools/fitting/fit_navwareset.py on the NavWareSet-Quant interaction windows (32 scenes,
     # 3,573 windows of 778 tracks, walking starts). Values rounded to 3 digits. Both
     # repulsions are close to zero (A_r's bootstrap 95 % interval over the 32 scenes is
     # 0.0003-0.0099 m/s²; the paper's A_r is 7.93): a goal-conditioned *prediction* fit,

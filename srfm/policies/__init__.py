@@ -8,6 +8,6 @@
 - ``<name>.zip``: the stable-baselines3 checkpoint it was exported from
   (``srfm export-policy``); SB3's loader unpickles: load only trusted files.
 
-``tools/train_policies.sh`` trains and exports them; ``docs/rl.md`` gives the exact
+``tools/rl/train_policies.sh`` trains and exports them; ``docs/rl.md`` gives the exact
 commands, the steps trained and the wall time.
 """

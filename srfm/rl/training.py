@@ -451,7 +451,7 @@ def train(
         else:
             say(f"resumed from {resume} at step {model.num_timesteps} (empty replay buffer)")
         # The checkpoints of this run record its seed, not that of the run it started
-        # from (a run may start from another run's checkpoint: tools/train_policies.sh).
+        # from (a run may start from another run's checkpoint: tools/rl/train_policies.sh).
         model.seed = config.seed
         # Fresh, deterministic random streams for the continuation (networks'
         # sampling, exploration noise, episodes); the saved states are not restored.

@@ -83,7 +83,7 @@ FRANCIS_SCENARIOS: Final = (
     "crowd_navigation",
 )
 # The NavWareSet room (scene 13's map) with the dataset's five layouts (issue 17;
-# written by tools/make_navwareset_scenarios.py).
+# written by tools/scenarios/make_navwareset_scenarios.py).
 NAVWARESET_SCENARIOS: Final = (
     "navwareset_frontal_approach",
     "navwareset_obstruction",

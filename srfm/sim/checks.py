@@ -8,7 +8,7 @@ agents overlap at the start (those there at sample 0), and seeds where the robot
 reaches its goal. The built-in library's thresholds (issue 17): ≥ 95 % of pedestrians
 arrive over 20 seeds, no sample inside a wall, no overlap, a classical planner reaches
 the goal in ≥ 90 % of 20 seeds; the tests (``tests/scenarios/test_francis.py``) and
-``tools/check_scenarios.py`` check those over seeds 0-19.
+``tools/scenarios/check_scenarios.py`` check those over seeds 0-19.
 """
 
 from __future__ import annotations

@@ -206,11 +206,13 @@ def test_shipped_numpy_policies(name: str) -> None:
 @pytest.mark.parametrize("variant", ["srfm", "base"])
 @pytest.mark.parametrize("seed", [11, 12, 13])
 def test_per_seed_policies_load_and_drive(variant: str, seed: int) -> None:
-    """The policy of every training seed (tools/policies/, docs/rl.md) is a valid NumPy
+    """The policy of every training seed (tools/rl/policies/, docs/rl.md) is a valid NumPy
     policy file of that run, and drives a robot."""
     from srfm.planners.td3 import TD3Planner, load_numpy_policy
 
-    path = Path(__file__).parents[2] / "tools" / "policies" / f"td3_{variant}_seed{seed}.json"
+    path = (
+        Path(__file__).parents[2] / "tools" / "rl" / "policies" / f"td3_{variant}_seed{seed}.json"
+    )
     policy = load_numpy_policy(path)
     training = policy.metadata["training"]
     assert training["seed"] == seed
@@ -226,11 +228,18 @@ def test_per_seed_policies_load_and_drive(variant: str, seed: int) -> None:
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_stage1_policies_load_and_drive(seed: int) -> None:
     """The pre-training (stage 1) RL_base policy of every training seed
-    (tools/policies/stage1/, docs/rl.md) is a valid NumPy policy file with the paper's
+    (tools/rl/policies/stage1/, docs/rl.md) is a valid NumPy policy file with the paper's
     terminal rewards, and drives a robot."""
     from srfm.planners.td3 import TD3Planner, load_numpy_policy
 
-    path = Path(__file__).parents[2] / "tools" / "policies" / "stage1" / f"td3_base_seed{seed}.json"
+    path = (
+        Path(__file__).parents[2]
+        / "tools"
+        / "rl"
+        / "policies"
+        / "stage1"
+        / f"td3_base_seed{seed}.json"
+    )
     policy = load_numpy_policy(path)
     assert policy.metadata["training"]["seed"] == seed
     assert policy.config.k2 == 0.0

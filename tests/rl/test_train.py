@@ -118,7 +118,7 @@ def test_train_checkpoint_evaluate_and_resume(tmp_path: Path) -> None:
         run / "checkpoints" / "step_000000200.zip"
     )
 
-    # A run started from another run's checkpoint (stage 2 of tools/train_policies.sh)
+    # A run started from another run's checkpoint (stage 2 of tools/rl/train_policies.sh)
     # records its own seed, in its checkpoints and in the policy file exported from them.
     from srfm.planners.td3 import load_checkpoint, load_numpy_policy
     from srfm.rl.training import export_policy

@@ -1,0 +1,329 @@
+"""Logging overhead and bytes per episode, for the MCAP and Rerun sinks.
+
+Per-episode part: for every scenario × planner × seed (default: the five evaluation
+scenarios, the five classical planners, seeds 0–3), the script simulates the episode
+once and scores it (what the benchmark does without logs), then writes, in the same
+process, each kind of log the way the benchmark or ``srfm simulate`` would:
+
+- ``compact``: the benchmark's default MCAP file, plus the shared counterfactual file
+  of the (scenario, seed) when the first planner of that seed writes it;
+- ``full``: the MCAP file of ``srfm simulate --out``;
+- ``rrd``: the Rerun recording (first seed of each cell in a benchmark);
+- ``rrd+forces``: the Rerun recording with the SRFM force arrows;
+- ``score``: re-scoring the compact file (read, rebuild, metrics).
+
+Each stage is timed with ``time.process_time`` (CPU time of this process: the figure
+least disturbed by other jobs on a shared machine) and ``time.perf_counter``; the
+report gives the median and mean per episode and the bytes written. It also projects
+the MCAP output of a full 100-seed benchmark from the measured means.
+
+Full-benchmark part (``--full-benchmark DIR``): runs ``srfm benchmark`` on the given
+planners with 100 seeds twice, with ``--no-logs`` and with the default logs, into
+``DIR/no-logs`` and ``DIR/logs``, and reports the wall and CPU time of both and the
+bytes of the MCAP and Rerun files actually written.
+
+The same command with ``PYTHONPATH`` pointing at an older checkout measures that
+tree's logging ("before" in docs/performance.md).
+
+Usage::
+
+    .venv/bin/python tools/bench/bench_logging.py
+    PYTHONPATH=/path/to/old/checkout .venv/bin/python tools/bench/bench_logging.py
+    .venv/bin/python tools/bench/bench_logging.py --seeds 2 --planners straight dwa
+    .venv/bin/python tools/bench/bench_logging.py --full-benchmark /tmp/bench-logs -j 2
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import os
+import platform
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from collections import defaultdict
+from pathlib import Path
+from typing import Any
+
+EVALUATION = ("footpath", "crosswalk", "cross_footpath", "circle", "concert")
+CLASSICAL = ("straight", "dwa", "vo", "orca", "social-force")
+
+
+def _timed(fn: Any) -> tuple[Any, float, float]:
+    """Result, CPU seconds and wall seconds of ``fn()``."""
+    cpu, wall = time.process_time(), time.perf_counter()
+    out = fn()
+    return out, time.process_time() - cpu, time.perf_counter() - wall
+
+
+def _encodings(pos: Any, out: dict[str, list[float]]) -> None:
+    """zstd (level 3, as in MCAP chunks) bytes per value of exact positions, four ways:
+    decimal JSON text, the .npy file (what srfm stores since log schema 3, base64 in
+    JSON), and, for reference, a byte shuffle (the HDF5/Blosc filter) of the values
+    with time last, which is what the array codec of schema 2 improved on."""
+    import base64
+    import io
+    import json
+
+    import numpy as np
+    import zstandard
+
+    zc = zstandard.ZstdCompressor(level=3)
+    buf = io.BytesIO()
+    np.save(buf, pos, allow_pickle=False)
+    npy = buf.getvalue()
+    time_last = np.ascontiguousarray(np.moveaxis(pos, 0, -1))
+    ways = {
+        "decimal JSON, one message per step": "\n".join(json.dumps(p) for p in pos.tolist()),
+        ".npy file": npy,
+        ".npy file, base64 (stored)": base64.b64encode(npy),
+        "byte shuffle, time last (reference)": time_last.view(np.uint8).reshape(-1, 8).T.tobytes(),
+    }
+    for name, data in ways.items():
+        raw = data.encode() if isinstance(data, str) else data
+        out[name].append(len(zc.compress(raw)) / pos.size)
+
+
+def _run_episode() -> Any:
+    """``run_episode`` of this tree or of an older one (``PYTHONPATH`` = a checkout from
+    before the package layout of issue 11, for before/after measurements)."""
+    try:
+        from srfm.sim.episode import run_episode
+    except ImportError:  # the layout before srfm/sim/
+        from srfm.episode import run_episode  # type: ignore[no-redef]
+    return run_episode
+
+
+def _measure_one(
+    root: Path, scenario: Any, seed: int, planner: str, first: bool, m: dict[str, Any]
+) -> None:
+    """Simulate one episode, then time and size every kind of log of it."""
+    from srfm.logs import load_episode, write_counterfactual_mcap, write_episode_mcap, write_rrd
+    from srfm.metrics import episode_metrics
+
+    run_episode = _run_episode()
+
+    def simulate() -> Any:
+        record = run_episode(scenario, seed, planner, parallel=False)
+        return record, episode_metrics(record)
+
+    (record, metrics), c, w = _timed(simulate)
+    m["cpu"]["simulate + metrics"].append(c)
+    m["wall"]["simulate + metrics"].append(w)
+    _encodings(record.factual_pos, m["encoding"])
+    stem = root / f"{scenario.name}-{planner}-{seed}"
+    cf = root / f"{scenario.name}-cf-{seed}.mcap"
+
+    def compact() -> int:
+        n = 0
+        if first:  # the first planner of a seed writes the shared counterfactual file
+            n = write_counterfactual_mcap(cf, record, scenario=scenario, fsync=False)
+        return n + write_episode_mcap(
+            stem.with_suffix(".mcap"),
+            record,
+            scenario=scenario,
+            metrics=metrics,
+            profile="compact",
+            counterfactual_file=cf.name,
+            fsync=False,
+        )
+
+    def full() -> int:
+        return write_episode_mcap(
+            stem.with_suffix(".full.mcap"),
+            record,
+            scenario=scenario,
+            metrics=metrics,
+            profile="full",
+            fsync=False,
+        )
+
+    def rrd(forces: bool) -> int:
+        suffix = ".f.rrd" if forces else ".rrd"
+        return write_rrd(
+            stem.with_suffix(suffix), record, scenario=scenario, metrics=metrics, forces=forces
+        )
+
+    def score() -> Any:
+        return episode_metrics(load_episode(stem.with_suffix(".mcap")).record)
+
+    stages = {
+        "mcap compact": compact,
+        "mcap full": full,
+        "rrd": lambda: rrd(False),
+        "rrd + forces": lambda: rrd(True),
+        "score (compact)": score,
+    }
+    for stage, fn in stages.items():
+        out, c, w = _timed(fn)
+        m["cpu"][stage].append(c)
+        m["wall"][stage].append(w)
+        if isinstance(out, int):
+            m["size"][stage].append(out)
+    m["size"]["compact episode file"].append(stem.with_suffix(".mcap").stat().st_size)
+    if first:
+        m["size"]["shared counterfactual file"].append(cf.stat().st_size)
+    for p in root.glob(f"{stem.name}*"):
+        p.unlink()
+
+
+def per_episode(scenarios: list[str], planners: list[str], seeds: list[int]) -> dict[str, Any]:
+    """Time every stage and record every file size; returns the raw measurements."""
+    from srfm.logs import load_episode, write_episode_mcap, write_rrd
+    from srfm.metrics import episode_metrics
+    from srfm.scenarios import load_scenario
+
+    run_episode = _run_episode()
+
+    m: dict[str, Any] = {k: defaultdict(list) for k in ("cpu", "wall", "size", "encoding")}
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        warm = load_scenario("concert")  # compile and load everything once, untimed
+        for planner in planners:  # (policies load their networks on the first episode)
+            rec = run_episode(warm, 0, planner, parallel=False)
+        write_episode_mcap(root / "w.mcap", rec, scenario=warm, metrics=episode_metrics(rec))
+        load_episode(root / "w.mcap")
+        write_rrd(root / "w.rrd", rec, scenario=warm, forces=True)
+        gc.collect()  # not inside the first timed stage
+        for name in scenarios:
+            scenario = load_scenario(name)
+            for seed in seeds:
+                for i, planner in enumerate(planners):
+                    _measure_one(root, scenario, seed, planner, i == 0, m)
+    return m
+
+
+def _ms(values: list[float]) -> str:
+    return f"{statistics.median(values) * 1e3:.1f} | {statistics.fmean(values) * 1e3:.1f}"
+
+
+def report(m: dict[str, Any], n_planners: list[int], n_scenarios: int, seeds: int) -> str:
+    """Markdown tables of the per-episode measurements and the projection."""
+    cpu, wall, size = m["cpu"], m["wall"], m["size"]
+    base = statistics.fmean(cpu["simulate + metrics"])
+    lines = [
+        "| stage | CPU ms, median | CPU ms, mean | CPU ms, max | wall ms, median | "
+        "wall ms, mean | mean CPU / simulation |",
+        "|---|--:|--:|--:|--:|--:|--:|",
+    ]
+    for stage in cpu:
+        ratio = statistics.fmean(cpu[stage]) / base
+        worst = max(cpu[stage]) * 1e3
+        lines.append(
+            f"| {stage} | {_ms(cpu[stage])} | {worst:.1f} | {_ms(wall[stage])} | {ratio:.2f}× |"
+        )
+    lines += ["", "| file | kB mean | kB min | kB max | files |", "|---|--:|--:|--:|--:|"]
+    rename = {
+        "compact episode file": "MCAP compact, episode file",
+        "shared counterfactual file": "MCAP compact, shared counterfactual file",
+        "mcap full": "MCAP full (srfm simulate)",
+        "rrd": "Rerun .rrd",
+        "rrd + forces": "Rerun .rrd with force arrows",
+    }
+    for key, label in rename.items():
+        v = size[key]
+        lines.append(
+            f"| {label} | {statistics.fmean(v) / 1e3:.1f} | {min(v) / 1e3:.1f} | "
+            f"{max(v) / 1e3:.1f} | {len(v)} |"
+        )
+    lines += ["", "| exact factual positions, zstd level 3 | bytes per value, mean |", "|---|--:|"]
+    for name, values in m["encoding"].items():
+        lines.append(f"| {name} | {statistics.fmean(values):.2f} |")
+    ep = statistics.fmean(size["compact episode file"])
+    cf = statistics.fmean(size["shared counterfactual file"])
+    lines += [
+        "",
+        f"Projected MCAP output of a {seeds}-seed benchmark over {n_scenarios} scenarios "
+        "(compact episode files + one shared counterfactual file per scenario and seed):",
+        "",
+    ]
+    for p in n_planners:
+        total = n_scenarios * seeds * (p * ep + cf)
+        lines.append(
+            f"- {p} planners: {total / 1e6:.0f} MB ({(ep + cf / p) / 1e3:.1f} kB per episode)"
+        )
+    return "\n".join(lines)
+
+
+def _folder_bytes(root: Path, suffix: str) -> tuple[int, int]:
+    files = [p for p in root.rglob(f"*{suffix}") if p.is_file()]
+    return len(files), sum(p.stat().st_size for p in files)
+
+
+def full_benchmark(out: Path, planners: list[str], jobs: int) -> str:
+    """Run the 100-seed benchmark without and with logs; report time and bytes."""
+    srfm = str(Path(sys.executable).with_name("srfm"))
+    rows = []
+    for label, extra in (("no logs", ["--no-logs"]), ("default logs", [])):
+        folder = out / label.replace(" ", "-")
+        cmd = [
+            srfm,
+            "benchmark",
+            "-p",
+            ",".join(planners),
+            "--out",
+            str(folder),
+            "--no-figures",
+            "-j",
+            str(jobs),
+            *extra,
+        ]
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        start = time.perf_counter()
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        wall = time.perf_counter() - start
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+        logs = folder / "logs"
+        n_mcap, b_mcap = _folder_bytes(logs, ".mcap") if logs.exists() else (0, 0)
+        n_rrd, b_rrd = _folder_bytes(logs, ".rrd") if logs.exists() else (0, 0)
+        rows.append(
+            f"| {label} | {wall:.1f} | {cpu:.1f} | {n_mcap} | {b_mcap / 1e6:.1f} | "
+            f"{n_rrd} | {b_rrd / 1e6:.1f} |"
+        )
+    head = [
+        f"`srfm benchmark -p {','.join(planners)} --no-figures -j {jobs}` (100 seeds, "
+        "5 scenarios):",
+        "",
+        "| run | wall s | CPU s (all workers) | .mcap files | MCAP MB | .rrd files | Rerun MB |",
+        "|---|--:|--:|--:|--:|--:|--:|",
+    ]
+    return "\n".join(head + rows)
+
+
+def main() -> None:
+    """Command-line entry point."""
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--scenarios", nargs="+", default=list(EVALUATION))
+    parser.add_argument("--planners", nargs="+", default=list(CLASSICAL))
+    parser.add_argument("--seeds", type=int, default=4, help="seeds 0 .. N-1 per cell")
+    parser.add_argument("--project-planners", type=int, nargs="+", default=[5, 7])
+    parser.add_argument("--full-benchmark", type=Path, default=None, metavar="DIR")
+    parser.add_argument("-j", "--jobs", type=int, default=2)
+    args = parser.parse_args()
+    os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+    import srfm.logs
+
+    print(
+        f"python {platform.python_version()}, {platform.machine()}, {os.cpu_count()} CPUs, "
+        f"load average {os.getloadavg()[0]:.1f}; srfm from {Path(srfm.logs.__file__).parents[2]}"
+    )
+    m = per_episode(args.scenarios, args.planners, list(range(args.seeds)))
+    episodes = len(m["cpu"]["simulate + metrics"])
+    print(
+        f"\n{episodes} episodes ({len(args.scenarios)} scenarios × {len(args.planners)} "
+        f"planners × {args.seeds} seeds), one process:\n"
+    )
+    print(report(m, args.project_planners, len(args.scenarios), 100))
+    if args.full_benchmark is not None:
+        print()
+        print(full_benchmark(args.full_benchmark, args.planners, args.jobs))
+    print(f"\nload average at the end {os.getloadavg()[0]:.1f}")
+
+
+if __name__ == "__main__":
+    main()

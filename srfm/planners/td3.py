@@ -67,8 +67,8 @@ __all__ = [
 ]
 
 # Registry name -> NumPy policy file (metadata JSON; the weights are <stem>.npz beside
-# it) in srfm/policies/. The SB3 checkpoints they were exported from lie beside them as
-# <stem>.zip.
+# it) in srfm/policies/. The SB3 checkpoints they were exported from are not shipped:
+# the repository keeps them as tools/rl/policies/<stem>.zip.
 SHIPPED_POLICIES: Final = {"td3-srfm": "td3_srfm.json", "td3-base": "td3_base.json"}
 
 # Identifies a NumPy policy file and the version of its layout (bump on a change of the

@@ -28,6 +28,9 @@ torch = pytest.importorskip("torch")
 
 from srfm.rl import EnvConfig, SocialNavEnv  # noqa: E402
 
+# The SB3 checkpoints the shipped policies were exported from (kept out of the wheel).
+CHECKPOINTS = Path(__file__).parents[2] / "tools" / "rl" / "policies"
+
 
 @pytest.fixture(scope="module")
 def policy_file(tmp_path_factory: pytest.TempPathFactory) -> Path:
@@ -206,7 +209,7 @@ def test_shipped_numpy_actor_matches_predict(name: str) -> None:
     from srfm.planners.td3 import checkpoint_backend, load_numpy_policy
 
     numpy_policy = load_numpy_policy(shipped_policy_path(name))
-    checkpoint = shipped_policy_path(name).with_suffix(".zip")
+    checkpoint = CHECKPOINTS / shipped_policy_path(name).with_suffix(".zip").name
     # the shipped checkpoints were trained with SBX (docs/rl.md); make setup installs it
     library = importlib.import_module(
         checkpoint_backend(checkpoint).replace("sb3", "stable_baselines3")

@@ -29,8 +29,8 @@
 # (it ranked above every stage-2 RL_base run in the evaluations); the shipped td3-srfm
 # is the best.zip of the best stage-2 SRFM-aware seed (select_policy.py again). The
 # export step writes the NumPy policy files the planners run (no JAX, torch or pickle
-# needed). To re-export the shipped
-# checkpoints only:
+# needed) into srfm/policies/; the checkpoints they come from are kept in
+# tools/rl/policies/ (not in the package). To re-export the shipped checkpoints only:
 #
 #     EXPORT_ONLY=1 tools/rl/train_policies.sh
 #
@@ -59,9 +59,9 @@ export NUMBA_NUM_THREADS=1 OMP_NUM_THREADS=1
 mkdir -p "$RUNS"
 
 export_policies() {
-    # The NumPy policy files, from the checkpoints in srfm/policies/.
+    # The NumPy policy files (srfm/policies/), from the checkpoints in tools/rl/policies/.
     for name in td3_base td3_srfm; do
-        "$SRFM" export-policy "srfm/policies/$name.zip" "srfm/policies/$name" --eval-seeds 10 \
+        "$SRFM" export-policy "tools/rl/policies/$name.zip" "srfm/policies/$name" --eval-seeds 10 \
             --note "shipped ${name/_/-}; recipe and run: tools/rl/train_policies.sh, docs/rl.md"
     done
 }
@@ -116,7 +116,7 @@ ship() {
     pairs+=("td3_srfm:$("$PYTHON" tools/rl/select_policy.py "$RUNS"/td3-srfm-seed*/)")
     for pair in "${pairs[@]}"; do
         name=${pair%%:*}
-        cp "${pair#*:}" "srfm/policies/$name.zip"
+        cp "${pair#*:}" "tools/rl/policies/$name.zip"
         "$SRFM" export-policy "${pair#*:}" "srfm/policies/$name" --eval-seeds 10 \
             --note "shipped ${name/_/-}; recipe and run: tools/rl/train_policies.sh, docs/rl.md"
     done

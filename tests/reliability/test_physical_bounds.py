@@ -1,4 +1,4 @@
-"""Class 6: one rule for physical bounds (srfm._validate.BOUNDS), applied to scenario
+"""One rule for physical bounds (srfm._validate.BOUNDS), applied to scenario
 files, command-line options and every dataset reader; integers that must fit int64 are
 checked before they are converted, so nothing overflows into a misleading message."""
 

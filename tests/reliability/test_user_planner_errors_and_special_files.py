@@ -1,4 +1,4 @@
-"""Class 7: errors in a user's planner are one line naming the planner, the method and
+"""Errors in a user's planner are one line naming the planner, the method and
 the exception (--debug or SRFM_DEBUG=1 shows the traceback), never exit status 0; FIFOs,
 devices and huge files are refused as inputs without blocking."""
 

@@ -1,4 +1,4 @@
-"""Class 1: dataset MCAP files are read with every checksum validated; a damaged file
+"""Dataset MCAP files are read with every checksum validated; a damaged file
 is either refused with a DatasetError naming it, or read to exactly the data written
 (a flip in a part that carries no data, e.g. padding of the summary). Never silently
 changed trajectories, never a raw library exception."""

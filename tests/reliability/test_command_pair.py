@@ -1,4 +1,4 @@
-"""Class 9: a planner's command and an agent's action are exactly two finite real
+"""A planner's command and an agent's action are exactly two finite real
 numbers; anything else is refused with a PlannerError naming the value, before
 anything moves (one rule: srfm.models.robot.command_pair)."""
 

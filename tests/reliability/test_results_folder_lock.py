@@ -1,4 +1,4 @@
-"""Class 4: one srfm run at a time on a results folder; the second is refused (exit 75)
+"""One srfm run at a time on a results folder; the second is refused (exit 75)
 before it touches anything, and the lock dies with its holder."""
 
 from __future__ import annotations

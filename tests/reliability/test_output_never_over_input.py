@@ -1,4 +1,4 @@
-"""Class 2: an output is never one of the inputs, and reports never land among a
+"""An output is never one of the inputs, and reports never land among a
 user's own files (a non-empty folder srfm did not create) unless --force."""
 
 from __future__ import annotations

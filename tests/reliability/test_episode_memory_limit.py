@@ -1,4 +1,4 @@
-"""Class 8: an episode's memory is estimated before it starts; one that cannot fit is
+"""An episode's memory is estimated before it starts; one that cannot fit is
 refused, naming the estimate and the limit."""
 
 from __future__ import annotations

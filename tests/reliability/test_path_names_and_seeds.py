@@ -1,4 +1,4 @@
-"""Class 5: names that become path components are checked once, at the boundary;
+"""Names that become path components are checked once, at the boundary;
 seeds are bounded; a huge --seeds range is refused at once, without building it."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Class 10: episode files are validated on read (schema, one value per pedestrian,
+"""Episode files are validated on read (schema, one value per pedestrian,
 CRC-32); a damaged one is named with what to do, and a resumed run simulates it again,
 ending with the tables of an undamaged run."""
 

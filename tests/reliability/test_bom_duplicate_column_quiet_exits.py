@@ -1,4 +1,4 @@
-"""Class 11: a duplicated CSV column, UTF-8 byte-order marks, quiet ends of workers and
+"""A duplicated CSV column, UTF-8 byte-order marks, quiet ends of workers and
 of a closed stdout."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Class 3: outputs are checked before the work; a failed write is one clean message
+"""Outputs are checked before the work; a failed write is one clean message
 (exit 73) that leaves the old files intact; a benchmark's reports change as a whole."""
 
 from __future__ import annotations

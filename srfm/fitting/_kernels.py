@@ -22,6 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
+from srfm.models._arrays import CrowdArrays, ObstacleArrays
 from srfm.models._kernels import _agent_forces, exact_cut, integrate
 from srfm.models.params import SRFMKernelParams
 
@@ -93,8 +94,7 @@ def replay_windows(
     cut, ped = exact_cut()
     robot = np.zeros(3)
     robot[2] = robot_radius
-    segments = np.zeros((0, 4))
-    circles = np.zeros((0, 3))
+    obstacles = ObstacleArrays(np.zeros((0, 4)), np.zeros((0, 3)), np.zeros((0, 2)), np.zeros(0))
     for q in range(sel.shape[0]):
         w = sel[q]
         me = w_agent[w]
@@ -123,20 +123,9 @@ def replay_windows(
                 if robot_on:
                     robot[0] = rb_a[g, 0] + alpha * (rb_b[g, 0] - rb_a[g, 0])
                     robot[1] = rb_a[g, 1] + alpha * (rb_b[g, 1] - rb_a[g, 1])
+                crowd = CrowdArrays(pos[:n], vel[:n], goal[:n], radius[:n], v0[:n], vmax)
                 g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(
-                    0,
-                    pos[:n],
-                    vel[:n],
-                    goal[:n],
-                    radius[:n],
-                    v0[:n],
-                    params,
-                    robot,
-                    robot_on,
-                    segments,
-                    circles,
-                    cut,
-                    ped,
+                    0, crowd, params, robot, robot_on, obstacles, cut, ped
                 )
                 force[0, 0] = g0 + p0 + r0 + o0
                 force[0, 1] = g1 + p1 + r1 + o1

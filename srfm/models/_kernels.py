@@ -33,11 +33,10 @@ from llvmlite import ir
 from numba import njit, prange, types
 from numba.extending import intrinsic
 
+from srfm.models._arrays import CrowdArrays, ObstacleArrays
 from srfm.models._primitives import (
     EPS,
     EXP_ARG_MAX,
-    FALSE,
-    TRUE,
     capped_exp,
     closest_on_segment,
     desired_velocity,
@@ -61,16 +60,11 @@ def _heading(vx: float, vy: float, dvx: float, dvy: float) -> tuple[float, float
 @njit(cache=True, inline="always")
 def _agent_forces(
     i: int,
-    pos: np.ndarray,
-    vel: np.ndarray,
-    goal: np.ndarray,
-    radius: np.ndarray,
-    v0: np.ndarray,
+    crowd: CrowdArrays,
     params: SRFMKernelParams,
     robot: np.ndarray,
     robot_on: bool,
-    segments: np.ndarray,
-    circles: np.ndarray,
+    obstacles: ObstacleArrays,
     cut: np.ndarray,
     ped: np.ndarray,
 ) -> tuple[float, float, float, float, float, float, float, float]:
@@ -81,12 +75,16 @@ def _agent_forces(
     with a finite pedestrian cut-off the pedestrian force is ``ped[i]``, from
     :func:`cell_pair_forces`. Obstacles beyond the obstacle cut-off are skipped.
     """
+    pos = crowd.pos
+    radius = crowd.radius
+    segments = obstacles.segments
+    circles = obstacles.circles
     px = pos[i, 0]
     py = pos[i, 1]
-    vx = vel[i, 0]
-    vy = vel[i, 1]
+    vx = crowd.vel[i, 0]
+    vy = crowd.vel[i, 1]
     ri = radius[i]
-    dvx, dvy = desired_velocity(px, py, goal[i, 0], goal[i, 1], v0[i])
+    dvx, dvy = desired_velocity(px, py, crowd.goal[i, 0], crowd.goal[i, 1], crowd.v0[i])
     hx, hy, has_h = _heading(vx, vy, dvx, dvy)
 
     tau = params.tau
@@ -640,15 +638,7 @@ def _magnitude(pos: np.ndarray) -> float:
 
 
 @njit(cache=True)
-def cell_pair_forces(
-    pos: np.ndarray,
-    vel: np.ndarray,
-    goal: np.ndarray,
-    radius: np.ndarray,
-    v0: np.ndarray,
-    params: SRFMKernelParams,
-    cutoff: float,
-) -> np.ndarray:
+def cell_pair_forces(crowd: CrowdArrays, params: SRFMKernelParams, cutoff: float) -> np.ndarray:
     """The pedestrian repulsion on every agent (N, 2), over the pairs closer than
     ``cutoff``, found with a row list (:func:`build_rows`, rows cutoff / ROW_SPLIT
     tall, each sorted by x); empty (0, 2) without a cut-off (``inf``) or with A_p = 0.
@@ -663,6 +653,11 @@ def cell_pair_forces(
     the result is deterministic and equals the exact kernel's up to rounding (a few
     units in the last place).
     """
+    pos = crowd.pos
+    vel = crowd.vel
+    goal = crowd.goal
+    radius = crowd.radius
+    v0 = crowd.v0
     n = pos.shape[0]
     a_p = params.a_ped
     if n == 0 or a_p == 0.0 or not 0.0 < cutoff < np.inf:
@@ -724,37 +719,20 @@ def cell_pair_forces(
 
 @njit(cache=True)
 def force_components_kernel(
-    pos: np.ndarray,
-    vel: np.ndarray,
-    goal: np.ndarray,
-    radius: np.ndarray,
-    v0: np.ndarray,
+    crowd: CrowdArrays,
     params: SRFMKernelParams,
     robot: np.ndarray,
     robot_on: bool,
-    segments: np.ndarray,
-    circles: np.ndarray,
+    obstacles: ObstacleArrays,
     cut: np.ndarray,
     out: np.ndarray,
 ) -> None:
     """Write the components into ``out`` (4, N, 2): goal, pedestrians, robot, obstacles;
     ``cut`` as in :func:`step_serial`."""
-    ped = cell_pair_forces(pos, vel, goal, radius, v0, params, cut[0])
-    for i in range(pos.shape[0]):
+    ped = cell_pair_forces(crowd, params, cut[0])
+    for i in range(crowd.pos.shape[0]):
         g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(
-            i,
-            pos,
-            vel,
-            goal,
-            radius,
-            v0,
-            params,
-            robot,
-            robot_on,
-            segments,
-            circles,
-            cut,
-            ped,
+            i, crowd, params, robot, robot_on, obstacles, cut, ped
         )
         out[0, i, 0] = g0
         out[0, i, 1] = g1
@@ -769,38 +747,41 @@ def force_components_kernel(
 @njit(cache=True, inline="always")
 def _agent_total(
     i: int,
-    pos: np.ndarray,
-    vel: np.ndarray,
-    goal: np.ndarray,
-    radius: np.ndarray,
-    v0: np.ndarray,
+    crowd: CrowdArrays,
     params: SRFMKernelParams,
     robot: np.ndarray,
     robot_on: bool,
-    segments: np.ndarray,
-    circles: np.ndarray,
+    obstacles: ObstacleArrays,
     cut: np.ndarray,
     ped: np.ndarray,
     out: np.ndarray,
 ) -> None:
     """Total force F_i on agent i into ``out[i]``: goal + pedestrians + robot + obstacles."""
     g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(
-        i,
-        pos,
-        vel,
-        goal,
-        radius,
-        v0,
-        params,
-        robot,
-        robot_on,
-        segments,
-        circles,
-        cut,
-        ped,
+        i, crowd, params, robot, robot_on, obstacles, cut, ped
     )
     out[i, 0] = g0 + p0 + r0 + o0
     out[i, 1] = g1 + p1 + r1 + o1
+
+
+@njit(cache=True, inline="always")
+def euler_velocity(
+    vx: float, vy: float, fx: float, fy: float, vmax: float, dt: float
+) -> tuple[float, float]:
+    """The semi-implicit Euler velocity: v + F dt, its length capped at ``vmax``.
+
+    The one definition of the step's velocity update: :func:`integrate` (every crowd
+    step) and the environment's one-step counterfactual deviation
+    (:func:`srfm.rl._kernels.one_step_deviation`) both call it, so they agree bit for bit.
+    """
+    ux = vx + fx * dt
+    uy = vy + fy * dt
+    speed = math.sqrt(ux * ux + uy * uy)
+    if speed > vmax:
+        scale = vmax / speed
+        ux *= scale
+        uy *= scale
+    return ux, uy
 
 
 @njit(cache=True)
@@ -809,32 +790,26 @@ def integrate(
 ) -> None:
     """Semi-implicit Euler in place: v ← v + F dt, |v| capped at vmax, x ← x + v dt."""
     for i in range(pos.shape[0]):
-        vx = vel[i, 0] + force[i, 0] * dt
-        vy = vel[i, 1] + force[i, 1] * dt
-        speed = math.sqrt(vx * vx + vy * vy)
-        if speed > vmax[i]:
-            scale = vmax[i] / speed
-            vx *= scale
-            vy *= scale
+        vx, vy = euler_velocity(vel[i, 0], vel[i, 1], force[i, 0], force[i, 1], vmax[i], dt)
         vel[i, 0] = vx
         vel[i, 1] = vy
         pos[i, 0] += vx * dt
         pos[i, 1] += vy * dt
 
 
+# The three crowd steps take the same arguments and differ in one line each: the
+# pedestrian pairs (a cut-off's row list, or every pair) and the loop over the agents
+# (range, or prange over threads). Each is its own top-level function so that numba's
+# on-disk cache tells them apart and a run compiles only the one it uses.
+
+
 @njit(cache=True)
 def step_serial(
-    pos: np.ndarray,
-    vel: np.ndarray,
-    goal: np.ndarray,
-    radius: np.ndarray,
-    v0: np.ndarray,
-    vmax: np.ndarray,
+    crowd: CrowdArrays,
     params: SRFMKernelParams,
     robot: np.ndarray,
     robot_on: bool,
-    segments: np.ndarray,
-    circles: np.ndarray,
+    obstacles: ObstacleArrays,
     dt: float,
     force_buf: np.ndarray,
     cut: np.ndarray,
@@ -842,44 +817,24 @@ def step_serial(
     """One crowd step in place: the total force on every agent from one snapshot into
     ``force_buf`` (N, 2), one agent after another, then :func:`integrate`.
 
-    ``cut`` (2,) = (pedestrian cut-off, obstacle cut-off) in m: ``inf`` for none (the
-    exact kernel: every pair, in index order); a finite pedestrian cut-off builds a
-    row list of the snapshot (:func:`build_rows`) and sums only the pairs closer than it.
+    ``robot`` (3,) = (x, y, radius) is felt when ``robot_on``. ``cut`` (2,) =
+    (pedestrian cut-off, obstacle cut-off) in m: ``inf`` for none (the exact kernel:
+    every pair, in index order); a finite pedestrian cut-off builds a row list of the
+    snapshot (:func:`build_rows`) and sums only the pairs closer than it.
     """
-    ped = cell_pair_forces(pos, vel, goal, radius, v0, params, cut[0])
-    for i in range(pos.shape[0]):
-        _agent_total(
-            i,
-            pos,
-            vel,
-            goal,
-            radius,
-            v0,
-            params,
-            robot,
-            robot_on,
-            segments,
-            circles,
-            cut,
-            ped,
-            force_buf,
-        )
-    integrate(pos, vel, force_buf, vmax, dt)
+    ped = cell_pair_forces(crowd, params, cut[0])
+    for i in range(crowd.pos.shape[0]):
+        _agent_total(i, crowd, params, robot, robot_on, obstacles, cut, ped, force_buf)
+    integrate(crowd.pos, crowd.vel, force_buf, crowd.vmax, dt)
 
 
 @njit(cache=True)
 def step_exact(
-    pos: np.ndarray,
-    vel: np.ndarray,
-    goal: np.ndarray,
-    radius: np.ndarray,
-    v0: np.ndarray,
-    vmax: np.ndarray,
+    crowd: CrowdArrays,
     params: SRFMKernelParams,
     robot: np.ndarray,
     robot_on: bool,
-    segments: np.ndarray,
-    circles: np.ndarray,
+    obstacles: ObstacleArrays,
     dt: float,
     force_buf: np.ndarray,
     cut: np.ndarray,
@@ -891,65 +846,29 @@ def step_exact(
     large ones) never compile the cell list: a first run compiles seconds less.
     """
     ped = np.zeros((0, 2))
-    cut = np.array([np.inf, cut[1]])
-    for i in range(pos.shape[0]):
-        _agent_total(
-            i,
-            pos,
-            vel,
-            goal,
-            radius,
-            v0,
-            params,
-            robot,
-            robot_on,
-            segments,
-            circles,
-            cut,
-            ped,
-            force_buf,
-        )
-    integrate(pos, vel, force_buf, vmax, dt)
+    exact = np.array([np.inf, cut[1]])
+    for i in range(crowd.pos.shape[0]):
+        _agent_total(i, crowd, params, robot, robot_on, obstacles, exact, ped, force_buf)
+    integrate(crowd.pos, crowd.vel, force_buf, crowd.vmax, dt)
 
 
 @njit(cache=True, parallel=True)
 def step_parallel(
-    pos: np.ndarray,
-    vel: np.ndarray,
-    goal: np.ndarray,
-    radius: np.ndarray,
-    v0: np.ndarray,
-    vmax: np.ndarray,
+    crowd: CrowdArrays,
     params: SRFMKernelParams,
     robot: np.ndarray,
     robot_on: bool,
-    segments: np.ndarray,
-    circles: np.ndarray,
+    obstacles: ObstacleArrays,
     dt: float,
     force_buf: np.ndarray,
     cut: np.ndarray,
 ) -> None:
     """As :func:`step_serial` with the agents of the force pass split over threads (for
     large crowds); bit-identical results."""
-    ped = cell_pair_forces(pos, vel, goal, radius, v0, params, cut[0])
-    for i in prange(pos.shape[0]):
-        _agent_total(
-            i,
-            pos,
-            vel,
-            goal,
-            radius,
-            v0,
-            params,
-            robot,
-            robot_on,
-            segments,
-            circles,
-            cut,
-            ped,
-            force_buf,
-        )
-    integrate(pos, vel, force_buf, vmax, dt)
+    ped = cell_pair_forces(crowd, params, cut[0])
+    for i in prange(crowd.pos.shape[0]):
+        _agent_total(i, crowd, params, robot, robot_on, obstacles, cut, ped, force_buf)
+    integrate(crowd.pos, crowd.vel, force_buf, crowd.vmax, dt)
 
 
 @njit(cache=True)
@@ -1015,208 +934,3 @@ def segment_distance(segments: np.ndarray, x: float, y: float) -> float:
         dy = y - cy
         best = min(best, math.sqrt(dx * dx + dy * dy))
     return best
-
-
-@njit(cache=True, inline="always")
-def _twin_arrivals(
-    f_pos: np.ndarray,
-    f_goal: np.ndarray,
-    c_pos: np.ndarray,
-    c_goal: np.ndarray,
-    goal_radius: float,
-    f_arrived: np.ndarray,
-    c_arrived: np.ndarray,
-    f_new: np.ndarray,
-    c_new: np.ndarray,
-) -> int:
-    """New arrivals of the factual and the counterfactual crowd, flagged in ``f_new`` and
-    ``c_new`` (see :func:`mark_arrivals`); return how many in total."""
-    count = mark_arrivals(f_pos, f_goal, goal_radius, f_arrived, f_new)
-    return count + mark_arrivals(c_pos, c_goal, goal_radius, c_arrived, c_new)
-
-
-@njit(cache=True)
-def twin_step_serial(
-    f_pos: np.ndarray,
-    f_vel: np.ndarray,
-    f_goal: np.ndarray,
-    c_pos: np.ndarray,
-    c_vel: np.ndarray,
-    c_goal: np.ndarray,
-    radius: np.ndarray,
-    v0: np.ndarray,
-    vmax: np.ndarray,
-    params: SRFMKernelParams,
-    robot: np.ndarray,
-    segments: np.ndarray,
-    circles: np.ndarray,
-    dt: float,
-    force_buf: np.ndarray,
-    goal_radius: float,
-    f_arrived: np.ndarray,
-    c_arrived: np.ndarray,
-    f_new: np.ndarray,
-    c_new: np.ndarray,
-    cut: np.ndarray,
-) -> int:
-    """Step the factual (robot on) and counterfactual (robot off) crowds, then flag
-    new arrivals of each twin (see :func:`mark_arrivals`); return how many in total."""
-    step_serial(
-        f_pos,
-        f_vel,
-        f_goal,
-        radius,
-        v0,
-        vmax,
-        params,
-        robot,
-        TRUE,
-        segments,
-        circles,
-        dt,
-        force_buf,
-        cut,
-    )
-    step_serial(
-        c_pos,
-        c_vel,
-        c_goal,
-        radius,
-        v0,
-        vmax,
-        params,
-        robot,
-        FALSE,
-        segments,
-        circles,
-        dt,
-        force_buf,
-        cut,
-    )
-    return _twin_arrivals(
-        f_pos, f_goal, c_pos, c_goal, goal_radius, f_arrived, c_arrived, f_new, c_new
-    )
-
-
-@njit(cache=True)
-def twin_step_exact(
-    f_pos: np.ndarray,
-    f_vel: np.ndarray,
-    f_goal: np.ndarray,
-    c_pos: np.ndarray,
-    c_vel: np.ndarray,
-    c_goal: np.ndarray,
-    radius: np.ndarray,
-    v0: np.ndarray,
-    vmax: np.ndarray,
-    params: SRFMKernelParams,
-    robot: np.ndarray,
-    segments: np.ndarray,
-    circles: np.ndarray,
-    dt: float,
-    force_buf: np.ndarray,
-    goal_radius: float,
-    f_arrived: np.ndarray,
-    c_arrived: np.ndarray,
-    f_new: np.ndarray,
-    c_new: np.ndarray,
-    cut: np.ndarray,
-) -> int:
-    """As :func:`twin_step_serial` with :func:`step_exact` (no cell list compiled)."""
-    step_exact(
-        f_pos,
-        f_vel,
-        f_goal,
-        radius,
-        v0,
-        vmax,
-        params,
-        robot,
-        TRUE,
-        segments,
-        circles,
-        dt,
-        force_buf,
-        cut,
-    )
-    step_exact(
-        c_pos,
-        c_vel,
-        c_goal,
-        radius,
-        v0,
-        vmax,
-        params,
-        robot,
-        FALSE,
-        segments,
-        circles,
-        dt,
-        force_buf,
-        cut,
-    )
-    return _twin_arrivals(
-        f_pos, f_goal, c_pos, c_goal, goal_radius, f_arrived, c_arrived, f_new, c_new
-    )
-
-
-@njit(cache=True)
-def twin_step_parallel(
-    f_pos: np.ndarray,
-    f_vel: np.ndarray,
-    f_goal: np.ndarray,
-    c_pos: np.ndarray,
-    c_vel: np.ndarray,
-    c_goal: np.ndarray,
-    radius: np.ndarray,
-    v0: np.ndarray,
-    vmax: np.ndarray,
-    params: SRFMKernelParams,
-    robot: np.ndarray,
-    segments: np.ndarray,
-    circles: np.ndarray,
-    dt: float,
-    force_buf: np.ndarray,
-    goal_radius: float,
-    f_arrived: np.ndarray,
-    c_arrived: np.ndarray,
-    f_new: np.ndarray,
-    c_new: np.ndarray,
-    cut: np.ndarray,
-) -> int:
-    """As :func:`twin_step_serial` with the threaded force pass (identical results)."""
-    step_parallel(
-        f_pos,
-        f_vel,
-        f_goal,
-        radius,
-        v0,
-        vmax,
-        params,
-        robot,
-        TRUE,
-        segments,
-        circles,
-        dt,
-        force_buf,
-        cut,
-    )
-    step_parallel(
-        c_pos,
-        c_vel,
-        c_goal,
-        radius,
-        v0,
-        vmax,
-        params,
-        robot,
-        FALSE,
-        segments,
-        circles,
-        dt,
-        force_buf,
-        cut,
-    )
-    return _twin_arrivals(
-        f_pos, f_goal, c_pos, c_goal, goal_radius, f_arrived, c_arrived, f_new, c_new
-    )

@@ -1,9 +1,9 @@
 """numba kernels of the robot: the motion update and the events that end its episode.
 
 The one implementation of the robot: :func:`srfm.apply_command` wraps
-:func:`move_robot`, :class:`srfm.TwinSimulator` (and so :func:`srfm.run_episode`)
-calls :func:`move_robot` and :func:`robot_event` once per step, and the
-environment ``srfm/SocialNav-v0`` calls both inside its fused step kernel.
+:func:`move_robot`, and the episode's step kernels (:mod:`srfm.sim._kernels`, which
+the simulator and the environment ``srfm/SocialNav-v0`` both run) call
+:func:`move_robot` and :func:`robot_event` once per step.
 
 Layouts and parameters:
 
@@ -12,8 +12,8 @@ Layouts and parameters:
   ``X`` … ``OMEGA``);
 - :class:`RobotLimits`: the robot's body and limits (:meth:`srfm.RobotConfig.for_kernels`);
 - :class:`RobotTask`: the robot's goal, the world rectangle and the horizon;
-- ``ped_pos`` (N, 2), ``ped_radius`` (N,): the factual pedestrians; ``segments``
-  (M, 4) walls (x1, y1, x2, y2); ``pillar_xy`` (K, 2), ``pillar_r`` (K,) pillars.
+- ``crowd``: the factual pedestrians (:class:`~srfm.models._arrays.CrowdArrays`);
+  ``obstacles``: walls and pillars (:class:`~srfm.models._arrays.ObstacleArrays`).
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ from typing import Any, Final, NamedTuple
 import numpy as np
 from numba import njit
 
+from srfm.models._arrays import CrowdArrays, ObstacleArrays
 from srfm.models._kernels import nearest_clearance, segment_distance
 
 __all__ = [
@@ -208,11 +209,8 @@ def move_robot(robot: np.ndarray, c0: float, c1: float, limits: RobotLimits, dt:
 @njit(cache=True)
 def robot_event(
     robot: np.ndarray,
-    ped_pos: np.ndarray,
-    ped_radius: np.ndarray,
-    segments: np.ndarray,
-    pillar_xy: np.ndarray,
-    pillar_r: np.ndarray,
+    crowd: CrowdArrays,
+    obstacles: ObstacleArrays,
     limits: RobotLimits,
     task: RobotTask,
     step_index: int,
@@ -236,11 +234,11 @@ def robot_event(
     x = robot[X]
     y = robot[Y]
     rr = limits.radius_m
-    clearance, nearest = nearest_clearance(ped_pos, ped_radius, x, y)
+    clearance, nearest = nearest_clearance(crowd.pos, crowd.radius, x, y)
     if clearance < rr:
         return EVENT_COLLISION, nearest
-    pillar_clearance, _ = nearest_clearance(pillar_xy, pillar_r, x, y)
-    if pillar_clearance < rr or segment_distance(segments, x, y) < rr:
+    pillar_clearance, _ = nearest_clearance(obstacles.pillar_xy, obstacles.pillar_r, x, y)
+    if pillar_clearance < rr or segment_distance(obstacles.segments, x, y) < rr:
         return EVENT_OBSTACLE, -1
     if not (task.x_min <= x <= task.x_max and task.y_min <= y <= task.y_max):
         return EVENT_OUT_OF_BOUNDS, -1

@@ -170,16 +170,11 @@ def force_components(
     cut = kernel_cutoffs(cutoff, params, crowd.radius)
     out = np.zeros((4, crowd.n, 2))
     _kernels.force_components_kernel(
-        crowd.pos,
-        crowd.vel,
-        crowd.goal,
-        crowd.radius,
-        crowd.v0,
+        crowd.for_kernels(),
         params.for_kernels(),
         robot_arr,
         robot_on,
-        obstacles.segments,
-        obstacles.circles,
+        obstacles.for_kernels(),
         cut,
         out,
     )
@@ -221,17 +216,11 @@ def step_crowd(
     else:
         kernel = _kernels.step_serial
     kernel(
-        crowd.pos,
-        crowd.vel,
-        crowd.goal,
-        crowd.radius,
-        crowd.v0,
-        crowd.vmax,
+        crowd.for_kernels(),
         params.for_kernels(),
         robot_arr,
         robot_on,
-        obstacles.segments,
-        obstacles.circles,
+        obstacles.for_kernels(),
         float(dt),
         np.empty_like(crowd.pos),
         cut,

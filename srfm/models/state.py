@@ -10,6 +10,7 @@ from numpy.typing import NDArray
 
 from srfm._validate import float_array, physical_array
 from srfm.errors import SimulationError
+from srfm.models._arrays import CrowdArrays, ObstacleArrays
 
 __all__ = ["CrowdState", "Obstacles"]
 
@@ -96,6 +97,14 @@ class CrowdState:
         """Number of pedestrians."""
         return int(self.pos.shape[0])
 
+    def for_kernels(self, m: int | None = None) -> CrowdArrays:
+        """The kernels' view of the first ``m`` pedestrians (all for None): views of
+        these arrays, so a kernel's update is this crowd's."""
+        k = self.n if m is None else m
+        return CrowdArrays(
+            self.pos[:k], self.vel[:k], self.goal[:k], self.radius[:k], self.v0[:k], self.vmax[:k]
+        )
+
     def copy(self) -> CrowdState:
         """A deep copy (every array copied)."""
         return CrowdState(
@@ -173,6 +182,24 @@ class Obstacles:
     def empty(self) -> bool:
         """True when there are no walls and no pillars."""
         return bool(self.segments.shape[0] == 0 and self.circles.shape[0] == 0)
+
+    def for_kernels(self) -> ObstacleArrays:
+        """The kernels' copies of the obstacles: writable and C-contiguous.
+
+        numba compiles a kernel once per argument type, and read-only is part of an
+        array's type: these arrays are read-only where they were built but writable
+        where they were unpickled (a benchmark worker), which would make every worker
+        compile the crowd step and the robot's checks again (seconds of CPU each with
+        an empty cache). The copies are the same type everywhere.
+        """
+        segments = np.array(self.segments, dtype=np.float64, order="C")
+        circles = np.array(self.circles, dtype=np.float64, order="C")
+        return ObstacleArrays(
+            segments=segments,
+            circles=circles,
+            pillar_xy=np.array(circles[:, :2], order="C"),
+            pillar_r=np.array(circles[:, 2], order="C"),
+        )
 
 
 def _obstacles(segments: FloatArray, circles: FloatArray) -> Obstacles:

@@ -21,7 +21,7 @@ from srfm.rl._core import EnvCore, resolve_scenario
 from srfm.scenarios import Scenario, load_scenario, validate_seed
 from srfm.scenarios.training import TRAINING_SCENARIO, training_layout
 from srfm.scenarios.training import family_weights as check_family_weights
-from srfm.sim.simulator import EVENT_OUTCOMES
+from srfm.sim.engine import EVENT_OUTCOMES, EpisodeEngine
 
 __all__ = ["MAX_EPISODE_STEPS", "SocialNavEnv"]
 
@@ -280,6 +280,12 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
 
     # Read-only views for scoring and tests.
 
+    def _engine(self) -> EpisodeEngine:
+        engine = self._core.engine
+        if engine is None:
+            raise SimulationError("no episode yet: call reset()")
+        return engine
+
     @property
     def step_index(self) -> int:
         """Simulation steps taken in the current episode (``action_repeat`` per
@@ -289,36 +295,35 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
     @property
     def robot_state(self) -> RobotState:
         """The robot now."""
-        return self._core.robot_state()
+        return self._engine().robot_state
 
     @property
     def robot_goal(self) -> NDArray[np.float64]:
         """(2,) the robot's goal (m)."""
-        task = self._core.task
-        return np.array([task.goal_x, task.goal_y])
+        return self._engine().setup.robot_goal.copy()
 
     @property
     def factual_pos(self) -> NDArray[np.float64]:
         """(N, 2) factual pedestrian positions (m), a copy (in the episode's order: a
         pedestrian not there yet at its start, at rest, as in the simulator)."""
-        out: NDArray[np.float64] = self._core.full(_k.FACTUAL_POS)
+        out: NDArray[np.float64] = self._engine().factual.pos.copy()
         return out
 
     @property
     def factual_vel(self) -> NDArray[np.float64]:
         """(N, 2) factual pedestrian velocities (m/s), a copy."""
-        out: NDArray[np.float64] = self._core.full(_k.FACTUAL_VEL)
+        out: NDArray[np.float64] = self._engine().factual.vel.copy()
         return out
 
     @property
     def counterfactual_pos(self) -> NDArray[np.float64]:
         """(N, 2) counterfactual pedestrian positions (m), a copy; frozen at the start
         when ``config.counterfactual_twin`` is False."""
-        out: NDArray[np.float64] = self._core.full(_k.COUNTERFACTUAL_POS)
+        out: NDArray[np.float64] = self._engine().counterfactual.pos.copy()
         return out
 
     @property
     def factual_goal(self) -> NDArray[np.float64]:
         """(N, 2) factual pedestrian goals (m), a copy."""
-        out: NDArray[np.float64] = self._core.full(_k.FACTUAL_GOAL)
+        out: NDArray[np.float64] = self._engine().factual.goal.copy()
         return out

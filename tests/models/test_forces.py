@@ -126,16 +126,11 @@ def _kernel_args(scene: ref.Scene) -> tuple:
     robot = scene.robot.as_array() if scene.robot is not None else np.zeros(3)
     c = scene.crowd
     return (
-        c.pos,
-        c.vel,
-        c.goal,
-        c.radius,
-        c.v0,
+        c.for_kernels(),
         scene.params.for_kernels(),
         robot,
         scene.robot is not None,
-        scene.obstacles.segments,
-        scene.obstacles.circles,
+        scene.obstacles.for_kernels(),
     )
 
 

@@ -15,6 +15,7 @@ from hypothesis import HealthCheck, given, settings
 import srfm
 from srfm.models import _kernels
 from srfm.models import params as params_module
+from srfm.models._arrays import CrowdArrays, ObstacleArrays
 from tests.models import _reference as ref
 
 FIELDS = (
@@ -174,7 +175,9 @@ def test_kernel_reads_the_tuple_by_name_like_its_python_body() -> None:
     robot = np.array([0.3, -0.4, 0.3])
     segments = np.array([[-2.0, -0.8, 2.0, -0.8]])
     circles = np.array([[0.5, 0.6, 0.1]])
-    args = (pos, vel, goal, radius, v0, p.for_kernels(), robot, True, segments, circles)
+    crowd = CrowdArrays(pos, vel, goal, radius, v0, v0.copy())
+    obstacles = ObstacleArrays(segments, circles, circles[:, :2].copy(), circles[:, 2].copy())
+    args = (crowd, p.for_kernels(), robot, True, obstacles)
     jit_out = np.zeros((4, 3, 2))
     py_out = np.zeros((4, 3, 2))
     exact = np.full(2, np.inf)
@@ -185,7 +188,7 @@ def test_kernel_reads_the_tuple_by_name_like_its_python_body() -> None:
     for name in FIELDS:  # each field is read (a change of it changes the forces)
         other = np.zeros((4, 3, 2))
         changed = p.replace(**{name: getattr(p, name) * 0.9})
-        _kernels.force_components_kernel(*args[:5], changed.for_kernels(), *args[6:], exact, other)
+        _kernels.force_components_kernel(crowd, changed.for_kernels(), *args[2:], exact, other)
         assert not np.array_equal(other, jit_out), name
 
 

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 import srfm
 from srfm.models import _robot_kernels as rk
 from srfm.models.robot import RobotConfig, RobotState, apply_command
-from srfm.models.state import Obstacles
+from srfm.models.state import CrowdState, Obstacles
 from srfm.scenarios import WorldBounds
 
 DT = 1.0 / 15.0
@@ -167,16 +167,12 @@ def _event(
     x: float, y: float, step: int = 1, obstacles: Obstacles | None = None
 ) -> tuple[int, int]:
     obstacles = obstacles if obstacles is not None else Obstacles.create()
-    ped_pos = np.array([[3.0, 3.0], [6.0, 6.0]])
-    ped_radius = np.array([0.3, 0.3])
+    crowd = CrowdState.create(pos=[[3.0, 3.0], [6.0, 6.0]], goal=[[0.0, 0.0], [0.0, 0.0]])
     task = rk.robot_task(np.array([9.0, 9.0]), WorldBounds(), 750)
     return rk.robot_event(
         np.array([x, y, 0.0, 0.0, 0.0, 0.0, 0.0]),
-        ped_pos,
-        ped_radius,
-        obstacles.segments,
-        np.ascontiguousarray(obstacles.circles[:, :2]),
-        np.ascontiguousarray(obstacles.circles[:, 2]),
+        crowd.for_kernels(),
+        obstacles.for_kernels(),
         UNI.for_kernels(),
         task,
         step,

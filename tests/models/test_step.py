@@ -220,8 +220,8 @@ def test_jitted_and_python_step_kernels_agree() -> None:
     for kernel in (_kernels.step_serial, _kernels.step_serial.py_func):
         s = c.copy()
         buf = np.empty((s.n, 2))
-        state = (s.pos, s.vel, s.goal, s.radius, s.v0, s.vmax)
-        kernel(*state, p, robot, True, WALLS.segments, WALLS.circles, DT, buf, np.full(2, np.inf))
+        walls = WALLS.for_kernels()
+        kernel(s.for_kernels(), p, robot, True, walls, DT, buf, np.full(2, np.inf))
         results.append(s)
     np.testing.assert_allclose(results[1].pos, results[0].pos, rtol=1e-14)
     np.testing.assert_allclose(results[1].vel, results[0].vel, rtol=1e-13)

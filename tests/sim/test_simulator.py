@@ -165,7 +165,8 @@ def test_kernel_types_do_not_depend_on_the_obstacles_arrays(tmp_path: Path) -> N
     # benchmark worker) must all run the same compiled twin step and robot events.
     import pickle
 
-    from srfm.models import _kernels, _robot_kernels
+    from srfm.models import _robot_kernels
+    from srfm.sim import _kernels as _sim_kernels
 
     walls = _scenario(
         tmp_path,
@@ -180,7 +181,7 @@ def test_kernel_types_do_not_depend_on_the_obstacles_arrays(tmp_path: Path) -> N
         "[obstacles]\nwalls = [[0.0, 6.0, 1.0, 6.0]]\npillars = [[12.0, 8.0, 0.5]]",
     )
     srfm.run_episode(walls, 0)
-    kernels = (_kernels.twin_step_exact, _robot_kernels.robot_event)
+    kernels = (_sim_kernels.advance_exact, _robot_kernels.robot_event)
     compiled = [len(k.signatures) for k in kernels]
     srfm.run_episode(pillars, 0)
     srfm.run_episode(pickle.loads(pickle.dumps(walls)), 0)

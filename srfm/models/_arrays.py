@@ -1,0 +1,54 @@
+"""The arrays of a crowd and of its obstacles as the kernels take them.
+
+Two ``typing.NamedTuple`` bundles, so that a kernel takes a crowd or a set of
+obstacles as one argument instead of six or four. numba compiles a kernel once per
+tuple type (the dtype, dimensions and contiguity of each array), and reading a field
+costs nothing once compiled. This module imports no numba: the Python API builds the
+bundles (:meth:`srfm.CrowdState.for_kernels`, :meth:`srfm.Obstacles.for_kernels`)
+without loading the kernels.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = ["CrowdArrays", "ObstacleArrays"]
+
+
+class CrowdArrays(NamedTuple):
+    """One crowd, struct of arrays (float64, C-contiguous; N pedestrians).
+
+    Attributes:
+        pos: (N, 2) positions (m).
+        vel: (N, 2) velocities (m/s).
+        goal: (N, 2) goals or current waypoints (m).
+        radius: (N,) body radii (m).
+        v0: (N,) desired speeds (m/s).
+        vmax: (N,) speed caps (m/s).
+    """
+
+    pos: np.ndarray
+    vel: np.ndarray
+    goal: np.ndarray
+    radius: np.ndarray
+    v0: np.ndarray
+    vmax: np.ndarray
+
+
+class ObstacleArrays(NamedTuple):
+    """Walls and pillars (float64, C-contiguous, writable).
+
+    Attributes:
+        segments: (M, 4) walls as (x1, y1, x2, y2) (m).
+        circles: (K, 3) pillars as (cx, cy, radius) (m).
+        pillar_xy: (K, 2) the pillars' centres (m), ``circles[:, :2]`` (the robot's
+            collision check takes centres and radii apart).
+        pillar_r: (K,) the pillars' radii (m), ``circles[:, 2]``.
+    """
+
+    segments: np.ndarray
+    circles: np.ndarray
+    pillar_xy: np.ndarray
+    pillar_r: np.ndarray

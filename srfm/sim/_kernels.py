@@ -1,0 +1,205 @@
+"""numba kernels of the episode engine: one call per simulation step.
+
+The step of an episode, from sample k to k + 1, as the engine
+(:class:`srfm.sim.engine.EpisodeEngine`) runs it for the simulator and the gymnasium
+environment alike:
+
+1. the robot's body (x, y, radius), as the factual crowd feels it, is set to the robot
+   at sample k; the robot moves under the command (:func:`move_robot`), or, once its
+   episode has ended, stays where it is at rest;
+2. the factual crowd takes one SRFM step feeling that body, and, unless the
+   counterfactual twin is switched off, the counterfactual crowd one step without it;
+3. pedestrians within the goal radius of their goal are flagged as new arrivals
+   (:func:`mark_arrivals`; the engine decides in Python what an arrival means);
+4. for a robot still active, the robot event at sample k + 1 (:func:`robot_event`).
+
+What follows in Python (pedestrians entering, new goals, routes, the event records) is
+the engine's; nothing of the crowd's or the robot's motion is.
+
+The three variants differ only in the crowd step they call (every pair, a cut-off's row
+list, or the row list with threads); each is its own top-level function so that numba's
+on-disk cache keeps them apart and a run compiles only its own.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from srfm.models._arrays import CrowdArrays, ObstacleArrays
+from srfm.models._kernels import mark_arrivals, step_exact, step_parallel, step_serial
+from srfm.models._primitives import FALSE, TRUE
+from srfm.models._robot_kernels import (
+    EVENT_NONE,
+    VX,
+    RobotLimits,
+    RobotTask,
+    X,
+    Y,
+    move_robot,
+    robot_event,
+)
+from srfm.models.params import SRFMKernelParams
+
+__all__ = [
+    "ArrivalFlags",
+    "EpisodeArrays",
+    "StepOptions",
+    "advance_exact",
+    "advance_parallel",
+    "advance_serial",
+]
+
+
+class ArrivalFlags(NamedTuple):
+    """One twin's arrival bookkeeping (bool, N).
+
+    Attributes:
+        arrived: pedestrians that have arrived at their final goal (no more arrivals).
+        new: pedestrians flagged at the last step as within the goal radius.
+    """
+
+    arrived: np.ndarray
+    new: np.ndarray
+
+
+class StepOptions(NamedTuple):
+    """Fixed settings of an episode's step.
+
+    Attributes:
+        dt_s: simulation step (s).
+        ped_goal_radius_m: a pedestrian arrives within this distance of its goal (m).
+        counterfactual: step the counterfactual crowd too (the environment may skip
+            it in training: its reward needs only the one-step deviation).
+    """
+
+    dt_s: float
+    ped_goal_radius_m: float
+    counterfactual: bool
+
+
+class EpisodeArrays(NamedTuple):
+    """Everything a step reads and writes, the pedestrians there at the current sample.
+
+    Attributes:
+        factual: the crowd that feels the robot.
+        counterfactual: its twin, blind to the robot (shares radius, v0, vmax).
+        factual_arrivals: the factual crowd's arrival flags.
+        counterfactual_arrivals: the counterfactual crowd's.
+        robot: (7,) the robot state (:mod:`srfm.models._robot_kernels` layout).
+        body: (3,) the robot as the crowd feels it: x, y at the current sample, radius.
+        obstacles: walls and pillars.
+        force_buf: (N, 2) scratch for the forces.
+        cut: (2,) the pedestrian and obstacle cut-offs (m, ``inf`` for none).
+        params: SRFM parameters.
+        limits: the robot's body and limits.
+        task: the robot's goal, world and horizon.
+        options: the step's settings.
+    """
+
+    factual: CrowdArrays
+    counterfactual: CrowdArrays
+    factual_arrivals: ArrivalFlags
+    counterfactual_arrivals: ArrivalFlags
+    robot: np.ndarray
+    body: np.ndarray
+    obstacles: ObstacleArrays
+    force_buf: np.ndarray
+    cut: np.ndarray
+    params: SRFMKernelParams
+    limits: RobotLimits
+    task: RobotTask
+    options: StepOptions
+
+
+@njit(cache=True, inline="always")
+def _move_robot(ep: EpisodeArrays, c0: float, c1: float, active: bool) -> None:
+    """Step 1: the body at sample k, then the robot's move (or rest once it has ended)."""
+    robot = ep.robot
+    ep.body[0] = robot[X]
+    ep.body[1] = robot[Y]
+    if active:
+        move_robot(robot, c0, c1, ep.limits, ep.options.dt_s)
+    else:
+        robot[VX:] = 0.0
+
+
+@njit(cache=True, inline="always")
+def _arrivals_and_event(ep: EpisodeArrays, active: bool, step_index: int) -> tuple[int, int, int]:
+    """Steps 3 and 4: new arrivals of each twin stepped, the robot event at k + 1.
+
+    Returns:
+        (new arrivals of both twins, robot event code, nearest pedestrian of a
+        collision or −1).
+    """
+    radius = ep.options.ped_goal_radius_m
+    f = ep.factual
+    n_new = mark_arrivals(
+        f.pos, f.goal, radius, ep.factual_arrivals.arrived, ep.factual_arrivals.new
+    )
+    if ep.options.counterfactual:
+        c = ep.counterfactual
+        flags = ep.counterfactual_arrivals
+        n_new += mark_arrivals(c.pos, c.goal, radius, flags.arrived, flags.new)
+    if not active:
+        return n_new, EVENT_NONE, -1
+    event, nearest = robot_event(ep.robot, f, ep.obstacles, ep.limits, ep.task, step_index + 1)
+    return n_new, event, nearest
+
+
+@njit(cache=True)
+def advance_exact(
+    ep: EpisodeArrays, c0: float, c1: float, active: bool, step_index: int
+) -> tuple[int, int, int]:
+    """One step (see the module docstring) with every pedestrian pair (the exact kernel).
+
+    Args:
+        ep: the episode's arrays, updated in place.
+        c0, c1: the robot's command (ignored when not ``active``).
+        active: the robot's episode goes on.
+        step_index: k, the sample the step starts from.
+
+    Returns:
+        (new arrivals, robot event code at k + 1, nearest pedestrian of a collision).
+    """
+    _move_robot(ep, c0, c1, active)
+    o = ep.options
+    step_exact(ep.factual, ep.params, ep.body, TRUE, ep.obstacles, o.dt_s, ep.force_buf, ep.cut)
+    if o.counterfactual:
+        step_exact(
+            ep.counterfactual, ep.params, ep.body, FALSE, ep.obstacles, o.dt_s, ep.force_buf, ep.cut
+        )
+    return _arrivals_and_event(ep, active, step_index)
+
+
+@njit(cache=True)
+def advance_serial(
+    ep: EpisodeArrays, c0: float, c1: float, active: bool, step_index: int
+) -> tuple[int, int, int]:
+    """:func:`advance_exact` with the cut-off's row list (:func:`step_serial`)."""
+    _move_robot(ep, c0, c1, active)
+    o = ep.options
+    step_serial(ep.factual, ep.params, ep.body, TRUE, ep.obstacles, o.dt_s, ep.force_buf, ep.cut)
+    if o.counterfactual:
+        step_serial(
+            ep.counterfactual, ep.params, ep.body, FALSE, ep.obstacles, o.dt_s, ep.force_buf, ep.cut
+        )
+    return _arrivals_and_event(ep, active, step_index)
+
+
+@njit(cache=True)
+def advance_parallel(
+    ep: EpisodeArrays, c0: float, c1: float, active: bool, step_index: int
+) -> tuple[int, int, int]:
+    """:func:`advance_serial` with the force pass over threads (:func:`step_parallel`);
+    identical results."""
+    _move_robot(ep, c0, c1, active)
+    o = ep.options
+    step_parallel(ep.factual, ep.params, ep.body, TRUE, ep.obstacles, o.dt_s, ep.force_buf, ep.cut)
+    if o.counterfactual:
+        step_parallel(
+            ep.counterfactual, ep.params, ep.body, FALSE, ep.obstacles, o.dt_s, ep.force_buf, ep.cut
+        )
+    return _arrivals_and_event(ep, active, step_index)

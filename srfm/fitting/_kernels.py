@@ -22,7 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
-from srfm.models._arrays import CrowdArrays, ObstacleArrays
+from srfm.models._arrays import CrowdArrays, ForceContext, ObstacleArrays
 from srfm.models._kernels import _agent_forces, exact_cut, integrate
 from srfm.models.params import SRFMKernelParams
 
@@ -124,9 +124,8 @@ def replay_windows(
                     robot[0] = rb_a[g, 0] + alpha * (rb_b[g, 0] - rb_a[g, 0])
                     robot[1] = rb_a[g, 1] + alpha * (rb_b[g, 1] - rb_a[g, 1])
                 crowd = CrowdArrays(pos[:n], vel[:n], goal[:n], radius[:n], v0[:n], vmax)
-                g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(
-                    0, crowd, params, robot, robot_on, obstacles, cut, ped
-                )
+                context = ForceContext(params, robot, robot_on, obstacles, cut)
+                g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(0, crowd, context, ped)
                 force[0, 0] = g0 + p0 + r0 + o0
                 force[0, 1] = g1 + p1 + r1 + o1
                 integrate(pos[:1], vel[:1], force, vmax, h)

@@ -1,11 +1,11 @@
-"""The arrays of a crowd and of its obstacles as the kernels take them.
+"""The arrays of a crowd, of its obstacles and of what it feels, as the kernels take them.
 
-Two ``typing.NamedTuple`` bundles, so that a kernel takes a crowd or a set of
-obstacles as one argument instead of six or four. numba compiles a kernel once per
-tuple type (the dtype, dimensions and contiguity of each array), and reading a field
-costs nothing once compiled. This module imports no numba: the Python API builds the
-bundles (:meth:`srfm.CrowdState.for_kernels`, :meth:`srfm.Obstacles.for_kernels`)
-without loading the kernels.
+``typing.NamedTuple`` bundles, so that a kernel takes a crowd, a set of obstacles or
+everything a crowd feels besides itself as one argument instead of four to six. numba
+compiles a kernel once per tuple type (the dtype, dimensions and contiguity of each
+array), and reading a field costs nothing once compiled. This module imports no numba:
+the Python API builds the bundles (:meth:`srfm.CrowdState.for_kernels`,
+:meth:`srfm.Obstacles.for_kernels`) without loading the kernels.
 """
 
 from __future__ import annotations
@@ -14,7 +14,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["CrowdArrays", "ObstacleArrays"]
+from srfm.models.params import SRFMKernelParams
+
+__all__ = ["CrowdArrays", "ForceContext", "ObstacleArrays"]
 
 
 class CrowdArrays(NamedTuple):
@@ -52,3 +54,23 @@ class ObstacleArrays(NamedTuple):
     circles: np.ndarray
     pillar_xy: np.ndarray
     pillar_r: np.ndarray
+
+
+class ForceContext(NamedTuple):
+    """What a crowd feels besides itself: the model, the robot, walls and pillars.
+
+    Attributes:
+        params: SRFM parameters (:meth:`srfm.SRFMParams.for_kernels`).
+        robot: (3,) the robot's body as the crowd perceives it: x, y, radius (m).
+        robot_on: the crowd feels the robot (False: the counterfactual twin, or no
+            robot).
+        obstacles: walls and pillars.
+        cut: (2,) the pedestrian and the obstacle cut-off (m), ``inf`` for none
+            (:func:`srfm.models.forces.kernel_cutoffs`).
+    """
+
+    params: SRFMKernelParams
+    robot: np.ndarray
+    robot_on: bool
+    obstacles: ObstacleArrays
+    cut: np.ndarray

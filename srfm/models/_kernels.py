@@ -33,7 +33,7 @@ from llvmlite import ir
 from numba import njit, prange, types
 from numba.extending import intrinsic
 
-from srfm.models._arrays import CrowdArrays, ObstacleArrays
+from srfm.models._arrays import CrowdArrays, ForceContext
 from srfm.models._primitives import (
     EPS,
     EXP_ARG_MAX,
@@ -59,26 +59,22 @@ def _heading(vx: float, vy: float, dvx: float, dvy: float) -> tuple[float, float
 
 @njit(cache=True, inline="always")
 def _agent_forces(
-    i: int,
-    crowd: CrowdArrays,
-    params: SRFMKernelParams,
-    robot: np.ndarray,
-    robot_on: bool,
-    obstacles: ObstacleArrays,
-    cut: np.ndarray,
-    ped: np.ndarray,
+    i: int, crowd: CrowdArrays, context: ForceContext, ped: np.ndarray
 ) -> tuple[float, float, float, float, float, float, float, float]:
     """The four force components on agent i: goal, pedestrians, robot, obstacles (x, y each).
 
-    ``cut`` = (pedestrian cut-off, obstacle cut-off) in m, ``inf`` for none. With
-    ``inf`` every other pedestrian pushes, summed in index order (the exact kernel);
-    with a finite pedestrian cut-off the pedestrian force is ``ped[i]``, from
+    ``context.cut`` = (pedestrian cut-off, obstacle cut-off) in m, ``inf`` for none.
+    With ``inf`` every other pedestrian pushes, summed in index order (the exact
+    kernel); with a finite pedestrian cut-off the pedestrian force is ``ped[i]``, from
     :func:`cell_pair_forces`. Obstacles beyond the obstacle cut-off are skipped.
     """
     pos = crowd.pos
     radius = crowd.radius
-    segments = obstacles.segments
-    circles = obstacles.circles
+    params = context.params
+    robot = context.robot
+    cut = context.cut
+    segments = context.obstacles.segments
+    circles = context.obstacles.circles
     px = pos[i, 0]
     py = pos[i, 1]
     vx = crowd.vel[i, 0]
@@ -117,7 +113,7 @@ def _agent_forces(
     rfx = 0.0
     rfy = 0.0
     a_r = params.a_robot
-    if robot_on and a_r != 0.0:
+    if context.robot_on and a_r != 0.0:
         b_r = params.b_robot
         lam_r = params.lambda_robot
         rfx, rfy = disc_repulsion(
@@ -718,22 +714,11 @@ def cell_pair_forces(crowd: CrowdArrays, params: SRFMKernelParams, cutoff: float
 
 
 @njit(cache=True)
-def force_components_kernel(
-    crowd: CrowdArrays,
-    params: SRFMKernelParams,
-    robot: np.ndarray,
-    robot_on: bool,
-    obstacles: ObstacleArrays,
-    cut: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    """Write the components into ``out`` (4, N, 2): goal, pedestrians, robot, obstacles;
-    ``cut`` as in :func:`step_serial`."""
-    ped = cell_pair_forces(crowd, params, cut[0])
+def force_components_kernel(crowd: CrowdArrays, context: ForceContext, out: np.ndarray) -> None:
+    """Write the components into ``out`` (4, N, 2): goal, pedestrians, robot, obstacles."""
+    ped = cell_pair_forces(crowd, context.params, context.cut[0])
     for i in range(crowd.pos.shape[0]):
-        g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(
-            i, crowd, params, robot, robot_on, obstacles, cut, ped
-        )
+        g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(i, crowd, context, ped)
         out[0, i, 0] = g0
         out[0, i, 1] = g1
         out[1, i, 0] = p0
@@ -746,20 +731,10 @@ def force_components_kernel(
 
 @njit(cache=True, inline="always")
 def _agent_total(
-    i: int,
-    crowd: CrowdArrays,
-    params: SRFMKernelParams,
-    robot: np.ndarray,
-    robot_on: bool,
-    obstacles: ObstacleArrays,
-    cut: np.ndarray,
-    ped: np.ndarray,
-    out: np.ndarray,
+    i: int, crowd: CrowdArrays, context: ForceContext, ped: np.ndarray, out: np.ndarray
 ) -> None:
     """Total force F_i on agent i into ``out[i]``: goal + pedestrians + robot + obstacles."""
-    g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(
-        i, crowd, params, robot, robot_on, obstacles, cut, ped
-    )
+    g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(i, crowd, context, ped)
     out[i, 0] = g0 + p0 + r0 + o0
     out[i, 1] = g1 + p1 + r1 + o1
 
@@ -797,77 +772,51 @@ def integrate(
         pos[i, 1] += vy * dt
 
 
-# The three crowd steps take the same arguments and differ in one line each: the
-# pedestrian pairs (a cut-off's row list, or every pair) and the loop over the agents
-# (range, or prange over threads). Each is its own top-level function so that numba's
-# on-disk cache tells them apart and a run compiles only the one it uses.
+# The three crowd steps, ``step_*(crowd, context, dt, force_buf)``: the total force on
+# every agent from one snapshot into ``force_buf`` (N, 2), then :func:`integrate`, in
+# place on ``crowd``. They differ only in the pedestrian pairs (a cut-off's row list,
+# or every pair) and in the loop over the agents (``range``, or ``prange`` over
+# threads); each is its own top-level function so that numba's on-disk cache tells
+# them apart and a run compiles only the one it uses.
 
 
 @njit(cache=True)
 def step_serial(
-    crowd: CrowdArrays,
-    params: SRFMKernelParams,
-    robot: np.ndarray,
-    robot_on: bool,
-    obstacles: ObstacleArrays,
-    dt: float,
-    force_buf: np.ndarray,
-    cut: np.ndarray,
+    crowd: CrowdArrays, context: ForceContext, dt: float, force_buf: np.ndarray
 ) -> None:
-    """One crowd step in place: the total force on every agent from one snapshot into
-    ``force_buf`` (N, 2), one agent after another, then :func:`integrate`.
-
-    ``robot`` (3,) = (x, y, radius) is felt when ``robot_on``. ``cut`` (2,) =
-    (pedestrian cut-off, obstacle cut-off) in m: ``inf`` for none (the exact kernel:
-    every pair, in index order); a finite pedestrian cut-off builds a row list of the
-    snapshot (:func:`build_rows`) and sums only the pairs closer than it.
-    """
-    ped = cell_pair_forces(crowd, params, cut[0])
+    """One crowd step; with a finite pedestrian cut-off (``context.cut[0]``) the row list
+    of the snapshot (:func:`build_rows`) sums only the pairs closer than it."""
+    ped = cell_pair_forces(crowd, context.params, context.cut[0])
     for i in range(crowd.pos.shape[0]):
-        _agent_total(i, crowd, params, robot, robot_on, obstacles, cut, ped, force_buf)
+        _agent_total(i, crowd, context, ped, force_buf)
     integrate(crowd.pos, crowd.vel, force_buf, crowd.vmax, dt)
 
 
 @njit(cache=True)
-def step_exact(
-    crowd: CrowdArrays,
-    params: SRFMKernelParams,
-    robot: np.ndarray,
-    robot_on: bool,
-    obstacles: ObstacleArrays,
-    dt: float,
-    force_buf: np.ndarray,
-    cut: np.ndarray,
-) -> None:
-    """:func:`step_serial` with every pedestrian pair, in index order (the exact kernel),
-    whatever ``cut[0]``; obstacles cut at ``cut[1]`` as there.
+def step_exact(crowd: CrowdArrays, context: ForceContext, dt: float, force_buf: np.ndarray) -> None:
+    """One crowd step with every pedestrian pair, in index order (the exact kernel),
+    whatever ``context.cut[0]``; obstacles cut at ``context.cut[1]``.
 
     A kernel of its own so that runs without a cut-off (every built-in scenario but the
     large ones) never compile the cell list: a first run compiles seconds less.
     """
+    c = context
+    exact = ForceContext(c.params, c.robot, c.robot_on, c.obstacles, np.array([np.inf, c.cut[1]]))
     ped = np.zeros((0, 2))
-    exact = np.array([np.inf, cut[1]])
     for i in range(crowd.pos.shape[0]):
-        _agent_total(i, crowd, params, robot, robot_on, obstacles, exact, ped, force_buf)
+        _agent_total(i, crowd, exact, ped, force_buf)
     integrate(crowd.pos, crowd.vel, force_buf, crowd.vmax, dt)
 
 
 @njit(cache=True, parallel=True)
 def step_parallel(
-    crowd: CrowdArrays,
-    params: SRFMKernelParams,
-    robot: np.ndarray,
-    robot_on: bool,
-    obstacles: ObstacleArrays,
-    dt: float,
-    force_buf: np.ndarray,
-    cut: np.ndarray,
+    crowd: CrowdArrays, context: ForceContext, dt: float, force_buf: np.ndarray
 ) -> None:
     """As :func:`step_serial` with the agents of the force pass split over threads (for
     large crowds); bit-identical results."""
-    ped = cell_pair_forces(crowd, params, cut[0])
+    ped = cell_pair_forces(crowd, context.params, context.cut[0])
     for i in prange(crowd.pos.shape[0]):
-        _agent_total(i, crowd, params, robot, robot_on, obstacles, cut, ped, force_buf)
+        _agent_total(i, crowd, context, ped, force_buf)
     integrate(crowd.pos, crowd.vel, force_buf, crowd.vmax, dt)
 
 

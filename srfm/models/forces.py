@@ -11,6 +11,7 @@ from numpy.typing import NDArray
 
 from srfm.errors import SimulationError
 from srfm.models import _kernels
+from srfm.models._arrays import ForceContext
 from srfm.models.params import SRFMParams
 from srfm.models.state import CrowdState, Obstacles
 
@@ -169,15 +170,8 @@ def force_components(
     robot_arr, robot_on = _robot_args(robot)
     cut = kernel_cutoffs(cutoff, params, crowd.radius)
     out = np.zeros((4, crowd.n, 2))
-    _kernels.force_components_kernel(
-        crowd.for_kernels(),
-        params.for_kernels(),
-        robot_arr,
-        robot_on,
-        obstacles.for_kernels(),
-        cut,
-        out,
-    )
+    context = ForceContext(params.for_kernels(), robot_arr, robot_on, obstacles.for_kernels(), cut)
+    _kernels.force_components_kernel(crowd.for_kernels(), context, out)
     return ForceComponents(goal=out[0], pedestrians=out[1], robot=out[2], obstacles=out[3])
 
 
@@ -215,13 +209,5 @@ def step_crowd(
         kernel = _kernels.step_exact  # the same sums, without compiling the cell list
     else:
         kernel = _kernels.step_serial
-    kernel(
-        crowd.for_kernels(),
-        params.for_kernels(),
-        robot_arr,
-        robot_on,
-        obstacles.for_kernels(),
-        float(dt),
-        np.empty_like(crowd.pos),
-        cut,
-    )
+    context = ForceContext(params.for_kernels(), robot_arr, robot_on, obstacles.for_kernels(), cut)
+    kernel(crowd.for_kernels(), context, float(dt), np.empty_like(crowd.pos))

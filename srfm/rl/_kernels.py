@@ -23,7 +23,7 @@ from typing import Final, NamedTuple
 import numpy as np
 from numba import njit
 
-from srfm.models._arrays import CrowdArrays, ObstacleArrays
+from srfm.models._arrays import CrowdArrays, ForceContext
 from srfm.models._kernels import _agent_forces, euler_velocity, exact_cut
 from srfm.models._robot_kernels import (
     EVENT_GOAL,
@@ -34,7 +34,6 @@ from srfm.models._robot_kernels import (
     X,
     Y,
 )
-from srfm.models.params import SRFMKernelParams
 from srfm.planners._observation import ObservationParams, action_to_command, build_observation
 from srfm.sim._kernels import EpisodeArrays, advance_exact
 
@@ -106,17 +105,10 @@ class EnvArrays(NamedTuple):
 
 
 @njit(cache=True)
-def one_step_deviation(
-    crowd: CrowdArrays,
-    params: SRFMKernelParams,
-    body: np.ndarray,
-    obstacles: ObstacleArrays,
-    dt: float,
-    zone: float,
-) -> float:
+def one_step_deviation(crowd: CrowdArrays, felt: ForceContext, dt: float, zone: float) -> float:
     """r_div: the one-step counterfactual deviation summed over the social zone (m).
 
-    From the current factual state and the robot ``body`` (3,) = (x, y, radius), each
+    From the current factual state and the robot ``felt.robot`` (3,) = (x, y, radius), each
     pedestrian i closer than ``zone`` to the robot centre is stepped twice, with and
     without the robot force (all other forces from the same snapshot, the crowd step's
     own velocity update :func:`~srfm.models._kernels.euler_velocity`); r_div = Σ_i
@@ -126,6 +118,8 @@ def one_step_deviation(
     vel = crowd.vel
     vmax = crowd.vmax
     cut, ped = exact_cut()
+    exact = ForceContext(felt.params, felt.robot, True, felt.obstacles, cut)
+    body = felt.robot
     z2 = zone * zone
     total = 0.0
     for i in range(pos.shape[0]):
@@ -133,9 +127,7 @@ def one_step_deviation(
         dy = pos[i, 1] - body[1]
         if not dx * dx + dy * dy < z2:
             continue
-        g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(
-            i, crowd, params, body, True, obstacles, cut, ped
-        )
+        g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(i, crowd, exact, ped)
         px = pos[i, 0]
         py = pos[i, 1]
         # With the robot (the sum in the crowd step's order) ...
@@ -173,9 +165,9 @@ def reward_and_observation(ep: EpisodeArrays, env: EnvArrays, event: int) -> Non
     gdx = task.goal_x - robot[X]
     gdy = task.goal_y - robot[Y]
     r_dist = min(1.0, math.sqrt(gdx * gdx + gdy * gdy) / reward.goal_distance_m)
-    r_div = one_step_deviation(
-        ep.factual, ep.params, body, ep.obstacles, ep.options.dt_s, env.observation.social_zone_m
-    )
+    felt = ep.felt
+    zone = ForceContext(felt.params, body, felt.robot_on, felt.obstacles, felt.cut)
+    r_div = one_step_deviation(ep.factual, zone, ep.options.dt_s, env.observation.social_zone_m)
     if event == EVENT_GOAL:
         r_term = reward.success_reward
     elif event == EVENT_TIMEOUT:

@@ -16,21 +16,21 @@ environment alike:
 What follows in Python (pedestrians entering, new goals, routes, the event records) is
 the engine's; nothing of the crowd's or the robot's motion is.
 
-The three variants differ only in the crowd step they call (every pair, a cut-off's row
-list, or the row list with threads); each is its own top-level function so that numba's
-on-disk cache keeps them apart and a run compiles only its own.
+The three variants differ only in the crowd step they run (every pair, a cut-off's row
+list, or the row list with threads), which they hand to the one body :func:`_advance`;
+each is its own top-level function so that numba's on-disk cache keeps them apart and
+a run compiles only its own.
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 from numba import njit
 
-from srfm.models._arrays import CrowdArrays, ObstacleArrays
+from srfm.models._arrays import CrowdArrays, ForceContext
 from srfm.models._kernels import mark_arrivals, step_exact, step_parallel, step_serial
-from srfm.models._primitives import FALSE, TRUE
 from srfm.models._robot_kernels import (
     EVENT_NONE,
     VX,
@@ -41,7 +41,6 @@ from srfm.models._robot_kernels import (
     move_robot,
     robot_event,
 )
-from srfm.models.params import SRFMKernelParams
 
 __all__ = [
     "ArrivalFlags",
@@ -89,11 +88,12 @@ class EpisodeArrays(NamedTuple):
         factual_arrivals: the factual crowd's arrival flags.
         counterfactual_arrivals: the counterfactual crowd's.
         robot: (7,) the robot state (:mod:`srfm.models._robot_kernels` layout).
-        body: (3,) the robot as the crowd feels it: x, y at the current sample, radius.
-        obstacles: walls and pillars.
+        felt: what the factual crowd feels: the parameters, the robot's body
+            (``felt.robot`` (3,): x, y at the current sample, radius), the obstacles
+            and the cut-offs.
+        blind: the same for the counterfactual crowd, the robot switched off (the
+            same arrays).
         force_buf: (N, 2) scratch for the forces.
-        cut: (2,) the pedestrian and obstacle cut-offs (m, ``inf`` for none).
-        params: SRFM parameters.
         limits: the robot's body and limits.
         task: the robot's goal, world and horizon.
         options: the step's settings.
@@ -104,48 +104,44 @@ class EpisodeArrays(NamedTuple):
     factual_arrivals: ArrivalFlags
     counterfactual_arrivals: ArrivalFlags
     robot: np.ndarray
-    body: np.ndarray
-    obstacles: ObstacleArrays
+    felt: ForceContext
+    blind: ForceContext
     force_buf: np.ndarray
-    cut: np.ndarray
-    params: SRFMKernelParams
     limits: RobotLimits
     task: RobotTask
     options: StepOptions
 
 
 @njit(cache=True, inline="always")
-def _move_robot(ep: EpisodeArrays, c0: float, c1: float, active: bool) -> None:
-    """Step 1: the body at sample k, then the robot's move (or rest once it has ended)."""
+def _advance(
+    ep: EpisodeArrays, c0: float, c1: float, active: bool, step_index: int, crowd_step: Any
+) -> tuple[int, int, int]:
+    """One step (see the module docstring) with the crowd step ``crowd_step`` (one of
+    :func:`step_exact`, :func:`step_serial`, :func:`step_parallel`, a compile-time
+    constant of each variant)."""
     robot = ep.robot
-    ep.body[0] = robot[X]
-    ep.body[1] = robot[Y]
+    body = ep.felt.robot
+    body[0] = robot[X]
+    body[1] = robot[Y]
+    o = ep.options
     if active:
-        move_robot(robot, c0, c1, ep.limits, ep.options.dt_s)
+        move_robot(robot, c0, c1, ep.limits, o.dt_s)
     else:
-        robot[VX:] = 0.0
-
-
-@njit(cache=True, inline="always")
-def _arrivals_and_event(ep: EpisodeArrays, active: bool, step_index: int) -> tuple[int, int, int]:
-    """Steps 3 and 4: new arrivals of each twin stepped, the robot event at k + 1.
-
-    Returns:
-        (new arrivals of both twins, robot event code, nearest pedestrian of a
-        collision or −1).
-    """
-    radius = ep.options.ped_goal_radius_m
+        robot[VX:] = 0.0  # at rest where its episode ended
+    crowd_step(ep.factual, ep.felt, o.dt_s, ep.force_buf)
+    if o.counterfactual:
+        crowd_step(ep.counterfactual, ep.blind, o.dt_s, ep.force_buf)
+    radius = o.ped_goal_radius_m
     f = ep.factual
-    n_new = mark_arrivals(
-        f.pos, f.goal, radius, ep.factual_arrivals.arrived, ep.factual_arrivals.new
-    )
-    if ep.options.counterfactual:
+    flags = ep.factual_arrivals
+    n_new = mark_arrivals(f.pos, f.goal, radius, flags.arrived, flags.new)
+    if o.counterfactual:
         c = ep.counterfactual
         flags = ep.counterfactual_arrivals
         n_new += mark_arrivals(c.pos, c.goal, radius, flags.arrived, flags.new)
     if not active:
         return n_new, EVENT_NONE, -1
-    event, nearest = robot_event(ep.robot, f, ep.obstacles, ep.limits, ep.task, step_index + 1)
+    event, nearest = robot_event(robot, f, ep.felt.obstacles, ep.limits, ep.task, step_index + 1)
     return n_new, event, nearest
 
 
@@ -153,7 +149,7 @@ def _arrivals_and_event(ep: EpisodeArrays, active: bool, step_index: int) -> tup
 def advance_exact(
     ep: EpisodeArrays, c0: float, c1: float, active: bool, step_index: int
 ) -> tuple[int, int, int]:
-    """One step (see the module docstring) with every pedestrian pair (the exact kernel).
+    """One step with every pedestrian pair (the exact kernel).
 
     Args:
         ep: the episode's arrays, updated in place.
@@ -162,16 +158,10 @@ def advance_exact(
         step_index: k, the sample the step starts from.
 
     Returns:
-        (new arrivals, robot event code at k + 1, nearest pedestrian of a collision).
+        (new arrivals of both twins, robot event code at k + 1, nearest pedestrian of
+        a collision or −1).
     """
-    _move_robot(ep, c0, c1, active)
-    o = ep.options
-    step_exact(ep.factual, ep.params, ep.body, TRUE, ep.obstacles, o.dt_s, ep.force_buf, ep.cut)
-    if o.counterfactual:
-        step_exact(
-            ep.counterfactual, ep.params, ep.body, FALSE, ep.obstacles, o.dt_s, ep.force_buf, ep.cut
-        )
-    return _arrivals_and_event(ep, active, step_index)
+    return _advance(ep, c0, c1, active, step_index, step_exact)
 
 
 @njit(cache=True)
@@ -179,14 +169,7 @@ def advance_serial(
     ep: EpisodeArrays, c0: float, c1: float, active: bool, step_index: int
 ) -> tuple[int, int, int]:
     """:func:`advance_exact` with the cut-off's row list (:func:`step_serial`)."""
-    _move_robot(ep, c0, c1, active)
-    o = ep.options
-    step_serial(ep.factual, ep.params, ep.body, TRUE, ep.obstacles, o.dt_s, ep.force_buf, ep.cut)
-    if o.counterfactual:
-        step_serial(
-            ep.counterfactual, ep.params, ep.body, FALSE, ep.obstacles, o.dt_s, ep.force_buf, ep.cut
-        )
-    return _arrivals_and_event(ep, active, step_index)
+    return _advance(ep, c0, c1, active, step_index, step_serial)
 
 
 @njit(cache=True)
@@ -195,11 +178,4 @@ def advance_parallel(
 ) -> tuple[int, int, int]:
     """:func:`advance_serial` with the force pass over threads (:func:`step_parallel`);
     identical results."""
-    _move_robot(ep, c0, c1, active)
-    o = ep.options
-    step_parallel(ep.factual, ep.params, ep.body, TRUE, ep.obstacles, o.dt_s, ep.force_buf, ep.cut)
-    if o.counterfactual:
-        step_parallel(
-            ep.counterfactual, ep.params, ep.body, FALSE, ep.obstacles, o.dt_s, ep.force_buf, ep.cut
-        )
-    return _arrivals_and_event(ep, active, step_index)
+    return _advance(ep, c0, c1, active, step_index, step_parallel)

@@ -38,6 +38,8 @@ from numpy.typing import NDArray
 
 from srfm._jit import specialize
 from srfm.models import _robot_kernels as _rk
+from srfm.models._arrays import ForceContext
+from srfm.models._primitives import FALSE, TRUE
 from srfm.models.forces import Cutoff, kernel_cutoffs
 from srfm.models.params import SRFMParams
 from srfm.models.robot import RobotState
@@ -149,15 +151,14 @@ class EpisodeEngine:
         self._obstacles = obstacles.for_kernels()
         self._force_buf = np.empty((n, 2))
         self._cut = kernel_cutoffs(cutoff, self.params, self.factual.radius)
-        self._fixed = (
-            self.params.for_kernels(),
-            scenario.robot.for_kernels(),
-            self.task,
-            _k.StepOptions(
-                dt_s=float(scenario.dt_s),
-                ped_goal_radius_m=float(scenario.ped_goal_radius_m),
-                counterfactual=counterfactual,
-            ),
+        kernel_params = self.params.for_kernels()
+        self._felt = ForceContext(kernel_params, self._body, TRUE, self._obstacles, self._cut)
+        self._blind = self._felt._replace(robot_on=FALSE)
+        self._limits = scenario.robot.for_kernels()
+        self._options = _k.StepOptions(
+            dt_s=float(scenario.dt_s),
+            ped_goal_radius_m=float(scenario.ped_goal_radius_m),
+            counterfactual=counterfactual,
         )
         if parallel:
             self._kernel = _k.advance_parallel
@@ -211,27 +212,24 @@ class EpisodeEngine:
 
     def _pack(self, m: int) -> None:
         """The kernels' view of the first ``m`` pedestrians (views of the crowds' arrays)."""
-        params, limits, task, options = self._fixed
         self.arrays = _k.EpisodeArrays(
             factual=self.factual.for_kernels(m),
             counterfactual=self.counterfactual.for_kernels(m),
             factual_arrivals=_k.ArrivalFlags(self._arrived[0, :m], self._new[0, :m]),
             counterfactual_arrivals=_k.ArrivalFlags(self._arrived[1, :m], self._new[1, :m]),
             robot=self.robot,
-            body=self._body,
-            obstacles=self._obstacles,
+            felt=self._felt,
+            blind=self._blind,
             force_buf=self._force_buf[:m],
-            cut=self._cut,
-            params=params,
-            limits=limits,
-            task=task,
-            options=options,
+            limits=self._limits,
+            task=self.task,
+            options=self._options,
         )
 
     def _event_args(self) -> tuple[Any, ...]:
         """:func:`robot_event`'s arguments but the sample index."""
         a = self.arrays
-        return (a.robot, a.factual, a.obstacles, a.limits, a.task)
+        return (a.robot, a.factual, self._obstacles, a.limits, a.task)
 
     def steering_goal(self) -> FloatArray:
         """(2,) what the robot's planner steers to: the route's current waypoint in a

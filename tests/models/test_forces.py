@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 
 import srfm
 from srfm.models import _kernels
+from srfm.models._arrays import ForceContext
 from tests.models import _reference as ref
 
 # Relative tolerance against the reference: the kernel and the reference add the same
@@ -127,10 +128,13 @@ def _kernel_args(scene: ref.Scene) -> tuple:
     c = scene.crowd
     return (
         c.for_kernels(),
-        scene.params.for_kernels(),
-        robot,
-        scene.robot is not None,
-        scene.obstacles.for_kernels(),
+        ForceContext(
+            scene.params.for_kernels(),
+            robot,
+            scene.robot is not None,
+            scene.obstacles.for_kernels(),
+            np.full(2, np.inf),
+        ),
     )
 
 
@@ -160,13 +164,12 @@ def test_jitted_and_python_force_kernels_agree() -> None:
     args = _kernel_args(scene)
     jit_out = np.zeros((4, scene.crowd.n, 2))
     py_out = np.zeros((4, scene.crowd.n, 2))
-    exact = np.full(2, np.inf)
-    _kernels.force_components_kernel(*args, exact, jit_out)
-    _kernels.force_components_kernel.py_func(*args, exact, py_out)
+    _kernels.force_components_kernel(*args, jit_out)
+    _kernels.force_components_kernel.py_func(*args, py_out)
     np.testing.assert_allclose(py_out, jit_out, rtol=1e-13, atol=1e-15)
     # The per-agent body too, in pure Python all the way down to the helpers.
     for i in range(scene.crowd.n):
-        got = _kernels._agent_forces.py_func(i, *args, *_kernels.exact_cut.py_func())
+        got = _kernels._agent_forces.py_func(i, *args, np.zeros((0, 2)))
         np.testing.assert_allclose(got, jit_out[:, i, :].ravel(), rtol=1e-13, atol=1e-15)
     want = ref.forces(*scene)
     for k, name in enumerate(COMPONENTS):

@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, given, settings
 import srfm
 from srfm.models import _kernels
 from srfm.models import params as params_module
-from srfm.models._arrays import CrowdArrays, ObstacleArrays
+from srfm.models._arrays import CrowdArrays, ForceContext, ObstacleArrays
 from tests.models import _reference as ref
 
 FIELDS = (
@@ -177,18 +177,18 @@ def test_kernel_reads_the_tuple_by_name_like_its_python_body() -> None:
     circles = np.array([[0.5, 0.6, 0.1]])
     crowd = CrowdArrays(pos, vel, goal, radius, v0, v0.copy())
     obstacles = ObstacleArrays(segments, circles, circles[:, :2].copy(), circles[:, 2].copy())
-    args = (crowd, p.for_kernels(), robot, True, obstacles)
+    context = ForceContext(p.for_kernels(), robot, True, obstacles, np.full(2, np.inf))
     jit_out = np.zeros((4, 3, 2))
     py_out = np.zeros((4, 3, 2))
-    exact = np.full(2, np.inf)
-    _kernels.force_components_kernel(*args, exact, jit_out)
-    _kernels.force_components_kernel.py_func(*args, exact, py_out)
+    _kernels.force_components_kernel(crowd, context, jit_out)
+    _kernels.force_components_kernel.py_func(crowd, context, py_out)
     np.testing.assert_allclose(py_out, jit_out, rtol=1e-13, atol=0.0)
     assert np.all(np.linalg.norm(jit_out, axis=2) > 0.0)  # every component on every agent
     for name in FIELDS:  # each field is read (a change of it changes the forces)
         other = np.zeros((4, 3, 2))
         changed = p.replace(**{name: getattr(p, name) * 0.9})
-        _kernels.force_components_kernel(crowd, changed.for_kernels(), *args[2:], exact, other)
+        changed_context = context._replace(params=changed.for_kernels())
+        _kernels.force_components_kernel(crowd, changed_context, other)
         assert not np.array_equal(other, jit_out), name
 
 

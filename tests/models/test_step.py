@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 
 import srfm
 from srfm.models import _kernels
+from srfm.models._arrays import ForceContext
 from tests.models import _reference as ref
 
 DT = 1.0 / 15.0
@@ -220,8 +221,8 @@ def test_jitted_and_python_step_kernels_agree() -> None:
     for kernel in (_kernels.step_serial, _kernels.step_serial.py_func):
         s = c.copy()
         buf = np.empty((s.n, 2))
-        walls = WALLS.for_kernels()
-        kernel(s.for_kernels(), p, robot, True, walls, DT, buf, np.full(2, np.inf))
+        context = ForceContext(p, robot, True, WALLS.for_kernels(), np.full(2, np.inf))
+        kernel(s.for_kernels(), context, DT, buf)
         results.append(s)
     np.testing.assert_allclose(results[1].pos, results[0].pos, rtol=1e-14)
     np.testing.assert_allclose(results[1].vel, results[0].vel, rtol=1e-13)

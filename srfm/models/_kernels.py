@@ -33,7 +33,7 @@ from llvmlite import ir
 from numba import njit, prange, types
 from numba.extending import intrinsic
 
-from srfm.models._arrays import CrowdArrays, ForceContext
+from srfm.models._arrays import CrowdArrays, ForceContext, ObstacleArrays
 from srfm.models._primitives import (
     EPS,
     EXP_ARG_MAX,
@@ -813,11 +813,29 @@ def step_parallel(
     crowd: CrowdArrays, context: ForceContext, dt: float, force_buf: np.ndarray
 ) -> None:
     """As :func:`step_serial` with the agents of the force pass split over threads (for
-    large crowds); bit-identical results."""
+    large crowds); bit-identical results.
+
+    numba's threaded loop takes a tuple from outside only when it is an argument or
+    made by its class's call in view of the loop, so the loop gets the arrays one by
+    one (and the parameters made again) and bundles them inside, which costs nothing.
+    """
     ped = cell_pair_forces(crowd, context.params, context.cut[0])
-    for i in prange(crowd.pos.shape[0]):
-        _agent_total(i, crowd, context, ped, force_buf)
-    integrate(crowd.pos, crowd.vel, force_buf, crowd.vmax, dt)
+    pos = crowd.pos
+    vel = crowd.vel
+    goal = crowd.goal
+    radius = crowd.radius
+    v0 = crowd.v0
+    params = SRFMKernelParams(*context.params)
+    robot = context.robot
+    robot_on = context.robot_on
+    segments = context.obstacles.segments
+    circles = context.obstacles.circles
+    cut = context.cut
+    for i in prange(pos.shape[0]):
+        each = CrowdArrays(pos, vel, goal, radius, v0, v0)  # vmax is not read here
+        walls = ObstacleArrays(segments, circles, circles, v0)  # nor the pillars' split
+        _agent_total(i, each, ForceContext(params, robot, robot_on, walls, cut), ped, force_buf)
+    integrate(pos, vel, force_buf, crowd.vmax, dt)
 
 
 @njit(cache=True)

@@ -6,7 +6,7 @@ Needs the ``rl`` extra (gymnasium, stable-baselines3, torch), imported lazily; t
 by SB3's maintainers, same API) also the ``sbx`` extra. SB3 + torch is the reference
 of the paper's set-up. The command line front ends are ``srfm train`` and
 ``srfm export-policy``; the defaults are the paper's TD3 set-up
-(DESIGN §8): learning rate 1e-4, replay buffer 1e6, [256, 256] networks, batch 256,
+(docs/rl.md, "Training"): learning rate 1e-4, replay buffer 1e6, [256, 256] networks, batch 256,
 10,000 random warm-up steps, 5 gradient steps every 5 environment steps, τ = 0.005,
 γ = 0.99, policy delay 2, target noise 0.2 clipped at 0.5, Gaussian exploration
 noise σ = 0.3, up to 2e6 steps.
@@ -118,7 +118,7 @@ def _families(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
 
 @attrs.frozen(kw_only=True)
 class TrainConfig:
-    """TD3 hyperparameters and the run's schedule (defaults: the paper, DESIGN §8).
+    """TD3 hyperparameters and the run's schedule (defaults: the paper, docs/rl.md).
 
     Attributes:
         total_steps: environment steps to train in total (paper: up to 2e6).

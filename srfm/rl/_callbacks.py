@@ -53,7 +53,7 @@ class EveryNSteps(BaseCallback):
         return True
 
 
-class K2Curriculum(BaseCallback):
+class K2Curriculum(EveryNSteps):
     """Sets k2 of the training environments (their ``set_k2``) from ``schedule(steps)``
     at the start of training and when the step count crosses a multiple of ``every``,
     when it changed.
@@ -64,23 +64,14 @@ class K2Curriculum(BaseCallback):
     """
 
     def __init__(self, every: int, schedule: Callable[[int], float]) -> None:
-        super().__init__()
-        self.every = every
+        super().__init__(every, self._set_k2)
         self.schedule = schedule
-        self._before = 0
         self._k2 = -1.0
 
     def _on_training_start(self) -> None:
-        self._before = int(self.num_timesteps)
+        super()._on_training_start()
         self._k2 = -1.0
         self._set_k2(self._before)
-
-    def _on_step(self) -> bool:
-        steps = int(self.num_timesteps)
-        before, self._before = self._before, steps
-        if crossed(before, steps, self.every):
-            self._set_k2(steps)
-        return True
 
     def _set_k2(self, steps: int) -> None:
         k2 = self.schedule(steps)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Final
+from typing import Final, NamedTuple
 
 import attrs
 import numpy as np
@@ -166,8 +166,70 @@ def _samples(span_s: float, dt: float) -> int:
     return max(1, round(span_s / dt))
 
 
+class _Window(NamedTuple):
+    """One prediction window (global agent and frame indices; fields as in :class:`Windows`)."""
+
+    agent: int
+    scene: int
+    frame0: int
+    steps: int
+    pos: FloatArray
+    vel: FloatArray
+    goal: FloatArray
+    v0: float
+    min_robot_distance: float
+    observed: FloatArray
+    step_time: FloatArray
+
+
+class _SceneReplay(NamedTuple):
+    """The replay data of one scene: per frame (F) and per pedestrian entry (E)."""
+
+    fr_count: IntArray
+    e_agent: IntArray
+    e_a: FloatArray
+    e_b: FloatArray
+    rb_on: NDArray[np.bool_]
+    rb_a: FloatArray
+    rb_b: FloatArray
+    dt: FloatArray
+
+
+class _Clock(NamedTuple):
+    """A scene's time base: the frame of every sample and the time of every frame."""
+
+    fidx: IntArray  # (M,) index into the scene's frames of each sample
+    t: FloatArray  # (F,) seconds since the first frame
+    dt: FloatArray  # (F,) seconds to the next frame, 0 at the last
+
+
+class _Track(NamedTuple):
+    """One pedestrian's samples in a scene, in time order."""
+
+    agent: int  # global agent index (over all scenes)
+    scene: int  # index of the scene
+    frame_offset: int  # global index of the scene's first frame
+    frames: IntArray  # (L,) index into the scene's frames
+    xy: FloatArray  # (L, 2) positions (m)
+    t: FloatArray  # (L,) seconds since the scene's first frame
+
+
+class _Cadence(NamedTuple):
+    """The window spans of :class:`WindowConfig` in samples of one scene."""
+
+    horizon: int
+    stride: int
+    velocity_span: int
+    speed_span: int
+    max_gap_s: float
+
+
 def build_windows(scenes: Sequence[Trajectories], config: WindowConfig | None = None) -> Windows:
     """Cut every pedestrian track of ``scenes`` into prediction windows.
+
+    Scene by scene: the time base, the robot and the pedestrians per frame (the replay
+    data), then the windows of every pedestrian track; frame and agent indices are
+    offset to be global over ``scenes``.
 
     Args:
         scenes: scenes in a world frame (a robot-frame scene is an error: its frame
@@ -181,164 +243,227 @@ def build_windows(scenes: Sequence[Trajectories], config: WindowConfig | None = 
         DatasetError: a scene in the robot's frame.
     """
     config = config or WindowConfig()
-    win: dict[str, list[object]] = {
-        k: []
-        for k in (
-            "agent",
-            "track",
-            "scene",
-            "frame0",
-            "steps",
-            "pos",
-            "vel",
-            "goal",
-            "v0",
-            "mind",
-            "obs",
-            "tobs",
-        )
-    }
-    fr_counts: list[IntArray] = []
-    e_agent: list[IntArray] = []
-    e_a: list[FloatArray] = []
-    e_b: list[FloatArray] = []
-    rb_on: list[NDArray[np.bool_]] = []
-    rb_a: list[FloatArray] = []
-    rb_b: list[FloatArray] = []
-    dts: list[FloatArray] = []
+    windows: list[_Window] = []
+    replays: list[_SceneReplay] = []
     g_off = 0
     a_off = 0
     for si, scene in enumerate(scenes):
-        if scene.frame_of_reference != "world":
-            raise DatasetError(
-                f"scene {scene.scene!r} is in the robot's moving frame (converted without "
-                "odometry); fitting and ADE need world coordinates"
-            )
-        frames, times = scene.frames()
-        n_frames = frames.shape[0]
-        t = (times - (times[0] if n_frames else 0)).astype(np.float64) * 1e-9
-        fidx = np.searchsorted(frames, scene.frame)
-        dt = np.zeros(n_frames)
-        if n_frames > 1:
-            dt[:-1] = np.diff(t)
-        robot = scene.robot_index
-        ped = np.array([k == PEDESTRIAN for k in scene.kinds], dtype=bool)
-        is_ped = ped[scene.agent] if scene.n_samples else np.zeros(0, dtype=bool)
-
-        # Robot per frame.
-        on = np.zeros(n_frames, dtype=bool)
-        r_xy = np.zeros((n_frames, 2))
-        if robot is not None:
-            rmask = scene.agent == robot
-            on[fidx[rmask]] = True
-            r_xy[fidx[rmask]] = scene.xy[rmask]
-        r_next = r_xy.copy()
-        if n_frames > 1:
-            both = on[:-1] & on[1:]
-            r_next[:-1][both] = r_xy[1:][both]
-        rb_on.append(on)
-        rb_a.append(r_xy)
-        rb_b.append(r_next)
-        dts.append(dt)
-
-        # Pedestrian entries per frame (samples are sorted by frame, then agent).
-        pf = fidx[is_ped]
-        pa = scene.agent[is_ped]
-        pxy = scene.xy[is_ped]
-        fr_counts.append(np.bincount(pf, minlength=n_frames).astype(np.int64))
-        # Position of the same pedestrian at the next frame, if observed there.
-        by_agent = np.lexsort((pf, pa))
-        nxt = pxy.copy()
-        sa, sf = pa[by_agent], pf[by_agent]
-        follows = (sa[1:] == sa[:-1]) & (sf[1:] == sf[:-1] + 1)
-        nxt[by_agent[:-1][follows]] = pxy[by_agent[1:][follows]]
-        e_agent.append(pa.astype(np.int64) + a_off)
-        e_a.append(pxy)
-        e_b.append(nxt)
-
-        # Windows of every pedestrian track.
-        if n_frames > 1:
-            dt_nom = float(np.median(np.diff(t)))
-            horizon = _samples(config.horizon_s, dt_nom)
-            stride = _samples(config.stride_s, dt_nom)
-            m_v = _samples(config.velocity_span_s, dt_nom)
-            m_s = _samples(config.speed_span_s, dt_nom)
-            max_gap = config.max_gap_factor * dt_nom
-            for a in np.flatnonzero(ped):
-                mask = scene.agent == a
-                tf = fidx[mask]
-                txy = scene.xy[mask]
-                tt = t[tf]
-                breaks = np.flatnonzero((np.diff(tf) != 1) | (np.diff(tt) > max_gap)) + 1
-                seg_bounds = list(
-                    zip(
-                        np.concatenate([[0], breaks]).tolist(),
-                        np.concatenate([breaks, [tf.shape[0]]]).tolist(),
-                        strict=True,
-                    )
-                )
-                speed0 = _desired_speed(txy, tt, seg_bounds, m_s, config.speed_quantile)
-                goal = txy[-1]
-                for lo, hi in seg_bounds:
-                    for k in range(lo + m_v, hi - horizon, stride):
-                        v_k = (txy[k] - txy[k - m_v]) / (tt[k] - tt[k - m_v])
-                        if config.min_start_speed_mps > 0.0 and (
-                            math.hypot(v_k[0], v_k[1]) < config.min_start_speed_mps
-                        ):
-                            continue
-                        ks = slice(k + 1, k + horizon + 1)
-                        win["agent"].append(int(a) + a_off)
-                        win["track"].append(int(a) + a_off)
-                        win["scene"].append(si)
-                        win["frame0"].append(int(tf[k]) + g_off)
-                        win["steps"].append(horizon)
-                        win["pos"].append(txy[k])
-                        win["vel"].append(v_k)
-                        win["goal"].append(goal)
-                        win["v0"].append(speed0)
-                        win["obs"].append(txy[ks])
-                        win["tobs"].append(tt[ks] - tt[k])
-                        fr = tf[k : k + horizon + 1]
-                        if robot is not None and np.any(on[fr]):
-                            d = np.linalg.norm(txy[k : k + horizon + 1] - r_xy[fr], axis=1)
-                            win["mind"].append(float(d[on[fr]].min()))
-                        else:
-                            win["mind"].append(math.inf)
-        g_off += n_frames
+        _check_world_frame(scene)
+        clock = _clock(scene)
+        replay = _scene_replay(scene, clock, a_off)
+        replays.append(replay)
+        windows.extend(_scene_windows(scene, si, clock, replay, config, g_off, a_off))
+        g_off += clock.t.shape[0]
         a_off += scene.n_agents
+    return _assemble(config, scenes, windows, replays)
 
-    steps = np.array(win["steps"], dtype=np.int64)
-    v0 = np.array(win["v0"], dtype=np.float64)
-    mind = np.array(win["mind"], dtype=np.float64)
-    counts = np.concatenate(fr_counts) if fr_counts else np.zeros(0, dtype=np.int64)
+
+def _check_world_frame(scene: Trajectories) -> None:
+    if scene.frame_of_reference != "world":
+        raise DatasetError(
+            f"scene {scene.scene!r} is in the robot's moving frame (converted without "
+            "odometry); fitting and ADE need world coordinates"
+        )
+
+
+def _clock(scene: Trajectories) -> _Clock:
+    frames, times = scene.frames()
+    n_frames = frames.shape[0]
+    t = (times - (times[0] if n_frames else 0)).astype(np.float64) * 1e-9
+    dt = np.zeros(n_frames)
+    if n_frames > 1:
+        dt[:-1] = np.diff(t)
+    return _Clock(fidx=np.searchsorted(frames, scene.frame), t=t, dt=dt)
+
+
+def _pedestrians(scene: Trajectories) -> NDArray[np.bool_]:
+    """(A,) True for the scene's pedestrians."""
+    return np.array([k == PEDESTRIAN for k in scene.kinds], dtype=bool)
+
+
+def _scene_replay(scene: Trajectories, clock: _Clock, a_off: int) -> _SceneReplay:
+    """The robot per frame (on, position, position at the next frame when on at both)
+    and the pedestrian entries per frame (position, and at the next frame when the
+    pedestrian is observed there, else the same position)."""
+    n_frames = clock.t.shape[0]
+    fidx = clock.fidx
+    robot = scene.robot_index
+    on = np.zeros(n_frames, dtype=bool)
+    r_xy = np.zeros((n_frames, 2))
+    if robot is not None:
+        rmask = scene.agent == robot
+        on[fidx[rmask]] = True
+        r_xy[fidx[rmask]] = scene.xy[rmask]
+    r_next = r_xy.copy()
+    if n_frames > 1:
+        both = on[:-1] & on[1:]
+        r_next[:-1][both] = r_xy[1:][both]
+
+    # Samples are sorted by frame, then agent.
+    is_ped = _pedestrians(scene)[scene.agent] if scene.n_samples else np.zeros(0, dtype=bool)
+    pf = fidx[is_ped]
+    pa = scene.agent[is_ped]
+    pxy = scene.xy[is_ped]
+    by_agent = np.lexsort((pf, pa))
+    nxt = pxy.copy()
+    sa, sf = pa[by_agent], pf[by_agent]
+    follows = (sa[1:] == sa[:-1]) & (sf[1:] == sf[:-1] + 1)
+    nxt[by_agent[:-1][follows]] = pxy[by_agent[1:][follows]]
+    return _SceneReplay(
+        fr_count=np.bincount(pf, minlength=n_frames).astype(np.int64),
+        e_agent=pa.astype(np.int64) + a_off,
+        e_a=pxy,
+        e_b=nxt,
+        rb_on=on,
+        rb_a=r_xy,
+        rb_b=r_next,
+        dt=clock.dt,
+    )
+
+
+def _scene_windows(
+    scene: Trajectories,
+    si: int,
+    clock: _Clock,
+    replay: _SceneReplay,
+    config: WindowConfig,
+    g_off: int,
+    a_off: int,
+) -> list[_Window]:
+    """The windows of every pedestrian track of one scene (none with fewer than two
+    frames), spans in samples of the scene's median frame interval."""
+    if clock.t.shape[0] <= 1:
+        return []
+    dt_nom = float(np.median(np.diff(clock.t)))
+    cadence = _Cadence(
+        horizon=_samples(config.horizon_s, dt_nom),
+        stride=_samples(config.stride_s, dt_nom),
+        velocity_span=_samples(config.velocity_span_s, dt_nom),
+        speed_span=_samples(config.speed_span_s, dt_nom),
+        max_gap_s=config.max_gap_factor * dt_nom,
+    )
+    windows: list[_Window] = []
+    for a in np.flatnonzero(_pedestrians(scene)):
+        mask = scene.agent == a
+        frames = clock.fidx[mask]
+        track = _Track(
+            agent=int(a) + a_off,
+            scene=si,
+            frame_offset=g_off,
+            frames=frames,
+            xy=scene.xy[mask],
+            t=clock.t[frames],
+        )
+        windows.extend(_track_windows(track, replay, cadence, config))
+    return windows
+
+
+def _track_segments(tf: IntArray, tt: FloatArray, max_gap_s: float) -> list[tuple[int, int]]:
+    """[lo, hi) sample ranges of a track between breaks: a missing frame or an interval
+    longer than ``max_gap_s``."""
+    breaks = np.flatnonzero((np.diff(tf) != 1) | (np.diff(tt) > max_gap_s)) + 1
+    return list(
+        zip(
+            np.concatenate([[0], breaks]).tolist(),
+            np.concatenate([breaks, [tf.shape[0]]]).tolist(),
+            strict=True,
+        )
+    )
+
+
+def _track_windows(
+    track: _Track, replay: _SceneReplay, cadence: _Cadence, config: WindowConfig
+) -> list[_Window]:
+    """The windows of one track: every ``stride`` samples of each segment, with the
+    velocity span before the start and the horizon after it inside the segment, and a
+    start speed of at least ``config.min_start_speed_mps``."""
+    tf, txy, tt = track.frames, track.xy, track.t
+    segments = _track_segments(tf, tt, cadence.max_gap_s)
+    speed0 = _desired_speed(txy, tt, segments, cadence.speed_span, config.speed_quantile)
+    goal = txy[-1]
+    horizon = cadence.horizon
+    m_v = cadence.velocity_span
+    min_speed = config.min_start_speed_mps
+    windows: list[_Window] = []
+    for lo, hi in segments:
+        for k in range(lo + m_v, hi - horizon, cadence.stride):
+            v_k = (txy[k] - txy[k - m_v]) / (tt[k] - tt[k - m_v])
+            if min_speed > 0.0 and math.hypot(v_k[0], v_k[1]) < min_speed:
+                continue
+            ks = slice(k + 1, k + horizon + 1)
+            span = slice(k, k + horizon + 1)
+            windows.append(
+                _Window(
+                    agent=track.agent,
+                    scene=track.scene,
+                    frame0=int(tf[k]) + track.frame_offset,
+                    steps=horizon,
+                    pos=txy[k],
+                    vel=v_k,
+                    goal=goal,
+                    v0=speed0,
+                    min_robot_distance=_min_robot_distance(txy[span], tf[span], replay),
+                    observed=txy[ks],
+                    step_time=tt[ks] - tt[k],
+                )
+            )
+    return windows
+
+
+def _min_robot_distance(xy: FloatArray, fr: IntArray, replay: _SceneReplay) -> float:
+    """The closest centre distance (m) of the positions ``xy`` at frames ``fr`` to the
+    robot at the frames it is on; inf when it is on at none (or there is no robot)."""
+    on = replay.rb_on[fr]
+    if not np.any(on):
+        return math.inf
+    d = np.linalg.norm(xy - replay.rb_a[fr], axis=1)
+    return float(d[on].min())
+
+
+def _assemble(
+    config: WindowConfig,
+    scenes: Sequence[Trajectories],
+    windows: list[_Window],
+    replays: list[_SceneReplay],
+) -> Windows:
+    """The :class:`Windows` of the windows and the replay data of every scene, in order."""
+    steps = np.array([w.steps for w in windows], dtype=np.int64)
+    v0 = np.array([w.v0 for w in windows], dtype=np.float64)
+    mind = np.array([w.min_robot_distance for w in windows], dtype=np.float64)
+    counts = (
+        np.concatenate([r.fr_count for r in replays]) if replays else np.zeros(0, dtype=np.int64)
+    )
+    agent = np.array([w.agent for w in windows], dtype=np.int64)
     return Windows(
         config=config,
         scene_names=tuple(s.scene for s in scenes),
-        agent=np.array(win["agent"], dtype=np.int64),
-        track=np.array(win["track"], dtype=np.int64),
-        scene=np.array(win["scene"], dtype=np.int64),
-        frame0=np.array(win["frame0"], dtype=np.int64),
+        agent=agent,
+        track=agent.copy(),
+        scene=np.array([w.scene for w in windows], dtype=np.int64),
+        frame0=np.array([w.frame0 for w in windows], dtype=np.int64),
         steps=steps,
         out_row=(np.cumsum(steps) - steps).astype(np.int64),
-        pos=_rows(win["pos"]),
-        vel=_rows(win["vel"]),
-        goal=_rows(win["goal"]),
+        pos=_rows([w.pos for w in windows]),
+        vel=_rows([w.vel for w in windows]),
+        goal=_rows([w.goal for w in windows]),
         v0=v0,
         vmax=VMAX_FACTOR * v0,
         min_robot_distance=mind,
         interaction=mind <= config.interaction_radius_m,
-        observed=_rows(win["obs"]),
-        step_time=np.array(
-            [x for block in win["tobs"] for x in np.asarray(block).ravel()], dtype=np.float64
-        ),
+        observed=_rows([w.observed for w in windows]),
+        step_time=np.concatenate([w.step_time for w in windows]) if windows else np.zeros(0),
         fr_off=np.concatenate([[0], np.cumsum(counts)]).astype(np.int64),
-        e_agent=np.concatenate(e_agent).astype(np.int64) if e_agent else np.zeros(0, np.int64),
-        e_a=_rows(e_a),
-        e_b=_rows(e_b),
-        rb_on=np.concatenate(rb_on) if rb_on else np.zeros(0, dtype=bool),
-        rb_a=_rows(rb_a),
-        rb_b=_rows(rb_b),
-        dt=np.concatenate(dts) if dts else np.zeros(0),
+        e_agent=(
+            np.concatenate([r.e_agent for r in replays]).astype(np.int64)
+            if replays
+            else np.zeros(0, np.int64)
+        ),
+        e_a=_rows([r.e_a for r in replays]),
+        e_b=_rows([r.e_b for r in replays]),
+        rb_on=np.concatenate([r.rb_on for r in replays]) if replays else np.zeros(0, dtype=bool),
+        rb_a=_rows([r.rb_a for r in replays]),
+        rb_b=_rows([r.rb_b for r in replays]),
+        dt=np.concatenate([r.dt for r in replays]) if replays else np.zeros(0),
     )
 
 

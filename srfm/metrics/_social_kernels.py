@@ -1,7 +1,7 @@
 """numba kernels of the social metrics: time to collision, near misses, the robot force
 each pedestrian feels, and pedestrians brought to a stop.
 
-Plain module-level functions over C-contiguous float64 arrays (DESIGN §11): no
+Plain module-level functions over C-contiguous float64 arrays (docs/design.md): no
 objects, no allocation inside the loops, no raising. Shapes: ``pos`` (T + 1, N, 2)
 pedestrian positions, ``robot_xy`` (T + 1, 2), ``radius`` (N,). Velocities are the
 displacement of the step that ended at a sample divided by dt (0 at sample 0): what
@@ -133,7 +133,7 @@ def force_exposure(
     """The magnitude of the SRFM robot term on each factual pedestrian at every step.
 
     For every sample k = 0..T − 1 (the state a step starts from) and pedestrian i:
-    |f_robot| = A_r exp((r_i + r_r − d) / B_r) ψ(φ; λ_r) (DESIGN §4, the model's own
+    |f_robot| = A_r exp((r_i + r_r − d) / B_r) ψ(φ; λ_r) (docs/model.md, the model's own
     primitive :func:`srfm.models._primitives.disc_repulsion`), with the heading the
     direction of the step velocity, else of the goal, else none (ψ = 1); into
     ``magnitude[k, i]`` ((T, N)). ``work[i]`` gets Σ_k |f_k| |x_(k+1) − x_k|, the force

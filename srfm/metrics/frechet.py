@@ -35,7 +35,7 @@ def frechet_distance(p: ArrayLike, q: ArrayLike) -> float:
     The smallest, over all monotone couplings of the points of ``p`` and ``q`` (both
     walks start together, end together and never step back), of the largest Euclidean
     distance between coupled points. Computed with the Eiter–Mannila recurrence
-    (DESIGN §7) in numba with two rows of memory, O(min(n, m)), and pruning that keeps
+    (docs/metrics.md) in numba with two rows of memory, O(min(n, m)), and pruning that keeps
     the result exact (see ``srfm.metrics._kernels``).
 
     Args:

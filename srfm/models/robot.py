@@ -61,7 +61,8 @@ def _kinematics(inst: Any, attribute: attrs.Attribute[str], value: Any) -> None:
 
 @attrs.frozen(kw_only=True)
 class RobotConfig:
-    """Robot body and limits (DESIGN §8: v ∈ [−0.5, 0.5] m/s, ω ∈ [−π, π] rad/s).
+    """Robot body and limits (docs/model.md, "The robot"; the paper's v ∈ [−0.5, 0.5] m/s,
+    ω ∈ [−π, π] rad/s).
 
     Attributes:
         kinematics: ``"unicycle"`` (v, ω) or ``"holonomic"`` (vx, vy).

@@ -1,8 +1,9 @@
 """numba kernels of the social-force robot (:mod:`srfm.planners.social_force`), whose
 step is one call of :func:`social_force_command` (arrays, frames and parameter tuples
-as in :mod:`srfm.planners._geometry`). The force terms use the SRFM crowd's own
-primitives (:mod:`srfm.models._primitives`): the capped exponential of a repulsion,
-the anisotropy ψ and the closest point of a wall.
+as in :mod:`srfm.planners._geometry`). The force terms are the SRFM crowd's own
+primitives (:mod:`srfm.models._primitives`): the desired velocity, the pedestrian push
+:func:`~srfm.models._primitives.disc_repulsion` (the same function the crowd step calls
+for a pedestrian on a pedestrian) and the capped exponential of a wall's repulsion.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numba import njit
 
-from srfm.models._primitives import anisotropy, capped_exp
+from srfm.models._primitives import TRUE, capped_exp, desired_velocity, disc_repulsion
 from srfm.planners._geometry import (
     EPS,
     CommonParams,
@@ -74,14 +75,8 @@ def social_force_velocity(
     angle between the robot's heading θ and the direction to the pedestrian. Returns
     v + F dt capped at v_max.
     """
-    vdes = params.desired_speed_mps
     radius = common.radius_m
-    dx = gx - x
-    dy = gy - y
-    dist = math.sqrt(dx * dx + dy * dy)
-    if dist > vdes:
-        dx *= vdes / dist
-        dy *= vdes / dist
+    dx, dy = desired_velocity(x, y, gx, gy, params.desired_speed_mps)
     tau = params.tau_s
     fx = (dx - vx) / tau
     fy = (dy - vy) / tau
@@ -91,18 +86,14 @@ def social_force_velocity(
     hx = math.cos(theta)
     hy = math.sin(theta)
     for j in range(ped_pos.shape[0]):
-        ex = x - ped_pos[j, 0]
-        ey = y - ped_pos[j, 1]
-        d = math.sqrt(ex * ex + ey * ey)
-        if d < EPS:
-            continue
-        nx = ex / d
-        ny = ey / d
-        # φ is the angle between the heading and −n, the direction to the pedestrian.
-        psi = anisotropy(hx, hy, True, -nx, -ny, lam)
-        mag = a * capped_exp((radius + ped_radius[j] - d) / b) * psi
-        fx += mag * nx
-        fy += mag * ny
+        # A pedestrian closer than EPS pushes (0.0, 0.0) instead of being skipped: that
+        # can only turn a −0.0 sum into +0.0, and a sum is −0.0 only while it is the
+        # goal term with vx = +0.0 (−0.0 − +0.0), where ux = vx + fx·dt is +0.0 either way.
+        px, py = disc_repulsion(
+            x, y, ped_pos[j, 0], ped_pos[j, 1], radius + ped_radius[j], a, b, hx, hy, TRUE, lam
+        )
+        fx += px
+        fy += py
     a_o = params.obstacle_strength_mps2
     b_o = params.obstacle_range_m
     for k in range(segments.shape[0] + circles.shape[0]):

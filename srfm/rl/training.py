@@ -6,7 +6,7 @@ Needs the ``rl`` extra (gymnasium, stable-baselines3, torch), imported lazily; t
 by SB3's maintainers, same API) also the ``sbx`` extra. SB3 + torch is the reference
 of the paper's set-up. The command line front ends are ``srfm train`` and
 ``srfm export-policy``; the defaults are the paper's TD3 set-up
-(DESIGN §8): learning rate 1e-4, replay buffer 1e6, [256, 256] networks, batch 256,
+(docs/rl.md, "Training"): learning rate 1e-4, replay buffer 1e6, [256, 256] networks, batch 256,
 10,000 random warm-up steps, 5 gradient steps every 5 environment steps, τ = 0.005,
 γ = 0.99, policy delay 2, target noise 0.2 clipped at 0.5, Gaussian exploration
 noise σ = 0.3, up to 2e6 steps.
@@ -29,6 +29,7 @@ loads with NumPy only (:mod:`srfm.planners.td3`).
 
 from __future__ import annotations
 
+import functools
 import importlib.util
 import json
 import operator
@@ -59,6 +60,8 @@ __all__ = [
 ]
 
 EVAL_SEED_BASE: Final = 10_000
+# Steps between updates of the k2 curriculum and between progress reports.
+SCHEDULE_EVERY: Final = 100
 # Training libraries: stable-baselines3 (torch; the paper's reference) and SBX (JAX).
 BACKENDS: Final = ("sb3", "sbx")
 
@@ -118,7 +121,7 @@ def _families(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
 
 @attrs.frozen(kw_only=True)
 class TrainConfig:
-    """TD3 hyperparameters and the run's schedule (defaults: the paper, DESIGN §8).
+    """TD3 hyperparameters and the run's schedule (defaults: the paper, docs/rl.md).
 
     Attributes:
         total_steps: environment steps to train in total (paper: up to 2e6).
@@ -356,6 +359,12 @@ def train(
 ) -> TrainResult:
     """Train a TD3 policy on ``srfm/SocialNav-v0``; see the module docstring.
 
+    The shape of stable-baselines3's ``learn``: the set-up (libraries, run directory,
+    environments, the model new or resumed, ``config.json``), then the library's
+    ``learn`` with srfm's callbacks (:mod:`srfm.rl._callbacks`: the k2 curriculum,
+    progress, checkpoints, evaluations, in that order at a step), then the end of the
+    run (the last checkpoint, and an evaluation when there is no best yet).
+
     Args:
         config: hyperparameters and schedule.
         run_dir: where checkpoints and logs go (created).
@@ -370,6 +379,80 @@ def train(
         MissingDependencyError: the ``rl`` extra is not installed.
         SrfmError: a bad resume file or run directory.
     """
+    lib = _load_libraries(config)
+    from stable_baselines3.common.callbacks import CallbackList
+
+    from srfm.rl._callbacks import EveryNSteps, K2Curriculum
+
+    say = log or _silent
+    resume = None if resume is None else Path(resume)
+    run = _make_run_dir(run_dir)
+    env_config = _env_config(config)
+    vec_env = _vec_env(config, env_config, run)
+    state = _read_json(run / "state.json")
+    previous_wall = float(state.get("wall_time_s", 0.0)) if resume is not None else 0.0
+    if resume is not None:
+        model = _resume_model(lib, config, resume, vec_env, say)
+    else:
+        model = _new_model(lib, config, vec_env)
+    _configure_model(model, env_config, run)
+    _write_run_config(run, config, env_config, command, resume)
+
+    session = _Session(
+        config=config,
+        env_config=env_config,
+        run=run,
+        model=model,
+        say=say,
+        previous_wall_s=previous_wall,
+    )
+    if resume is not None:
+        session.best = _best_so_far(run / "eval.jsonl")
+    callback = CallbackList(
+        [
+            K2Curriculum(SCHEDULE_EVERY, functools.partial(k2_schedule, config)),
+            EveryNSteps(SCHEDULE_EVERY, progress or _ignore),
+            EveryNSteps(config.checkpoint_every, session.save),
+            EveryNSteps(config.eval_every, session.evaluate),
+        ]
+    )
+    remaining = config.total_steps - int(model.num_timesteps)
+    if remaining > 0:
+        model.learn(
+            total_timesteps=remaining,
+            callback=callback,
+            reset_num_timesteps=resume is None,
+            progress_bar=False,
+        )
+
+    steps = int(model.num_timesteps)
+    if progress is not None:
+        progress(steps)
+    session.save(steps, final=True)
+    if config.eval_every and session.best is None:
+        session.evaluate(steps)
+    vec_env.close()
+    session_wall = time.perf_counter() - session.start
+    return TrainResult(
+        run_dir=run,
+        steps=steps,
+        wall_time_s=session.wall(),
+        session_wall_time_s=session_wall,
+        best_eval=session.best,
+    )
+
+
+def _silent(message: str) -> None:
+    """A log that drops its messages."""
+
+
+def _ignore(steps: int) -> None:
+    """A progress report that reports nothing."""
+
+
+def _load_libraries(config: TrainConfig) -> Any:
+    """Import the rl extra (and the sbx one for ``backend="sbx"``) with one learner
+    thread when ``config.torch_threads`` is 1; the TD3 library's module (sb3 or sbx)."""
     from srfm._deps import require
 
     if (
@@ -387,21 +470,20 @@ def train(
     require("stable_baselines3")
     torch = require("torch")
     lib = _require_sbx() if config.backend == "sbx" else require("stable_baselines3")
-    from stable_baselines3.common.callbacks import BaseCallback
-    from stable_baselines3.common.logger import configure
-    from stable_baselines3.common.monitor import Monitor
-    from stable_baselines3.common.noise import NormalActionNoise
-    from stable_baselines3.common.vec_env import DummyVecEnv
+    torch.set_num_threads(config.torch_threads)
+    return lib
 
-    from srfm.planners.td3 import NumpyActor, PolicyPlanner, checkpoint_backend
-    from srfm.rl import EnvConfig, SocialNavEnv
-    from srfm.scenarios import EVALUATION_SCENARIOS
 
-    say = log or (lambda message: None)
+def _make_run_dir(run_dir: str | Path) -> Path:
     run = Path(run_dir)
     run.mkdir(parents=True, exist_ok=True)
     (run / "checkpoints").mkdir(exist_ok=True)
-    torch.set_num_threads(config.torch_threads)
+    return run
+
+
+def _env_config(config: TrainConfig) -> Any:
+    """The environment's EnvConfig of ``config``, with the scenario's robot kinematics."""
+    from srfm.rl import EnvConfig, SocialNavEnv
 
     env_config = EnvConfig(
         k1=config.k_dist,
@@ -414,11 +496,18 @@ def train(
         action_repeat=config.action_repeat,
     )
     probe = SocialNavEnv(config.scenario, env_config, family_weights=config.family_weights)
-    env_config = env_config.replace(kinematics=probe.scenario.robot.kinematics)
-    saved_env_config = attrs.asdict(env_config)
+    return env_config.replace(kinematics=probe.scenario.robot.kinematics)
+
+
+def _vec_env(config: TrainConfig, env_config: Any, run: Path) -> Any:
+    """``config.n_envs`` monitored environments in a ``DummyVecEnv`` (SB3 seeds
+    environment i with seed + i); monitor.csv for the first, <i>.monitor.csv after."""
+    from stable_baselines3.common.monitor import Monitor
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    from srfm.rl import SocialNavEnv
 
     def make_env(i: int) -> Callable[[], Any]:
-        # monitor.csv for the first environment (as with one), <i>.monitor.csv after.
         name = "monitor.csv" if i == 0 else f"{i}.monitor.csv"
 
         def make() -> Any:
@@ -427,73 +516,95 @@ def train(
 
         return make
 
-    # SB3 seeds environment i with seed + i.
-    vec_env = DummyVecEnv([make_env(i) for i in range(config.n_envs)])
-    state_path = run / "state.json"
-    state = _read_json(state_path)
-    previous_wall = float(state.get("wall_time_s", 0.0)) if resume is not None else 0.0
+    return DummyVecEnv([make_env(i) for i in range(config.n_envs)])
 
-    if resume is not None:
-        resume = Path(resume)
-        if not resume.is_file():
-            raise SrfmError(f"checkpoint {str(resume)!r} does not exist")
-        written_by = checkpoint_backend(resume)
-        if written_by != config.backend:
-            raise SrfmError(
-                f"checkpoint {str(resume)!r} was written by the {written_by} backend; "
-                f"resume it with backend {written_by!r}, not {config.backend!r}"
-            )
-        model = lib.TD3.load(resume, env=vec_env, device="cpu")
-        buffer = resume.with_name(resume.stem + "_replay_buffer.pkl")
-        if buffer.is_file():
-            model.load_replay_buffer(buffer)
-            say(f"resumed from {resume} at step {model.num_timesteps} with its replay buffer")
-        else:
-            say(f"resumed from {resume} at step {model.num_timesteps} (empty replay buffer)")
-        # The checkpoints of this run record its seed, not that of the run it started
-        # from (a run may start from another run's checkpoint: tools/rl/train_policies.sh).
-        model.seed = config.seed
-        # Fresh, deterministic random streams for the continuation (networks'
-        # sampling, exploration noise, episodes); the saved states are not restored.
-        model.set_random_seed(config.seed + int(model.num_timesteps))
-        vec_env.seed(config.seed + int(model.num_timesteps))
-        reset = False
-    else:
-        n_actions = 2
-        model = lib.TD3(
-            "MlpPolicy",
-            vec_env,
-            learning_rate=config.learning_rate,
-            buffer_size=config.buffer_size,
-            learning_starts=config.learning_starts,
-            batch_size=config.batch_size,
-            tau=config.tau,
-            gamma=config.gamma,
-            train_freq=(config.train_freq, "step"),
-            gradient_steps=config.gradient_steps,
-            action_noise=NormalActionNoise(
-                np.zeros(n_actions), config.action_noise_sigma * np.ones(n_actions)
-            ),
-            policy_delay=config.policy_delay,
-            target_policy_noise=config.target_policy_noise,
-            target_noise_clip=config.target_noise_clip,
-            policy_kwargs={"net_arch": list(config.net_arch)},
-            seed=config.seed,
-            device="cpu",
-            verbose=0,
+
+def _new_model(lib: Any, config: TrainConfig, vec_env: Any) -> Any:
+    from stable_baselines3.common.noise import NormalActionNoise
+
+    n_actions = 2
+    return lib.TD3(
+        "MlpPolicy",
+        vec_env,
+        learning_rate=config.learning_rate,
+        buffer_size=config.buffer_size,
+        learning_starts=config.learning_starts,
+        batch_size=config.batch_size,
+        tau=config.tau,
+        gamma=config.gamma,
+        train_freq=(config.train_freq, "step"),
+        gradient_steps=config.gradient_steps,
+        action_noise=NormalActionNoise(
+            np.zeros(n_actions), config.action_noise_sigma * np.ones(n_actions)
+        ),
+        policy_delay=config.policy_delay,
+        target_policy_noise=config.target_policy_noise,
+        target_noise_clip=config.target_noise_clip,
+        policy_kwargs={"net_arch": list(config.net_arch)},
+        seed=config.seed,
+        device="cpu",
+        verbose=0,
+    )
+
+
+def _resume_model(
+    lib: Any, config: TrainConfig, resume: Path, vec_env: Any, say: Callable[[str], None]
+) -> Any:
+    """The model of checkpoint ``resume`` (with its replay buffer when one lies beside
+    it), carrying this run's seed and fresh random streams."""
+    from srfm.planners.td3 import checkpoint_backend
+
+    if not resume.is_file():
+        raise SrfmError(f"checkpoint {str(resume)!r} does not exist")
+    written_by = checkpoint_backend(resume)
+    if written_by != config.backend:
+        raise SrfmError(
+            f"checkpoint {str(resume)!r} was written by the {written_by} backend; "
+            f"resume it with backend {written_by!r}, not {config.backend!r}"
         )
-        reset = True
-    model.srfm_env_config = saved_env_config
+    model = lib.TD3.load(resume, env=vec_env, device="cpu")
+    buffer = resume.with_name(resume.stem + "_replay_buffer.pkl")
+    if buffer.is_file():
+        model.load_replay_buffer(buffer)
+        say(f"resumed from {resume} at step {model.num_timesteps} with its replay buffer")
+    else:
+        say(f"resumed from {resume} at step {model.num_timesteps} (empty replay buffer)")
+    # The checkpoints of this run record its seed, not that of the run it started
+    # from (a run may start from another run's checkpoint: tools/rl/train_policies.sh).
+    model.seed = config.seed
+    # Fresh, deterministic random streams for the continuation (networks'
+    # sampling, exploration noise, episodes); the saved states are not restored.
+    model.set_random_seed(config.seed + int(model.num_timesteps))
+    vec_env.seed(config.seed + int(model.num_timesteps))
+    return model
+
+
+def _configure_model(model: Any, env_config: Any, run: Path) -> None:
+    """Record the EnvConfig in the model (its checkpoints carry it) and log to run/logs
+    (CSV, and TensorBoard when it is installed)."""
+    from stable_baselines3.common.logger import configure
+
+    model.srfm_env_config = attrs.asdict(env_config)
     formats = ["csv"]
     if importlib.util.find_spec("tensorboard") is not None:
         formats.append("tensorboard")
     model.set_logger(configure(str(run / "logs"), formats))
 
+
+def _write_run_config(
+    run: Path,
+    config: TrainConfig,
+    env_config: Any,
+    command: str | None,
+    resume: Path | None,
+) -> None:
+    """config.json (config_resume.json for a resumed session): the TrainConfig, the
+    EnvConfig, versions, the command and the checkpoint resumed from."""
     meta = {
         "train_config": {
             k: list(v) if isinstance(v, tuple) else v for k, v in attrs.asdict(config).items()
         },
-        "env_config": saved_env_config,
+        "env_config": attrs.asdict(env_config),
         "versions": _versions(),
         "command": command,
         "resumed_from": None if resume is None else str(resume),
@@ -502,109 +613,77 @@ def train(
         json.dumps(meta, indent=2, sort_keys=True) + "\n"
     )
 
-    start = time.perf_counter()
-    best: list[EvalResult | None] = [None]
-    if resume is not None:
-        best[0] = _best_so_far(run / "eval.jsonl")
-    eval_seeds = list(range(EVAL_SEED_BASE, EVAL_SEED_BASE + config.eval_seeds))
 
-    def wall() -> float:
-        return previous_wall + time.perf_counter() - start
+@attrs.define
+class _Session:
+    """One call of :func:`train` as its callbacks act on it: the model, the run
+    directory, the wall clock and the best evaluation so far."""
 
-    def save(steps: int, final: bool = False) -> None:
-        checkpoint = run / "checkpoints" / f"step_{steps:09d}.zip"
+    config: TrainConfig
+    env_config: Any
+    run: Path
+    model: Any
+    say: Callable[[str], None]
+    previous_wall_s: float
+    start: float = attrs.field(factory=time.perf_counter)
+    best: EvalResult | None = None
+
+    def wall(self) -> float:
+        """Seconds of training of the run so far, earlier sessions included."""
+        return self.previous_wall_s + time.perf_counter() - self.start
+
+    def save(self, steps: int, final: bool = False) -> None:
+        """Checkpoint step ``steps``: checkpoints/step_N.zip, latest.zip (with its replay
+        buffer) and state.json."""
+        checkpoint = self.run / "checkpoints" / f"step_{steps:09d}.zip"
         # A checkpoint is taken when step N is collected, before that rollout's
         # gradient steps; at the end of a run that already has one for N, keep it, so
         # that step_N.zip is the same whether a run stopped at N or went on.
         if not (final and checkpoint.exists()):
-            model.save(checkpoint)
-        model.save(run / "latest.zip")
-        if config.save_replay_buffer:
-            model.save_replay_buffer(run / "latest_replay_buffer.pkl")
-        state_path.write_text(json.dumps({"steps": steps, "wall_time_s": wall()}, indent=2) + "\n")
-        say(f"step {steps}: checkpoint saved ({wall():.0f} s of training so far)")
+            self.model.save(checkpoint)
+        self.model.save(self.run / "latest.zip")
+        if self.config.save_replay_buffer:
+            self.model.save_replay_buffer(self.run / "latest_replay_buffer.pkl")
+        state = {"steps": steps, "wall_time_s": self.wall()}
+        (self.run / "state.json").write_text(json.dumps(state, indent=2) + "\n")
+        self.say(f"step {steps}: checkpoint saved ({self.wall():.0f} s of training so far)")
 
-    def current_actor() -> NumpyActor:
-        if config.backend == "sbx":
-            return NumpyActor.from_sbx(model.policy.actor_state.params)
-        return NumpyActor.from_sb3(model.actor)
+    def evaluate(self, steps: int) -> None:
+        """Evaluate the current policy (a line of eval.jsonl); best.zip when it is the
+        best eligible one."""
+        from srfm.planners.td3 import PolicyPlanner
+        from srfm.scenarios import EVALUATION_SCENARIOS
 
-    def evaluate(steps: int) -> None:
-        actor = current_actor()
+        actor = self._actor()
+        eval_seeds = list(range(EVAL_SEED_BASE, EVAL_SEED_BASE + self.config.eval_seeds))
         result = evaluate_planner(
-            lambda: PolicyPlanner(actor, env_config, "policy"),
+            lambda: PolicyPlanner(actor, self.env_config, "policy"),
             EVALUATION_SCENARIOS,
             eval_seeds,
             steps,
         )
         # Only a policy trained with the final k2 can be the run's best (the k2
         # curriculum's early checkpoints are policies of another reward).
-        eligible = k2_schedule(config, steps) == config.k_div
-        row = {**attrs.asdict(result), "wall_time_s": wall(), "k2": k2_schedule(config, steps)}
-        with (run / "eval.jsonl").open("a") as fh:
+        k2 = k2_schedule(self.config, steps)
+        eligible = k2 == self.config.k_div
+        row = {**attrs.asdict(result), "wall_time_s": self.wall(), "k2": k2}
+        with (self.run / "eval.jsonl").open("a") as fh:
             fh.write(json.dumps({**row, "eligible": eligible}) + "\n")
-        if eligible and result.better_than(best[0]):
-            best[0] = result
-            model.save(run / "best.zip")
-        say(
+        if eligible and result.better_than(self.best):
+            self.best = result
+            self.model.save(self.run / "best.zip")
+        self.say(
             f"step {steps}: eval success {result.success_rate:.2f}, collisions "
             f"{result.collision_rate:.2f}, timeouts {result.timeout_rate:.2f}, mean "
             f"deviation {result.mean_deviation_m:.3f} m"
         )
 
-    def crossed(before: int, now: int, every: int) -> bool:
-        # With n_envs environments the step count moves by n_envs per call: act when
-        # it reaches or passes a multiple of ``every`` (with one: when it equals one).
-        return every > 0 and now // every > before // every
+    def _actor(self) -> Any:
+        from srfm.planners.td3 import NumpyActor
 
-    class _Callback(BaseCallback):
-        def _on_training_start(self) -> None:
-            self._before = int(self.num_timesteps)
-            self._k2 = -1.0
-            self._set_k2(self._before)
-
-        def _set_k2(self, steps: int) -> None:
-            k2 = k2_schedule(config, steps)
-            if k2 != self._k2:
-                vec_env.env_method("set_k2", k2)
-                self._k2 = k2
-
-        def _on_step(self) -> bool:
-            steps = int(self.num_timesteps)
-            before, self._before = self._before, steps
-            if crossed(before, steps, 100):
-                self._set_k2(steps)
-            if progress is not None and crossed(before, steps, 100):
-                progress(steps)
-            if crossed(before, steps, config.checkpoint_every):
-                save(steps)
-            if crossed(before, steps, config.eval_every):
-                evaluate(steps)
-            return True
-
-    remaining = config.total_steps - int(model.num_timesteps)
-    if remaining > 0:
-        model.learn(
-            total_timesteps=remaining,
-            callback=_Callback(),
-            reset_num_timesteps=reset,
-            progress_bar=False,
-        )
-    steps = int(model.num_timesteps)
-    if progress is not None:
-        progress(steps)
-    save(steps, final=True)
-    if config.eval_every and best[0] is None:
-        evaluate(steps)
-    vec_env.close()
-    session = time.perf_counter() - start
-    return TrainResult(
-        run_dir=run,
-        steps=steps,
-        wall_time_s=wall(),
-        session_wall_time_s=session,
-        best_eval=best[0],
-    )
+        if self.config.backend == "sbx":
+            return NumpyActor.from_sbx(self.model.policy.actor_state.params)
+        return NumpyActor.from_sb3(self.model.actor)
 
 
 # TD3 attributes copied from a checkpoint's JSON into an exported policy's metadata.

@@ -123,7 +123,7 @@ class WorldBounds:
 
 @attrs.frozen(kw_only=True)
 class RandomSpec:
-    """Constraints of the random (training) scenario generator (DESIGN §6)."""
+    """Constraints of the random (training) scenario generator (docs/scenarios.md)."""
 
     count: int = 10
     margin_m: float = 0.5

@@ -1,4 +1,4 @@
-"""The exact discrete Fréchet distance: known value, reference, DESIGN §7 properties."""
+"""The exact discrete Fréchet distance: known value, reference, docs/metrics.md's properties."""
 
 from __future__ import annotations
 

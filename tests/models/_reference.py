@@ -1,6 +1,6 @@
 """Plain-NumPy reference of the SRFM forces and crowd step, and hypothesis strategies.
 
-The reference is written from the model equations of DESIGN.md §4, independently of
+The reference is written from the model equations of docs/model.md, independently of
 ``srfm.models._kernels``: it is vectorised over all (agent, source) pairs instead of
 looping, and it is only ever used by the tests. For pedestrian i (unit mass):
 
@@ -90,7 +90,7 @@ def _unit(v: FloatArray, length: FloatArray, valid: FloatArray) -> FloatArray:
 
 
 def desired_velocity(pos: FloatArray, goal: FloatArray, v0: FloatArray) -> FloatArray:
-    """(g − x) shortened to length v0 when it is longer (DESIGN §4, the goal force)."""
+    """(g − x) shortened to length v0 when it is longer (docs/model.md, the goal force)."""
     to_goal = goal - pos
     dist = _norm(to_goal)
     far = dist > v0

@@ -67,7 +67,6 @@ regular file of at most 16 MiB; a UTF-8 byte-order mark is accepted.
 
 from __future__ import annotations
 
-import math
 import re
 from collections.abc import Mapping
 from pathlib import Path
@@ -78,12 +77,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm._io import MAX_TOML_BYTES, read_input_text
-from srfm._validate import BOUNDS, MAX_NAME_LENGTH
+from srfm._validate import MAX_NAME_LENGTH
 from srfm.errors import ScenarioError, SrfmError
 from srfm.models.forces import MAX_DT_S
 from srfm.models.robot import KINEMATICS, RobotConfig
 from srfm.models.state import MAX_RADIUS_M, MAX_SPEED_MPS, Obstacles
 from srfm.scenarios import _v2
+from srfm.scenarios._reader import TableReader
+from srfm.world import WorldBounds
 
 SCHEMA_VERSION: Final = 2
 SCHEMA_VERSIONS: Final = (1, 2)
@@ -105,20 +106,6 @@ _V2_PEDESTRIAN_KEYS: Final = (
 _NAME_RE: Final = re.compile(r"[a-z0-9][a-z0-9_-]*")  # used with fullmatch
 
 FloatArray = NDArray[np.float64]
-
-
-@attrs.frozen(kw_only=True)
-class WorldBounds:
-    """Axis-aligned world rectangle (m)."""
-
-    x_min: float = 0.0
-    x_max: float = 15.0
-    y_min: float = 0.0
-    y_max: float = 15.0
-
-    def contains(self, x: float, y: float) -> bool:
-        """True when (x, y) lies inside the rectangle (edges included)."""
-        return self.x_min <= x <= self.x_max and self.y_min <= y <= self.y_max
 
 
 @attrs.frozen(kw_only=True)
@@ -200,169 +187,9 @@ class Scenario:
         return int(self.ped_starts.shape[0])
 
 
-class _Reader:
-    """Typed access to one TOML table, recording which keys were read."""
-
-    def __init__(self, data: Mapping[str, Any], where: str, file: str) -> None:
-        self.data = data
-        self.where = where
-        self.file = file
-        self.used: set[str] = set()
-
-    def key(self, name: str) -> str:
-        return f"{self.where}.{name}" if self.where else name
-
-    def fail(self, name: str, message: str) -> ScenarioError:
-        return ScenarioError(f"{self.file}: {self.key(name)}: {message}")
-
-    def has(self, name: str) -> bool:
-        return name in self.data
-
-    def raw(self, name: str) -> Any:
-        self.used.add(name)
-        return self.data[name]
-
-    def table(self, name: str) -> _Reader:
-        value = self.raw(name) if name in self.data else {}
-        if not isinstance(value, dict):
-            raise self.fail(name, f"must be a table, got {value!r}")
-        return _Reader(value, self.key(name), self.file)
-
-    def string(self, name: str, default: str | None = None) -> str:
-        if name not in self.data:
-            if default is None:
-                raise self.fail(name, "is required")
-            return default
-        value = self.raw(name)
-        if not isinstance(value, str):
-            raise self.fail(name, f"must be a string, got {value!r}")
-        return value
-
-    def number(
-        self,
-        name: str,
-        default: float | None = None,
-        *,
-        minimum: float | None = None,
-        strict: bool = False,
-        maximum: float | None = None,
-        kind: str | None = None,
-    ) -> float:
-        """A finite number; ``kind`` applies the physical bounds of
-        :data:`srfm._validate.BOUNDS` (``minimum`` and ``maximum`` may only narrow them)."""
-        if kind is not None:
-            lo, hi, _ = BOUNDS[kind]
-            minimum = lo if minimum is None else max(minimum, lo)
-            maximum = hi if maximum is None else min(maximum, hi)
-        if name not in self.data:
-            if default is None:
-                raise self.fail(name, "is required")
-            return default
-        value = self.raw(name)
-        if isinstance(value, bool) or not isinstance(value, int | float):
-            raise self.fail(name, f"must be a number, got {value!r}")
-        out = float(value)
-        if not math.isfinite(out):
-            raise self.fail(name, f"must be finite, got {value!r}")
-        if minimum is not None and (out <= minimum if strict else out < minimum):
-            raise self.fail(name, f"must be {'>' if strict else '>='} {minimum:g}, got {value!r}")
-        if maximum is not None and out > maximum:
-            raise self.fail(name, f"must be <= {maximum:g}, got {value!r}")
-        return out
-
-    def bounded_array(
-        self, name: str, cols: int, *, required: bool, kinds: tuple[str, ...]
-    ) -> FloatArray | None:
-        """:meth:`array` whose column j obeys :data:`srfm._validate.BOUNDS` ``[kinds[j]]``
-        (a single kind applies to every column)."""
-        out = self.array(name, cols, required=required)
-        if out is None:
-            return None
-        rows = out.reshape(-1, out.shape[-1]) if out.size else out.reshape(0, max(cols, 2))
-        for i, row in enumerate(rows):
-            for j, item in enumerate(row):
-                lo, hi, unit = BOUNDS[kinds[j] if len(kinds) > 1 else kinds[0]]
-                if not lo <= item <= hi:
-                    label = name if cols == 0 else f"{name}[{i}]"
-                    raise self.fail(
-                        label, f"values must be in [{lo:g}, {hi:g}] {unit}, got {item!r}"
-                    )
-        return out
-
-    def integer(self, name: str, default: int, *, minimum: int, maximum: int) -> int:
-        if name not in self.data:
-            return default
-        value = self.raw(name)
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise self.fail(name, f"must be an integer, got {value!r}")
-        if not minimum <= value <= maximum:
-            raise self.fail(name, f"must be in [{minimum}, {maximum}], got {value!r}")
-        return value
-
-    def boolean(self, name: str, default: bool) -> bool:
-        if name not in self.data:
-            return default
-        value = self.raw(name)
-        if not isinstance(value, bool):
-            raise self.fail(name, f"must be true or false, got {value!r}")
-        return value
-
-    def array(self, name: str, cols: int, *, required: bool) -> FloatArray | None:
-        if name not in self.data:
-            if required:
-                raise self.fail(name, "is required")
-            return None
-        value = self.raw(name)
-        rows = value if isinstance(value, list) else None
-        if cols == 0:  # a flat vector of two numbers
-            rows = [value] if isinstance(value, list) else None
-        if rows is None:
-            raise self.fail(name, f"must be an array, got {value!r}")
-        width = 2 if cols == 0 else cols
-        out = np.zeros((len(rows), width))
-        for i, row in enumerate(rows):
-            label = name if cols == 0 else f"{name}[{i}]"
-            if not isinstance(row, list) or len(row) != width:
-                raise self.fail(label, f"must be a list of {width} numbers, got {row!r}")
-            for j, item in enumerate(row):
-                if isinstance(item, bool) or not isinstance(item, int | float):
-                    raise self.fail(label, f"must hold numbers, got {item!r}")
-                if not math.isfinite(float(item)):
-                    raise self.fail(label, f"must be finite, got {item!r}")
-                out[i, j] = float(item)
-        return out[0] if cols == 0 else out
-
-    def per_agent(
-        self, name: str, default: float, n: int | None, maximum: float
-    ) -> FloatArray | float:
-        if name not in self.data:
-            return default
-        value = self.data[name]
-        if isinstance(value, list):
-            self.used.add(name)
-            if n is None:
-                raise self.fail(name, "lists (one value per pedestrian) need listed starts")
-            if len(value) != n:
-                raise self.fail(name, f"needs one value per pedestrian ({n}), got {len(value)}")
-            out = np.zeros(n)
-            for i, item in enumerate(value):
-                if isinstance(item, bool) or not isinstance(item, int | float):
-                    raise self.fail(f"{name}[{i}]", f"must be a number, got {item!r}")
-                if not 0.0 <= float(item) <= maximum:  # also false for NaN
-                    raise self.fail(f"{name}[{i}]", f"must be in [0, {maximum:g}], got {item!r}")
-                out[i] = float(item)
-            return out
-        return self.number(name, minimum=0.0, maximum=maximum)
-
-    def finish(self) -> None:
-        unknown = sorted(set(self.data) - self.used)
-        if unknown:
-            raise ScenarioError(f"{self.file}: unknown key {self.key(unknown[0])!r}")
-
-
 def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     """Validate a parsed TOML document and build the :class:`Scenario`."""
-    top = _Reader(data, "", source)
+    top = TableReader(data, "", source)
     version = top.raw("schema_version") if top.has("schema_version") else None
     if type(version) is not int or version not in SCHEMA_VERSIONS:
         raise top.fail(

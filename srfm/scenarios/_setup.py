@@ -34,7 +34,8 @@ from numpy.typing import NDArray
 from srfm import _validate
 from srfm.errors import ScenarioError
 from srfm.models.state import CrowdState
-from srfm.scenarios._schema import RandomSpec, Scenario, WorldBounds
+from srfm.scenarios._schema import RandomSpec, Scenario
+from srfm.world import WorldBounds
 
 __all__ = [
     "EpisodeSetup",

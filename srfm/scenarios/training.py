@@ -48,8 +48,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm.errors import ScenarioError
-from srfm.scenarios._schema import RandomSpec, Scenario, WorldBounds
+from srfm.scenarios._schema import RandomSpec, Scenario
 from srfm.scenarios._setup import validate_seed
+from srfm.world import WorldBounds
 
 __all__ = ["TRAINING_FAMILIES", "TRAINING_SCENARIO", "family_weights", "training_layout"]
 

@@ -1,5 +1,5 @@
 """The package's layout: no import cycle among srfm's modules, and no package imports a
-package of a higher layer (the layers: README.md, "Layout", and docs/design.md).
+package of a higher layer (the layers of README.md, "Layout").
 
 Every ``import`` and ``from ... import`` of every module counts, also those inside
 functions and under ``if TYPE_CHECKING:``: a lazy import hides a cycle from Python, not

@@ -1,5 +1,5 @@
 """The package's layout: no import cycle among srfm's modules, and no package imports a
-package of a higher layer (the layers of README.md, "Layout").
+package of a higher layer (the layers of docs/design.md and README.md, "Layout").
 
 Every ``import`` and ``from ... import`` of every module counts, also those inside
 functions and under ``if TYPE_CHECKING:``: a lazy import hides a cycle from Python, not
@@ -20,18 +20,18 @@ SRFM = Path(srfm.__file__).parent
 # import only packages of lower layers (and its own modules); the packages of one layer
 # do not import each other. "srfm" is the package's face, srfm/__init__.py.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "policies"),
+    ("errors", "policies"),  # policies: the shipped policy files, no code
     ("_deps", "_io", "_jit", "_streams", "_user_code", "_validate", "_version"),
     ("models", "datasets"),
     ("world",),
     ("scenarios",),
     ("planners",),
     ("sim",),
-    ("metrics",),
-    ("logs", "fitting", "rl"),
+    ("metrics", "rl"),
+    ("logs", "fitting"),
     ("benchmark",),
-    ("sweep", "srfm"),
-    ("cli",),
+    ("sweep",),
+    ("cli", "srfm"),
 )
 LAYER = {package: k for k, layer in enumerate(LAYERS) for package in layer}
 

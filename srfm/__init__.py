@@ -7,8 +7,7 @@ Quick use::
     print(record.outcome, record.twin_separation_m().max())
 """
 
-from importlib import metadata as _metadata
-
+from srfm._version import __version__
 from srfm.errors import (
     BenchmarkError,
     DatasetError,
@@ -52,12 +51,6 @@ from srfm.scenarios import (
 from srfm.sim.episode import run_episode
 from srfm.sim.record import EpisodeRecord, Event
 from srfm.sim.simulator import TwinSimulator
-
-# The installed distribution's version: pyproject.toml is its one source.
-try:
-    __version__ = _metadata.version("srfm")
-except _metadata.PackageNotFoundError:  # a source tree that was never installed
-    __version__ = "0+unknown"
 
 __all__ = [
     "BUILTIN_SCENARIOS",

@@ -1,20 +1,22 @@
 """The benchmark: scenarios × planners × seeds into a results folder of tables and figures."""
 
 from srfm.benchmark._html import REPORT, render_report, write_report
-from srfm.benchmark._results import episode_path, read_episode
-from srfm.benchmark._runner import (
+from srfm.benchmark._request import (
     MANIFEST,
     MAX_SEEDS,
     QUICK_SEEDS,
     BenchmarkRequest,
+    default_planners,
+)
+from srfm.benchmark._results import episode_path, read_episode
+from srfm.benchmark._runner import (
     BenchmarkSummary,
     EpisodeWriter,
-    default_planners,
     load_results,
     run_benchmark,
     write_reports,
-    write_tables,
 )
+from srfm.metrics.report import write_tables
 
 __all__ = [
     "MANIFEST",

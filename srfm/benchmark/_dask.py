@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from srfm._deps import require
+from srfm.benchmark._workers import one_thread
 from srfm.errors import BenchmarkError
 
 __all__ = ["map_on_dask", "run_on_dask"]
@@ -34,8 +35,6 @@ _TASK_RETRIES = 1
 def _dask_task(run: Callable[[Any], int], task: Any) -> int:
     """On a worker: one thread per process for the kernels, then the task. (Signals
     and the worker's life are the Dask worker's business, not the task's.)"""
-    from srfm.benchmark._runner import one_thread
-
     one_thread()
     return run(task)
 

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any, Final
 
 from srfm._io import MAX_DOCUMENT_BYTES, atomic_write_bytes, folder_lock, read_input_bytes
-from srfm.benchmark._runner import check_manifest_schema
+from srfm.benchmark._request import check_manifest_schema
 from srfm.errors import BenchmarkError
 from srfm.metrics.episode import EPISODE_METRICS, METRIC_GROUPS
 from srfm.metrics.report import MANIFEST, SUMMARY_SCHEMA
@@ -283,6 +283,8 @@ def _log_links(
     out: Path, rows: Sequence[Mapping[str, str]], scenarios: Sequence[str], planners: Sequence[str]
 ) -> str:
     """Per scenario, per planner: a link to every episode's .mcap and .rrd that exists."""
+    # Lazy and one-way (srfm.logs never imports the benchmark): the log writers are
+    # loaded only for a page that links logs, which keeps `import srfm.benchmark` light.
     from srfm.logs import LOGS_DIR
 
     seeds: dict[tuple[str, str], list[int]] = {}

@@ -15,173 +15,55 @@ folder, or one srfm made for a benchmark (unless ``force``).
 
 from __future__ import annotations
 
-import collections
 import contextlib
-import ctypes
-import ctypes.util
 import functools
 import json
 import multiprocessing
 import os
-import platform
-import signal
 import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
-from importlib import metadata
 from pathlib import Path
 from typing import Any, Final
 
 import attrs
 
-from srfm import _validate
 from srfm._io import (
-    MAX_DOCUMENT_BYTES,
     atomic_write_text,
     claim_output_folder,
     folder_lock,
-    read_input_bytes,
     recover_file_set,
     remove_stale_temporaries,
     write_file_set,
 )
-from srfm._validate import path_name, planner_name
-from srfm.benchmark._results import (
-    episode_path,
-    fingerprint,
-    read_episode,
-    write_episode,
-)
-from srfm.errors import BenchmarkError
-from srfm.metrics import (
-    EpisodeMetrics,
-    MetricParams,
-    episode_metrics,
-)
-from srfm.metrics.report import MANIFEST, render_tables, write_tables
+from srfm.benchmark._dask import map_on_dask
+from srfm.benchmark._html import REPORT, render_report
+from srfm.benchmark._request import MANIFEST, BenchmarkRequest, check_manifest
+from srfm.benchmark._results import episode_path, read_episode, write_episode
+from srfm.benchmark._workers import init_worker
+from srfm.benchmark.figures import render_figures, save_figure_episode
+from srfm.errors import BenchmarkError, SrfmError
+from srfm.metrics import EpisodeMetrics, episode_metrics
+from srfm.metrics.report import render_tables
 from srfm.models.params import SRFMParams
-from srfm.planners import available_planners
-from srfm.scenarios import EVALUATION_SCENARIOS, Scenario, load_scenario
-from srfm.sim.episode import build_planner, check_episode_memory, first_command
+from srfm.scenarios import Scenario
+from srfm.sim.episode import build_planner, check_episode_memory, first_command, run_episode
 from srfm.sim.record import EpisodeRecord
 
 __all__ = [
-    "MANIFEST",
-    "MANIFEST_SCHEMA",
-    "MAX_SEEDS",
-    "QUICK_SEEDS",
-    "BenchmarkRequest",
+    "EXECUTORS",
     "BenchmarkSummary",
     "EpisodeWriter",
     "check_executor",
-    "check_manifest_schema",
-    "default_planners",
     "load_results",
     "map_tasks",
     "run_benchmark",
     "write_reports",
-    "write_tables",
 ]
 
-QUICK_SEEDS: Final = (0, 1, 2)
-"""Seeds of ``--quick``: enough for a mean, a standard deviation and the tests."""
-MAX_SEEDS: Final = 100_000
-"""Most seeds in one request (each is a file per scenario and planner)."""
 EXECUTORS: Final = ("process", "dask")
 _CHUNK: Final = 5  # seeds per worker task: small enough for a smooth progress bar
 _HELPER_TIMEOUT_S: Final = 900.0  # the warm-up helper's time limit (_compile_in_parent)
-
-
-def default_planners() -> tuple[str, ...]:
-    """Every registered planner that runs on any scenario (``default``), by name."""
-    return tuple(p.name for p in available_planners() if p.default)
-
-
-@attrs.frozen(kw_only=True, eq=False)
-class BenchmarkRequest:
-    """What to run.
-
-    Attributes:
-        scenarios: the scenarios (built-in or from files), in table order.
-        planners: planner names (registry names or ``module:attribute``), in table order.
-        seeds: episode seeds, shared by every (scenario, planner) cell.
-        params: SRFM parameters of the factual crowd.
-        reference: the planner others are tested against (None: no significance tests).
-        figure_seed: the seed drawn in the path figures (the first seed when None).
-    """
-
-    scenarios: tuple[Scenario, ...]
-    planners: tuple[str, ...]
-    seeds: tuple[int, ...]
-    params: SRFMParams = attrs.field(factory=SRFMParams)
-    reference: str | None = None
-    figure_seed: int | None = None
-
-    def __attrs_post_init__(self) -> None:
-        if len(self.seeds) > MAX_SEEDS:
-            raise BenchmarkError(
-                f"{len(self.seeds)} seeds requested; at most {MAX_SEEDS} in one benchmark"
-            )
-        for s in self.seeds:
-            _validate.seed(s, BenchmarkError)
-        for scenario in self.scenarios:
-            path_name(scenario.name, "scenario name", BenchmarkError)
-        for name in self.planners:
-            planner_name(name, BenchmarkError)
-        for label, items in (
-            ("scenario", [s.name for s in self.scenarios]),
-            ("planner", list(self.planners)),
-            ("seed", [str(s) for s in self.seeds]),
-        ):
-            if not items:
-                raise BenchmarkError(f"the benchmark needs at least one {label}")
-            counts = collections.Counter(items)  # linear: 100,000 seeds check at once
-            dupes = sorted(x for x, k in counts.items() if k > 1)
-            if dupes:
-                shown = ", ".join(dupes[:10]) + (", ..." if len(dupes) > 10 else "")
-                raise BenchmarkError(f"{label}s given twice: {shown}")
-        if self.reference is not None and self.reference not in self.planners:
-            raise BenchmarkError(
-                f"reference planner {self.reference!r} is not among the planners "
-                f"{list(self.planners)}"
-            )
-        if self.figure_seed is not None and self.figure_seed not in self.seeds:
-            raise BenchmarkError(f"figure seed {self.figure_seed} is not among the seeds")
-
-    @property
-    def drawn_seed(self) -> int:
-        """The seed of the path figures."""
-        return self.seeds[0] if self.figure_seed is None else self.figure_seed
-
-    @classmethod
-    def create(
-        cls,
-        *,
-        scenarios: Sequence[str] | None = None,
-        planners: Sequence[str] | None = None,
-        seeds: Sequence[int] | None = None,
-        params: SRFMParams | None = None,
-        reference: str | None = None,
-        quick: bool = False,
-    ) -> BenchmarkRequest:
-        """A request with the defaults filled in: the five evaluation scenarios, every
-        registered planner, seeds 0–99 (``quick``: seeds 0–2); the reference is
-        ``td3-srfm`` when it runs, else none."""
-        scenario_objs = tuple(load_scenario(s) for s in (scenarios or EVALUATION_SCENARIOS))
-        planner_names = tuple(planners) if planners else default_planners()
-        for name in planner_names:
-            build_planner(name)  # an unknown name or a failing factory: here, before any work
-        if seeds is None:
-            seeds = QUICK_SEEDS if quick else tuple(range(100))
-        if reference is None and "td3-srfm" in planner_names:
-            reference = "td3-srfm"
-        return cls(
-            scenarios=scenario_objs,
-            planners=planner_names,
-            seeds=tuple(int(s) for s in seeds),
-            params=params or SRFMParams(),
-            reference=reference,
-        )
 
 
 @attrs.frozen(kw_only=True)
@@ -207,104 +89,6 @@ class BenchmarkSummary:
     jobs: int = 1
 
 
-MANIFEST_SCHEMA: Final = "srfm.benchmark_manifest/2"
-"""Layout of ``manifest.json``. 2 (issue 16): the metrics of docs/metrics.md, the metric
-thresholds, the request and the command; a folder of schema 1 holds episode files
-without those metrics and is refused."""
-
-
-def _versions() -> dict[str, str]:
-    out = {"python": platform.python_version()}
-    for dist in ("srfm", "numpy", "numba", "scipy"):
-        try:
-            out[dist] = metadata.version(dist)
-        except metadata.PackageNotFoundError:  # pragma: no cover - always installed
-            out[dist] = "unknown"
-    return out
-
-
-def _manifest(request: BenchmarkRequest, command: str | None) -> dict[str, Any]:
-    """The identity of a results folder: what every episode file in it was run with,
-    and the request and command of the run that wrote it last."""
-    return {
-        "schema": MANIFEST_SCHEMA,
-        "versions": _versions(),
-        "params": request.params.as_dict(),
-        "metric_params": MetricParams().as_dict(),
-        "scenarios": {s.name: fingerprint(s) for s in request.scenarios},
-        "request": {
-            "scenarios": [s.name for s in request.scenarios],
-            "planners": list(request.planners),
-            "seeds": list(request.seeds),
-            "reference": request.reference,
-            "figure_seed": request.drawn_seed,
-        },
-        "command": command,
-    }
-
-
-def check_manifest_schema(path: Path, doc: Any) -> None:
-    """Refuse a manifest that is not srfm's current layout, saying what to do.
-
-    Raises:
-        BenchmarkError: not a JSON object of srfm's, or of an older or newer schema.
-    """
-    if not isinstance(doc, dict) or not isinstance(doc.get("scenarios", {}), dict):
-        raise BenchmarkError(f"{path}: damaged manifest (not srfm's layout); use a new --out")
-    schema = doc.get("schema")
-    if schema == MANIFEST_SCHEMA:
-        return
-    if isinstance(schema, str) and schema.startswith("srfm.benchmark_manifest/"):
-        raise BenchmarkError(
-            f"{path.parent}: a results folder of an older or newer srfm (manifest schema "
-            f"{schema!r}; this srfm reads {MANIFEST_SCHEMA!r}): its episode files lack the "
-            "metrics of docs/metrics.md or hold others. Run the benchmark again into a new "
-            "--out folder"
-        )
-    raise BenchmarkError(f"{path}: not an srfm benchmark folder (schema {schema})")
-
-
-def _check_manifest(
-    out: Path, request: BenchmarkRequest, command: str | None = None
-) -> dict[str, Any]:
-    """Create the manifest, or check that an existing one matches the request.
-
-    Episodes of a folder must all come from the same parameters, scenario content and
-    package versions; adding scenarios, planners or seeds to a folder is fine.
-    """
-    path = out / MANIFEST
-    new = _manifest(request, command)
-    if not path.exists():
-        return new
-    data = read_input_bytes(
-        path, max_bytes=MAX_DOCUMENT_BYTES, error=BenchmarkError, what="benchmark manifest"
-    )
-    try:
-        old = json.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, ValueError, RecursionError) as exc:
-        raise BenchmarkError(
-            f"{path}: damaged manifest ({exc}); the folder's episodes cannot be trusted to "
-            "match the request: use a new --out"
-        ) from None
-    check_manifest_schema(path, old)
-    for key in ("versions", "params", "metric_params"):
-        if old.get(key) != new[key]:
-            raise BenchmarkError(
-                f"{out} holds episodes run with other {key} ({old.get(key)} != {new[key]}); "
-                "use a new --out folder"
-            )
-    known = old.get("scenarios", {})
-    for name, digest in new["scenarios"].items():
-        if name in known and known[name] != digest:
-            raise BenchmarkError(
-                f"{out} holds episodes of a different scenario {name!r} (content changed); "
-                "use a new --out folder"
-            )
-    merged = dict(new)
-    merged["scenarios"] = {**known, **new["scenarios"]}
-    return merged
-
-
 EpisodeWriter = Callable[[Path, EpisodeRecord, EpisodeMetrics], None]
 """Called in the worker after each episode, before its metrics file is written, with the
 results folder, the record and its metrics: the hook for episode logs (.rrd, .mcap).
@@ -324,8 +108,6 @@ class _Task:
 
 def _run_task(task: _Task) -> int:
     """Worker: simulate and score the task's episodes, one atomic file each."""
-    from srfm.sim.episode import run_episode
-
     out = Path(task.out)
     for seed in task.seeds:
         # make_planner names the planner task.planner (also a module:attribute spec),
@@ -337,23 +119,9 @@ def _run_task(task: _Task) -> int:
         if task.writer is not None:
             task.writer(out, record, metrics)
         if seed == task.figure_seed:
-            from srfm.benchmark.figures import save_figure_episode
-
             save_figure_episode(out, record)
         write_episode(out, metrics)  # last: an episode counts as done once this exists
     return len(task.seeds)
-
-
-def one_thread() -> None:
-    """Limit this process's BLAS/OpenMP pools and numba's pool to one thread (see
-    :func:`_init_worker`; a Dask worker's task calls it too)."""
-    import numba
-    from threadpoolctl import threadpool_limits  # type: ignore[import-untyped]
-
-    for var in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS"):
-        os.environ[var] = "1"
-    threadpool_limits(limits=1)
-    numba.set_num_threads(1)
 
 
 def _warm_up(task: _Task, *, metrics: bool = True) -> EpisodeRecord | None:
@@ -361,9 +129,6 @@ def _warm_up(task: _Task, *, metrics: bool = True) -> EpisodeRecord | None:
     and (``metrics``) its metrics: compiles (or loads from numba's cache) every kernel
     such an episode calls. Nothing is written. Returns the record (None on an error,
     which is left for the worker to report in its own words)."""
-    from srfm.errors import SrfmError
-    from srfm.sim.episode import run_episode
-
     short = attrs.evolve(task.scenario, horizon_steps=min(2, task.scenario.horizon_steps))
     try:
         record = run_episode(short, task.seeds[0], build_planner(task.planner), task.params)
@@ -457,41 +222,6 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
         _warm_up(task)
 
 
-def _init_worker() -> None:
-    """Set up a worker process: one thread, and Ctrl-C left to the parent.
-
-    One thread per worker: threaded kernels stall when the cores are shared. A forked
-    worker has its libraries loaded already, where environment variables come too late:
-    their BLAS/OpenMP pools are limited with threadpoolctl and numba's own pool with
-    :func:`numba.set_num_threads`. The variables still cover libraries loaded later
-    (e.g. torch for a policy) and spawned workers.
-    """
-    one_thread()
-    # Ctrl-C reaches the whole process group: the parent stops the pool, the workers
-    # should not each print a traceback.
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _die_with_parent()
-
-
-def _die_with_parent() -> None:
-    """End this worker quietly when the parent dies, instead of a BrokenPipeError
-    traceback per worker: SIGPIPE back to its default (a write to the closed result
-    pipe ends the process silently) and, on Linux, a SIGTERM when the parent dies."""
-    if hasattr(signal, "SIGPIPE"):
-        signal.signal(signal.SIGPIPE, signal.SIG_DFL)
-    if not sys.platform.startswith("linux"):
-        return
-    parent = os.getppid()
-    try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
-        pr_set_pdeathsig = 1
-        libc.prctl(pr_set_pdeathsig, int(signal.SIGTERM), 0, 0, 0)
-    except (OSError, AttributeError):
-        return
-    if os.getppid() != parent:  # the parent died before prctl took effect
-        os._exit(1)
-
-
 def check_executor(
     executor: str, jobs: int, scheduler: str | None, scheduler_file: str | Path | None
 ) -> None:
@@ -530,8 +260,6 @@ def map_tasks(
     if not tasks:
         return
     if executor == "dask":
-        from srfm.benchmark._dask import map_on_dask
-
         yield from map_on_dask(
             run,
             tasks,
@@ -544,7 +272,7 @@ def map_tasks(
             yield run(task)
     else:
         context = multiprocessing.get_context("fork" if sys.platform != "win32" else "spawn")
-        with context.Pool(min(jobs, len(tasks)), initializer=_init_worker) as pool:
+        with context.Pool(min(jobs, len(tasks)), initializer=init_worker) as pool:
             yield from pool.imap_unordered(run, tasks)
 
 
@@ -675,7 +403,7 @@ def run_benchmark(
     with folder_lock(out):
         recover_file_set(out)  # a report set cut short by a kill: finish it first
         remove_stale_temporaries(out)
-        manifest = _check_manifest(out, request, command)
+        manifest = check_manifest(out, request, command)
         atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
         damaged: list[str] = []
         tasks = _pending_tasks(out, request, writer, figures, damaged)
@@ -739,8 +467,6 @@ def write_reports(out: Path, request: BenchmarkRequest, *, figures: bool = True)
 def _write_reports(out: Path, request: BenchmarkRequest, *, figures: bool) -> tuple[str, ...]:
     """Every report rendered in memory first, then replaced as one set: a full disk or
     a kill never leaves tables of one run beside CSV files of another."""
-    from srfm.benchmark._html import REPORT, render_report
-
     results = load_results(out, request)
     files, tables = render_tables(
         results,
@@ -751,8 +477,6 @@ def _write_reports(out: Path, request: BenchmarkRequest, *, figures: bool) -> tu
         reference=request.reference,
     )
     if figures:
-        from srfm.benchmark.figures import render_figures
-
         files.update(render_figures(out, request, tables.table, tables.extended))
     files[REPORT] = render_report(out, files)
     write_file_set(out, files)

@@ -12,14 +12,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm._io import atomic_write_bytes, write_file_set
+from srfm.benchmark._request import BenchmarkRequest
 from srfm.metrics import BenchmarkTable
+from srfm.sim.episode import build_planner, run_episode
 from srfm.sim.record import EpisodeRecord
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from srfm.benchmark._runner import BenchmarkRequest
     from srfm.models.state import Obstacles
 
 __all__ = [
@@ -246,8 +247,6 @@ def render_figures(
     extended: BenchmarkTable | None = None,
 ) -> dict[str, bytes]:
     """The PNG bytes of every figure by path relative to ``out`` (nothing written)."""
-    from srfm.sim.episode import build_planner, run_episode
-
     seed = request.drawn_seed
     written: dict[str, bytes] = {}
     for scenario in request.scenarios:

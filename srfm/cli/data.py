@@ -414,8 +414,8 @@ def fit(
     interaction radius from the robot), stage 2 fits A_r, B_r on interaction windows
     with the pedestrian part fixed. See docs/fitting.md for the residual.
     """
-    from srfm import __version__
     from srfm._io import check_writable, refuse_overwriting_inputs
+    from srfm._version import __version__
     from srfm.fitting import fit_params
     from srfm.models import save_params
 

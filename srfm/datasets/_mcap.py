@@ -40,6 +40,7 @@ import attrs
 import numpy as np
 
 from srfm._io import atomic_write_bytes
+from srfm._version import __version__
 from srfm.datasets._trajectories import AGENT_KINDS, FRAMES_OF_REFERENCE, Trajectories
 from srfm.errors import DatasetError
 
@@ -122,12 +123,6 @@ class DatasetFile:
     scenes: tuple[Trajectories, ...]
 
 
-def _version() -> str:
-    from srfm import __version__
-
-    return __version__
-
-
 def write_mcap(
     path: str | Path,
     scenes: Sequence[Trajectories],
@@ -171,7 +166,7 @@ def write_mcap(
 
     buf = io.BytesIO()
     writer = Writer(buf, compression=CompressionType.ZSTD, enable_data_crcs=True)
-    writer.start(profile="", library=f"srfm {_version()}")
+    writer.start(profile="", library=f"srfm {__version__}")
     schema_id = writer.register_schema(
         name=SCHEMA_NAME,
         encoding="jsonschema",
@@ -219,7 +214,7 @@ def write_mcap(
         "schema_version": str(SCHEMA_VERSION),
         "dataset": dataset,
         "scenes": str(len(scenes)),
-        "srfm_version": _version(),
+        "srfm_version": __version__,
     }
     file_record.update(extra)
     writer.add_metadata(name=FILE_RECORD, data=file_record)
@@ -392,7 +387,7 @@ def _check_schema(path: Path, name: str, encoding: str, message_encoding: str, w
     if version != SCHEMA_VERSION:
         raise DatasetError(
             f"{path}: dataset schema version {version}, written by {writer}; this srfm "
-            f"({_version()}) reads version {SCHEMA_VERSION} only: convert the data again"
+            f"({__version__}) reads version {SCHEMA_VERSION} only: convert the data again"
         )
     if encoding != "jsonschema" or message_encoding != "json":
         raise DatasetError(

@@ -11,7 +11,8 @@ from numpy.typing import NDArray
 from srfm.errors import PlannerError
 from srfm.models.robot import RobotConfig, RobotState
 from srfm.models.state import Obstacles
-from srfm.scenarios import RobotRecording, WorldBounds
+from srfm.scenarios import RobotRecording
+from srfm.world import WorldBounds
 
 __all__ = ["Observation", "Planner", "PlannerContext", "check_planner"]
 

@@ -15,7 +15,7 @@ from srfm.models.robot import RobotConfig
 from srfm.models.state import Obstacles
 from srfm.planners._base import FloatArray, PlannerContext
 from srfm.planners._geometry import CommonParams
-from srfm.scenarios import WorldBounds
+from srfm.world import WorldBounds
 
 __all__ = [
     "DEFAULT_DT_S",

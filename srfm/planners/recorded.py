@@ -33,12 +33,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from srfm._io import toml_scalar
-from srfm.datasets._trajectories import PEDESTRIAN, Trajectories
+from srfm.datasets import PEDESTRIAN, Trajectories
 from srfm.errors import PlannerError, ScenarioError
 from srfm.models.robot import RobotConfig
 from srfm.planners._base import FloatArray, Observation, PlannerContext
-from srfm.scenarios import Scenario
-from srfm.scenarios._schema import parse_scenario
+from srfm.scenarios import Scenario, parse_scenario
 
 __all__ = ["RecordedRobotPlanner", "recorded_encounter", "recorded_scenario_doc", "scenario_toml"]
 

@@ -18,7 +18,6 @@ from srfm.scenarios._schema import (
     SCHEMA_VERSION,
     RandomSpec,
     Scenario,
-    WorldBounds,
     parse_scenario,
     read_scenario_file,
 )
@@ -32,6 +31,7 @@ from srfm.scenarios._setup import (
     validate_seed,
 )
 from srfm.scenarios._v2 import EntrySource, RobotRecording
+from srfm.world import WorldBounds  # the type of Scenario.world, exported with it
 
 __all__ = [
     "BUILTIN_SCENARIOS",

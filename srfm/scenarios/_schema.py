@@ -67,23 +67,24 @@ regular file of at most 16 MiB; a UTF-8 byte-order mark is accepted.
 
 from __future__ import annotations
 
-import math
 import re
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, Final
+from typing import Any, Final, NamedTuple
 
 import attrs
 import numpy as np
 from numpy.typing import NDArray
 
 from srfm._io import MAX_TOML_BYTES, read_input_text
-from srfm._validate import BOUNDS, MAX_NAME_LENGTH
+from srfm._validate import MAX_NAME_LENGTH
 from srfm.errors import ScenarioError, SrfmError
 from srfm.models.forces import MAX_DT_S
 from srfm.models.robot import KINEMATICS, RobotConfig
 from srfm.models.state import MAX_RADIUS_M, MAX_SPEED_MPS, Obstacles
 from srfm.scenarios import _v2
+from srfm.scenarios._reader import TableReader
+from srfm.world import WorldBounds
 
 SCHEMA_VERSION: Final = 2
 SCHEMA_VERSIONS: Final = (1, 2)
@@ -105,20 +106,6 @@ _V2_PEDESTRIAN_KEYS: Final = (
 _NAME_RE: Final = re.compile(r"[a-z0-9][a-z0-9_-]*")  # used with fullmatch
 
 FloatArray = NDArray[np.float64]
-
-
-@attrs.frozen(kw_only=True)
-class WorldBounds:
-    """Axis-aligned world rectangle (m)."""
-
-    x_min: float = 0.0
-    x_max: float = 15.0
-    y_min: float = 0.0
-    y_max: float = 15.0
-
-    def contains(self, x: float, y: float) -> bool:
-        """True when (x, y) lies inside the rectangle (edges included)."""
-        return self.x_min <= x <= self.x_max and self.y_min <= y <= self.y_max
 
 
 @attrs.frozen(kw_only=True)
@@ -200,169 +187,93 @@ class Scenario:
         return int(self.ped_starts.shape[0])
 
 
-class _Reader:
-    """Typed access to one TOML table, recording which keys were read."""
-
-    def __init__(self, data: Mapping[str, Any], where: str, file: str) -> None:
-        self.data = data
-        self.where = where
-        self.file = file
-        self.used: set[str] = set()
-
-    def key(self, name: str) -> str:
-        return f"{self.where}.{name}" if self.where else name
-
-    def fail(self, name: str, message: str) -> ScenarioError:
-        return ScenarioError(f"{self.file}: {self.key(name)}: {message}")
-
-    def has(self, name: str) -> bool:
-        return name in self.data
-
-    def raw(self, name: str) -> Any:
-        self.used.add(name)
-        return self.data[name]
-
-    def table(self, name: str) -> _Reader:
-        value = self.raw(name) if name in self.data else {}
-        if not isinstance(value, dict):
-            raise self.fail(name, f"must be a table, got {value!r}")
-        return _Reader(value, self.key(name), self.file)
-
-    def string(self, name: str, default: str | None = None) -> str:
-        if name not in self.data:
-            if default is None:
-                raise self.fail(name, "is required")
-            return default
-        value = self.raw(name)
-        if not isinstance(value, str):
-            raise self.fail(name, f"must be a string, got {value!r}")
-        return value
-
-    def number(
-        self,
-        name: str,
-        default: float | None = None,
-        *,
-        minimum: float | None = None,
-        strict: bool = False,
-        maximum: float | None = None,
-        kind: str | None = None,
-    ) -> float:
-        """A finite number; ``kind`` applies the physical bounds of
-        :data:`srfm._validate.BOUNDS` (``minimum`` and ``maximum`` may only narrow them)."""
-        if kind is not None:
-            lo, hi, _ = BOUNDS[kind]
-            minimum = lo if minimum is None else max(minimum, lo)
-            maximum = hi if maximum is None else min(maximum, hi)
-        if name not in self.data:
-            if default is None:
-                raise self.fail(name, "is required")
-            return default
-        value = self.raw(name)
-        if isinstance(value, bool) or not isinstance(value, int | float):
-            raise self.fail(name, f"must be a number, got {value!r}")
-        out = float(value)
-        if not math.isfinite(out):
-            raise self.fail(name, f"must be finite, got {value!r}")
-        if minimum is not None and (out <= minimum if strict else out < minimum):
-            raise self.fail(name, f"must be {'>' if strict else '>='} {minimum:g}, got {value!r}")
-        if maximum is not None and out > maximum:
-            raise self.fail(name, f"must be <= {maximum:g}, got {value!r}")
-        return out
-
-    def bounded_array(
-        self, name: str, cols: int, *, required: bool, kinds: tuple[str, ...]
-    ) -> FloatArray | None:
-        """:meth:`array` whose column j obeys :data:`srfm._validate.BOUNDS` ``[kinds[j]]``
-        (a single kind applies to every column)."""
-        out = self.array(name, cols, required=required)
-        if out is None:
-            return None
-        rows = out.reshape(-1, out.shape[-1]) if out.size else out.reshape(0, max(cols, 2))
-        for i, row in enumerate(rows):
-            for j, item in enumerate(row):
-                lo, hi, unit = BOUNDS[kinds[j] if len(kinds) > 1 else kinds[0]]
-                if not lo <= item <= hi:
-                    label = name if cols == 0 else f"{name}[{i}]"
-                    raise self.fail(
-                        label, f"values must be in [{lo:g}, {hi:g}] {unit}, got {item!r}"
-                    )
-        return out
-
-    def integer(self, name: str, default: int, *, minimum: int, maximum: int) -> int:
-        if name not in self.data:
-            return default
-        value = self.raw(name)
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise self.fail(name, f"must be an integer, got {value!r}")
-        if not minimum <= value <= maximum:
-            raise self.fail(name, f"must be in [{minimum}, {maximum}], got {value!r}")
-        return value
-
-    def boolean(self, name: str, default: bool) -> bool:
-        if name not in self.data:
-            return default
-        value = self.raw(name)
-        if not isinstance(value, bool):
-            raise self.fail(name, f"must be true or false, got {value!r}")
-        return value
-
-    def array(self, name: str, cols: int, *, required: bool) -> FloatArray | None:
-        if name not in self.data:
-            if required:
-                raise self.fail(name, "is required")
-            return None
-        value = self.raw(name)
-        rows = value if isinstance(value, list) else None
-        if cols == 0:  # a flat vector of two numbers
-            rows = [value] if isinstance(value, list) else None
-        if rows is None:
-            raise self.fail(name, f"must be an array, got {value!r}")
-        width = 2 if cols == 0 else cols
-        out = np.zeros((len(rows), width))
-        for i, row in enumerate(rows):
-            label = name if cols == 0 else f"{name}[{i}]"
-            if not isinstance(row, list) or len(row) != width:
-                raise self.fail(label, f"must be a list of {width} numbers, got {row!r}")
-            for j, item in enumerate(row):
-                if isinstance(item, bool) or not isinstance(item, int | float):
-                    raise self.fail(label, f"must hold numbers, got {item!r}")
-                if not math.isfinite(float(item)):
-                    raise self.fail(label, f"must be finite, got {item!r}")
-                out[i, j] = float(item)
-        return out[0] if cols == 0 else out
-
-    def per_agent(
-        self, name: str, default: float, n: int | None, maximum: float
-    ) -> FloatArray | float:
-        if name not in self.data:
-            return default
-        value = self.data[name]
-        if isinstance(value, list):
-            self.used.add(name)
-            if n is None:
-                raise self.fail(name, "lists (one value per pedestrian) need listed starts")
-            if len(value) != n:
-                raise self.fail(name, f"needs one value per pedestrian ({n}), got {len(value)}")
-            out = np.zeros(n)
-            for i, item in enumerate(value):
-                if isinstance(item, bool) or not isinstance(item, int | float):
-                    raise self.fail(f"{name}[{i}]", f"must be a number, got {item!r}")
-                if not 0.0 <= float(item) <= maximum:  # also false for NaN
-                    raise self.fail(f"{name}[{i}]", f"must be in [0, {maximum:g}], got {item!r}")
-                out[i] = float(item)
-            return out
-        return self.number(name, minimum=0.0, maximum=maximum)
-
-    def finish(self) -> None:
-        unknown = sorted(set(self.data) - self.used)
-        if unknown:
-            raise ScenarioError(f"{self.file}: unknown key {self.key(unknown[0])!r}")
-
-
 def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
-    """Validate a parsed TOML document and build the :class:`Scenario`."""
-    top = _Reader(data, "", source)
+    """Validate a parsed TOML document and build the :class:`Scenario`.
+
+    One reader per table, in this order (the first error found is the one raised): the
+    top-level keys, ``[simulation]``, ``[world]``, ``[regions]``, ``[robot]``,
+    ``[pedestrians]``, ``[random]``, ``[obstacles]``, ``[map]``; then the checks that
+    need the geometry of several tables (:func:`srfm.scenarios._v2.check_layout`).
+    """
+    top = TableReader(data, "", source)
+    head = _read_head(top)
+    dt_s, horizon = _read_simulation(top)
+    world = _read_world(top, source)
+    regions = _v2.read_regions(top, world) if head.v2 else {}
+    robot = _read_robot(top, head, world)
+    peds = _read_pedestrians(top, head, world, horizon * dt_s, regions)
+    random_spec = _read_random(top, head, world, source)
+    obstacles = _read_obstacles(top, head, source)
+    map_points = _read_map(top, head)
+    top.finish()
+    layout = peds.layout
+    if layout is not None:
+        _check_layout(source, layout, peds, robot, obstacles, world)
+    # A Scenario is shared (built-ins are cached): make its arrays read-only.
+    ped_values = (peds.radius_m, peds.desired_speed_mps, peds.max_speed_mps)
+    for arr in (robot.start, robot.goal, peds.starts, peds.goals, *ped_values, map_points):
+        if isinstance(arr, np.ndarray):
+            arr.setflags(write=False)
+    return Scenario(
+        name=head.name,
+        description=head.description,
+        kind=head.kind,
+        dt_s=dt_s,
+        horizon_steps=horizon,
+        world=world,
+        robot=robot.config,
+        robot_start=robot.start,
+        robot_goal=robot.goal,
+        robot_heading_rad=robot.heading_rad,
+        ped_starts=peds.starts,
+        ped_goals=peds.goals,
+        ped_radius_m=peds.radius_m,
+        ped_desired_speed_mps=peds.desired_speed_mps,
+        ped_max_speed_mps=peds.max_speed_mps,
+        ped_goal_radius_m=peds.goal_radius_m,
+        noise_m=peds.noise_m,
+        random=random_spec,
+        obstacles=obstacles,
+        source=source,
+        schema_version=head.version,
+        ped_routes=None if layout is None else layout.routes,
+        ped_waits_s=None if layout is None else layout.waits_s,
+        ped_switch_radius_m=peds.switch_radius_m,
+        ped_speed_noise_mps=peds.speed_noise_mps,
+        ped_groups=() if layout is None else layout.groups,
+        ped_standing=() if layout is None else layout.standing,
+        regions=regions,
+        map_points=map_points,
+        robot_recording=robot.recording,
+        ped_enter_s=(
+            layout.enter_s
+            if layout is not None and (layout.enter_s.any() or layout.sources)
+            else None
+        ),
+        ped_enter_noise_s=peds.enter_noise_s,
+        ped_sources=() if layout is None else layout.sources,
+    )
+
+
+class _Head(NamedTuple):
+    """The top-level keys of a scenario file."""
+
+    version: int
+    name: str
+    description: str
+    kind: str
+
+    @property
+    def v2(self) -> bool:
+        return self.version >= 2
+
+    @property
+    def fixed(self) -> bool:
+        return self.kind == "fixed"
+
+
+def _read_head(top: TableReader) -> _Head:
+    """``schema_version``, ``name``, ``description`` and ``kind``."""
     version = top.raw("schema_version") if top.has("schema_version") else None
     if type(version) is not int or version not in SCHEMA_VERSIONS:
         raise top.fail(
@@ -370,7 +281,6 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
             f"must be one of {', '.join(map(str, SCHEMA_VERSIONS))} (this srfm reads those), "
             f"got {version!r}",
         )
-    v2 = version >= 2
     name = top.string("name")
     if not _NAME_RE.fullmatch(name) or len(name) > MAX_NAME_LENGTH:
         raise top.fail(
@@ -382,12 +292,20 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     kind = top.string("kind", "fixed")
     if kind not in ("fixed", "random"):
         raise top.fail("kind", f"must be 'fixed' or 'random', got {kind!r}")
+    return _Head(version, name, description, kind)
 
+
+def _read_simulation(top: TableReader) -> tuple[float, int]:
+    """``[simulation]``: the step (s) and the horizon (steps)."""
     sim = top.table("simulation")
     dt_s = sim.number("dt_s", DEFAULT_DT_S, minimum=0.0, strict=True, maximum=MAX_DT_S)
     horizon = sim.integer("horizon_steps", 750, minimum=1, maximum=MAX_HORIZON_STEPS)
     sim.finish()
+    return dt_s, horizon
 
+
+def _read_world(top: TableReader, source: str) -> WorldBounds:
+    """``[world]``: the rectangle."""
     w = top.table("world")
     world = WorldBounds(
         x_min=w.number("x_min", 0.0, kind="coordinate"),
@@ -398,32 +316,50 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     w.finish()
     if world.x_max <= world.x_min or world.y_max <= world.y_min:
         raise ScenarioError(f"{source}: world: x_max > x_min and y_max > y_min needed, got {world}")
-    regions: dict[str, tuple[float, float, float, float]] = {}
-    if v2:
-        regions = _v2.read_regions(top, world)
+    return world
 
+
+class _Robot(NamedTuple):
+    """What ``[robot]`` gives: the limits, and for a fixed scenario the start, goal,
+    heading and the recorded trajectory."""
+
+    config: RobotConfig
+    start: FloatArray | None
+    goal: FloatArray | None
+    heading_rad: float | None
+    recording: _v2.RobotRecording | None
+
+
+def _read_robot(top: TableReader, head: _Head, world: WorldBounds) -> _Robot:
+    """``[robot]`` (and ``[robot.recording]``, version 2)."""
     r = top.table("robot")
-    fixed = kind == "fixed"
-    if not fixed:
+    if not head.fixed:
         for key in ("start", "goal", "heading_rad"):
             if r.has(key):
                 raise r.fail(key, "is drawn per seed for kind = 'random'; remove it")
-    robot_start = r.array("start", 0, required=fixed)
-    robot_goal = r.array("goal", 0, required=fixed)
-    for key, point in (("start", robot_start), ("goal", robot_goal)):
+    start = r.array("start", 0, required=head.fixed)
+    goal = r.array("goal", 0, required=head.fixed)
+    for key, point in (("start", start), ("goal", goal)):
         if point is not None and not world.contains(float(point[0]), float(point[1])):
             raise r.fail(key, f"must lie inside the world {world}, got {point.tolist()}")
     heading = r.number("heading_rad", minimum=-1e3, maximum=1e3) if r.has("heading_rad") else None
     recording: _v2.RobotRecording | None = None
     if r.has("recording"):
-        if not v2:
+        if not head.v2:
             raise r.fail("recording", "needs schema_version = 2")
-        if not fixed or robot_start is None:
+        if not head.fixed or start is None:
             raise r.fail("recording", "is only allowed with kind = 'fixed'")
-        recording = _v2.read_recording(r, world, robot_start)
-    kin = r.string("kinematics", "unicycle")
-    if kin not in KINEMATICS:
-        raise r.fail("kinematics", f"must be one of {KINEMATICS}, got {kin!r}")
+        recording = _v2.read_recording(r, world, start)
+    config = _robot_config_fields(r)
+    r.finish()
+    return _Robot(RobotConfig(**config), start, goal, heading, recording)
+
+
+def _robot_config_fields(r: TableReader) -> dict[str, Any]:
+    """``kinematics`` and the limits of :class:`srfm.RobotConfig` (default: its own)."""
+    kinematics = r.string("kinematics", "unicycle")
+    if kinematics not in KINEMATICS:
+        raise r.fail("kinematics", f"must be one of {KINEMATICS}, got {kinematics!r}")
     defaults = RobotConfig()
     limits = {
         field: r.number(field, getattr(defaults, field), strict=True, kind=kind)
@@ -436,18 +372,80 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
             ("goal_radius_m", "radius"),
         )
     }
-    r.finish()
-    robot = RobotConfig(kinematics=kin, **limits)
+    return {"kinematics": kinematics, **limits}
 
+
+class _Pedestrians(NamedTuple):
+    """What ``[pedestrians]`` gives: the listed pedestrians (with the version-2 layout,
+    those of groups, standing and sources too) and their per-pedestrian values."""
+
+    starts: FloatArray | None
+    goals: FloatArray | None
+    layout: _v2.PedestrianLayout | None
+    radius_m: FloatArray | float
+    desired_speed_mps: FloatArray | float
+    max_speed_mps: FloatArray | float
+    goal_radius_m: float
+    noise_m: float
+    switch_radius_m: float
+    speed_noise_mps: float
+    enter_noise_s: float
+
+
+def _read_pedestrians(
+    top: TableReader,
+    head: _Head,
+    world: WorldBounds,
+    horizon_s: float,
+    regions: Mapping[str, tuple[float, float, float, float]],
+) -> _Pedestrians:
+    """``[pedestrians]`` (version 2: routes, groups, standing, entries, sources)."""
     p = top.table("pedestrians")
-    if not v2:
+    if not head.v2:
         for key in _V2_PEDESTRIAN_KEYS:
             if p.has(key):
                 raise p.fail(key, "needs schema_version = 2")
-    extra = v2 and any(p.has(k) for k in ("groups", "standing", "sources"))
-    starts = p.bounded_array("starts", 2, required=fixed and not extra, kinds=("coordinate",))
-    goals = p.bounded_array("goals", 2, required=fixed and not extra, kinds=("coordinate",))
-    n: int | None = None
+    starts, goals = _listed_pedestrians(p, head)
+    layout = _pedestrian_layout(p, head, starts, goals, horizon_s, regions)
+    if layout is not None:
+        starts, goals = layout.starts, layout.goals
+    n = None if starts is None else starts.shape[0]
+    switch_radius = p.number("switch_radius_m", DEFAULT_SWITCH_RADIUS_M, strict=True, kind="radius")
+    speed_noise = p.number("speed_noise_mps", 0.0, kind="speed")
+    enter_noise = p.number("enter_noise_s", 0.0, minimum=0.0, maximum=horizon_s)
+    radius = p.per_agent("radius_m", 0.3, n, MAX_RADIUS_M)
+    desired_speed = p.per_agent("desired_speed_mps", 1.25, n, MAX_SPEED_MPS)
+    max_speed = p.per_agent("max_speed_mps", 1.25, n, MAX_SPEED_MPS)
+    goal_radius = p.number("goal_radius_m", 0.5, strict=True, kind="radius")
+    world_size = min(world.x_max - world.x_min, world.y_max - world.y_min)
+    if not head.fixed and p.has("noise_m"):
+        raise p.fail("noise_m", "is only allowed with kind = 'fixed'")
+    noise = p.number("noise_m", 0.5, maximum=world_size, kind="length")
+    p.finish()
+    if head.kind == "random" and starts is not None:
+        raise p.fail("starts", "must not be given for kind = 'random'")
+    return _Pedestrians(
+        starts=starts,
+        goals=goals,
+        layout=layout,
+        radius_m=radius,
+        desired_speed_mps=desired_speed,
+        max_speed_mps=max_speed,
+        goal_radius_m=goal_radius,
+        noise_m=noise,
+        switch_radius_m=switch_radius,
+        speed_noise_mps=speed_noise,
+        enter_noise_s=enter_noise,
+    )
+
+
+def _listed_pedestrians(p: TableReader, head: _Head) -> tuple[FloatArray | None, FloatArray | None]:
+    """``starts`` and ``goals``: one goal per start; required for a fixed scenario
+    unless groups, standing pedestrians or sources (version 2) give the pedestrians."""
+    extra = head.v2 and any(p.has(k) for k in ("groups", "standing", "sources"))
+    required = head.fixed and not extra
+    starts = p.bounded_array("starts", 2, required=required, kinds=("coordinate",))
+    goals = p.bounded_array("goals", 2, required=required, kinds=("coordinate",))
     if starts is not None:
         n = starts.shape[0]
         if n == 0 and not extra:
@@ -457,50 +455,57 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
             raise p.fail("goals", f"needs one goal per start ({n}), got {got}")
     elif goals is not None:
         raise p.fail("goals", "given without starts")
-    layout: _v2.PedestrianLayout | None = None
-    if v2 and fixed:
-        layout = _v2.read_pedestrians(p, starts, goals, horizon * dt_s, regions)
-        starts, goals = layout.starts, layout.goals
-        n = starts.shape[0]
-    elif v2 and any(p.has(k) for k in _V2_PEDESTRIAN_KEYS):
+    return starts, goals
+
+
+def _pedestrian_layout(
+    p: TableReader,
+    head: _Head,
+    starts: FloatArray | None,
+    goals: FloatArray | None,
+    horizon_s: float,
+    regions: Mapping[str, tuple[float, float, float, float]],
+) -> _v2.PedestrianLayout | None:
+    """The version-2 layout of a fixed scenario (None for version 1, whose keys are
+    refused before); a random scenario must not use its keys."""
+    if head.v2 and head.fixed:
+        return _v2.read_pedestrians(p, starts, goals, horizon_s, regions)
+    if head.v2 and any(p.has(k) for k in _V2_PEDESTRIAN_KEYS):
         key = next(k for k in _V2_PEDESTRIAN_KEYS if p.has(k))
         raise p.fail(key, "is only allowed with kind = 'fixed'")
-    switch_radius = p.number("switch_radius_m", DEFAULT_SWITCH_RADIUS_M, strict=True, kind="radius")
-    speed_noise = p.number("speed_noise_mps", 0.0, kind="speed")
-    enter_noise = p.number("enter_noise_s", 0.0, minimum=0.0, maximum=horizon * dt_s)
-    ped_radius = p.per_agent("radius_m", 0.3, n, MAX_RADIUS_M)
-    ped_v0 = p.per_agent("desired_speed_mps", 1.25, n, MAX_SPEED_MPS)
-    ped_vmax = p.per_agent("max_speed_mps", 1.25, n, MAX_SPEED_MPS)
-    ped_goal_radius = p.number("goal_radius_m", 0.5, strict=True, kind="radius")
-    world_size = min(world.x_max - world.x_min, world.y_max - world.y_min)
-    if not fixed and p.has("noise_m"):
-        raise p.fail("noise_m", "is only allowed with kind = 'fixed'")
-    noise = p.number("noise_m", 0.5, maximum=world_size, kind="length")
-    p.finish()
+    return None
 
-    random_spec: RandomSpec | None = None
-    if kind == "random":
-        if starts is not None:
-            raise p.fail("starts", "must not be given for kind = 'random'")
-        q = top.table("random")
-        random_spec = RandomSpec(
-            count=q.integer("count", 10, minimum=1, maximum=10_000),
-            margin_m=q.number("margin_m", 0.5, kind="length"),
-            robot_min_start_goal_m=q.number("robot_min_start_goal_m", 5.0, kind="length"),
-            ped_min_robot_start_m=q.number("ped_min_robot_start_m", 2.0, kind="length"),
-            ped_min_start_goal_m=q.number("ped_min_start_goal_m", 7.0, kind="length"),
-            ped_min_robot_goal_m=q.number("ped_min_robot_goal_m", 2.0, kind="length"),
-            regoal=q.boolean("regoal", True),
-        )
-        q.finish()
-        if 2 * random_spec.margin_m >= min(world.x_max - world.x_min, world.y_max - world.y_min):
-            raise ScenarioError(f"{source}: random.margin_m leaves no room in the world")
-    elif top.has("random"):
-        raise top.fail("random", "is only allowed with kind = 'random'")
 
+def _read_random(
+    top: TableReader, head: _Head, world: WorldBounds, source: str
+) -> RandomSpec | None:
+    """``[random]``: the generator's constraints, for ``kind = "random"`` only."""
+    if head.kind != "random":
+        if top.has("random"):
+            raise top.fail("random", "is only allowed with kind = 'random'")
+        return None
+    q = top.table("random")
+    spec = RandomSpec(
+        count=q.integer("count", 10, minimum=1, maximum=10_000),
+        margin_m=q.number("margin_m", 0.5, kind="length"),
+        robot_min_start_goal_m=q.number("robot_min_start_goal_m", 5.0, kind="length"),
+        ped_min_robot_start_m=q.number("ped_min_robot_start_m", 2.0, kind="length"),
+        ped_min_start_goal_m=q.number("ped_min_start_goal_m", 7.0, kind="length"),
+        ped_min_robot_goal_m=q.number("ped_min_robot_goal_m", 2.0, kind="length"),
+        regoal=q.boolean("regoal", True),
+    )
+    q.finish()
+    if 2 * spec.margin_m >= min(world.x_max - world.x_min, world.y_max - world.y_min):
+        raise ScenarioError(f"{source}: random.margin_m leaves no room in the world")
+    return spec
+
+
+def _read_obstacles(top: TableReader, head: _Head, source: str) -> Obstacles:
+    """``[obstacles]``: walls (version 2: with a thickness, and doors cut out of them)
+    and pillars."""
     o = top.table("obstacles")
     walls: FloatArray | None
-    if v2:
+    if head.v2:
         walls, _ = _v2.read_walls(o)
     else:
         if o.has("doors"):
@@ -511,75 +516,46 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     )
     o.finish()
     try:
-        obstacles = Obstacles.create(
+        return Obstacles.create(
             segments=walls if walls is not None else (),
             circles=pillars if pillars is not None else (),
         )
     except SrfmError as exc:
         raise ScenarioError(f"{source}: obstacles: {exc}") from None
-    map_points: FloatArray | None = None
-    if v2 and top.has("map"):
-        m = top.table("map")
-        map_points = m.bounded_array("points", 2, required=True, kinds=("coordinate",))
-        m.finish()
-    top.finish()
-    if layout is not None:
-        assert robot_start is not None
-        assert robot_goal is not None
-        assert n is not None
-        _v2.check_layout(
-            source,
-            layout,
-            np.broadcast_to(np.asarray(ped_radius, dtype=np.float64), (n,)),
-            obstacles,
-            world,
-            robot_start,
-            robot_goal,
-            robot.radius_m,
-        )
 
-    # A Scenario is shared (built-ins are cached): make its arrays read-only.
-    for arr in (robot_start, robot_goal, starts, goals, ped_radius, ped_v0, ped_vmax, map_points):
-        if isinstance(arr, np.ndarray):
-            arr.setflags(write=False)
-    return Scenario(
-        name=name,
-        description=description,
-        kind=kind,
-        dt_s=dt_s,
-        horizon_steps=horizon,
-        world=world,
-        robot=robot,
-        robot_start=robot_start,
-        robot_goal=robot_goal,
-        robot_heading_rad=heading,
-        ped_starts=starts,
-        ped_goals=goals,
-        ped_radius_m=ped_radius,
-        ped_desired_speed_mps=ped_v0,
-        ped_max_speed_mps=ped_vmax,
-        ped_goal_radius_m=ped_goal_radius,
-        noise_m=noise,
-        random=random_spec,
-        obstacles=obstacles,
-        source=source,
-        schema_version=version,
-        ped_routes=None if layout is None else layout.routes,
-        ped_waits_s=None if layout is None else layout.waits_s,
-        ped_switch_radius_m=switch_radius,
-        ped_speed_noise_mps=speed_noise,
-        ped_groups=() if layout is None else layout.groups,
-        ped_standing=() if layout is None else layout.standing,
-        regions=regions,
-        map_points=map_points,
-        robot_recording=recording,
-        ped_enter_s=(
-            layout.enter_s
-            if layout is not None and (layout.enter_s.any() or layout.sources)
-            else None
-        ),
-        ped_enter_noise_s=enter_noise,
-        ped_sources=() if layout is None else layout.sources,
+
+def _read_map(top: TableReader, head: _Head) -> FloatArray | None:
+    """``[map] points`` (version 2): points drawn as the map."""
+    if not (head.v2 and top.has("map")):
+        return None
+    m = top.table("map")
+    points = m.bounded_array("points", 2, required=True, kinds=("coordinate",))
+    m.finish()
+    return points
+
+
+def _check_layout(
+    source: str,
+    layout: _v2.PedestrianLayout,
+    peds: _Pedestrians,
+    robot: _Robot,
+    obstacles: Obstacles,
+    world: WorldBounds,
+) -> None:
+    """The checks of a version-2 fixed scenario that need several tables
+    (:func:`srfm.scenarios._v2.check_layout`)."""
+    assert robot.start is not None
+    assert robot.goal is not None
+    radius = np.asarray(peds.radius_m, dtype=np.float64)
+    _v2.check_layout(
+        source,
+        layout,
+        np.broadcast_to(radius, (layout.starts.shape[0],)),
+        obstacles,
+        world,
+        robot.start,
+        robot.goal,
+        robot.config.radius_m,
     )
 
 

@@ -1,22 +1,22 @@
 """Per-seed episode set-up: noise on fixed scenarios, draws for the random scenario.
 
 Randomness is explicit and keyed by the seed only, so that a set-up never depends on
-what ran before it:
+what ran before it (the streams and their keys: :mod:`srfm._streams`):
 
-- fixed scenarios: ``numpy.random.default_rng(seed)`` draws one offset
+- fixed scenarios: the set-up stream ``numpy.random.default_rng(seed)`` draws one offset
   u ~ U(−noise, noise)² per pedestrian, added to its start, its waypoints and its goal;
   then, when ``speed_noise_mps`` = a > 0 (schema 2), one desired-speed change
   U(−a, a) per pedestrian (the result clipped to [0, max speed]);
 - random scenario: the same generator draws the robot start and goal, then each
   pedestrian's start and goal, by rejection sampling under the ``[random]`` constraints;
 - entering pedestrians (schema 2, :func:`entry_times`, and the goals of sources with a
-  ``goal_region``, :func:`source_goals`): from their own streams
-  ``SeedSequence(seed, spawn_key=(3,))`` and ``(4,)``, so that the draws above are those of a
+  ``goal_region``, :func:`source_goals`): from their own streams (``ENTRY_STREAM``
+  and ``SOURCE_GOAL_STREAM``), so that the draws above are those of a
   scenario without entries; the episode's pedestrians are then ordered by entry
   (those there at the start first, in the scenario's order), so that the ones present
   at any sample are always the first ones (:attr:`EpisodeSetup.ped_order`);
 - re-goaling: the k-th new goal of pedestrian i comes from its own stream
-  ``SeedSequence(seed, spawn_key=(2, i, k))`` and must lie at least
+  (``REGOAL_STREAM``, keyed by (i, k) too) and must lie at least
   ``ped_min_start_goal_m`` from the goal just reached (where the pedestrian stands)
   and ``ped_min_robot_goal_m`` from the robot's goal. Because it depends on (seed, i, k)
   and the previous goal only, both twins draw the same goal sequence.
@@ -31,10 +31,11 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm import _validate
+from srfm import _streams, _validate
 from srfm.errors import ScenarioError
 from srfm.models.state import CrowdState
-from srfm.scenarios._schema import RandomSpec, Scenario, WorldBounds
+from srfm.scenarios._schema import RandomSpec, Scenario
+from srfm.world import WorldBounds
 
 __all__ = [
     "EpisodeSetup",
@@ -47,9 +48,6 @@ __all__ = [
 ]
 
 MAX_DRAWS: Final = 10_000
-_REGOAL_STREAM: Final = 2
-_ENTRY_STREAM: Final = 3
-_SOURCE_GOAL_STREAM: Final = 4
 
 FloatArray = NDArray[np.float64]
 
@@ -129,12 +127,12 @@ def entry_times(scenario: Scenario, seed: int) -> FloatArray | None:
       stream of that rate given ``count`` arrivals in W, at least h apart; clipped
       to [dt, horizon − dt] like the given times.
 
-    Draws come from the entry stream ``SeedSequence(seed, spawn_key=(3,))``: the
-    given times first (in the scenario's order), then each source.
+    Draws come from the entry stream (:func:`srfm._streams.entry_rng`): the given
+    times first (in the scenario's order), then each source.
     """
     if scenario.ped_enter_s is None:
         return None
-    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(_ENTRY_STREAM,)))
+    rng = _streams.entry_rng(seed)
     times = np.array(scenario.ped_enter_s, dtype=np.float64)
     dt = scenario.dt_s
     latest = (scenario.horizon_steps - 1) * dt
@@ -163,13 +161,13 @@ def entry_times(scenario: Scenario, seed: int) -> FloatArray | None:
 
 def source_goals(scenario: Scenario, seed: int, goals: FloatArray) -> None:
     """Give each member of a source with a ``goal_region`` its goal in episode ``seed``:
-    uniform in the region, from the stream ``SeedSequence(seed, spawn_key=(4,))`` (one
+    uniform in the region, from the stream :func:`srfm._streams.source_goal_rng` (one
     x and one y per member, source after source); ``goals`` (N, 2) in the scenario's
     order is written in place (no per-seed ``noise_m`` offset on these)."""
     boxed = [s for s in scenario.ped_sources if s.goal_box is not None]
     if not boxed:
         return
-    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(_SOURCE_GOAL_STREAM,)))
+    rng = _streams.source_goal_rng(seed)
     for source in boxed:
         assert source.goal_box is not None
         x0, y0, x1, y1 = source.goal_box
@@ -190,7 +188,7 @@ def entry_steps(scenario: Scenario, times: FloatArray) -> NDArray[np.int64]:
 def episode_setup(scenario: Scenario, seed: int) -> EpisodeSetup:
     """Make the set-up of episode ``seed`` of ``scenario``."""
     seed = validate_seed(seed)
-    rng = np.random.default_rng(seed)
+    rng = _streams.setup_rng(seed)
     routes: tuple[FloatArray, ...] | None = None
     if scenario.random is not None:
         spec: RandomSpec = scenario.random
@@ -309,10 +307,8 @@ def next_goal(setup: EpisodeSetup, ped: int, k: int, previous_goal: FloatArray) 
     if scenario.random is None:
         raise ScenarioError(f"{scenario.source}: only random scenarios re-goal pedestrians")
     spec = scenario.random
-    seq = np.random.SeedSequence(setup.seed, spawn_key=(_REGOAL_STREAM, ped, k))
-    rng = np.random.default_rng(seq)
     return _draw(
-        rng,
+        _streams.regoal_rng(setup.seed, ped, k),
         scenario.world,
         spec.margin_m,
         [

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any, Final
+from typing import Any, Final
 
 import attrs
 import numpy as np
@@ -30,10 +30,9 @@ from numpy.typing import NDArray
 
 from srfm._validate import BOUNDS
 from srfm.errors import PlannerError, ScenarioError
-
-if TYPE_CHECKING:
-    from srfm.models.state import Obstacles
-    from srfm.scenarios._schema import WorldBounds, _Reader
+from srfm.models.state import Obstacles
+from srfm.scenarios._reader import TableReader
+from srfm.world import Router, WorldBounds
 
 FloatArray = NDArray[np.float64]
 
@@ -98,7 +97,7 @@ class PedestrianLayout:
         return out
 
 
-def _points(reader: _Reader, value: Any, label: str) -> FloatArray:
+def _points(reader: TableReader, value: Any, label: str) -> FloatArray:
     """A list of [x, y] coordinates (possibly empty)."""
     if not isinstance(value, list):
         raise reader.fail(label, f"must be a list of [x, y] points, got {value!r}")
@@ -118,7 +117,7 @@ def _points(reader: _Reader, value: Any, label: str) -> FloatArray:
     return out
 
 
-def _seconds(reader: _Reader, value: Any, label: str, count: int) -> FloatArray:
+def _seconds(reader: TableReader, value: Any, label: str, count: int) -> FloatArray:
     if not isinstance(value, list) or len(value) != count:
         raise reader.fail(label, f"needs one wait per waypoint ({count}), got {value!r}")
     out = np.zeros(count)
@@ -131,7 +130,7 @@ def _seconds(reader: _Reader, value: Any, label: str, count: int) -> FloatArray:
     return out
 
 
-def _tables(reader: _Reader, key: str) -> list[dict[str, Any]]:
+def _tables(reader: TableReader, key: str) -> list[dict[str, Any]]:
     """``key`` as an array of tables (``[[pedestrians.groups]]``, ...)."""
     value = reader.raw(key)
     if not isinstance(value, list):
@@ -142,7 +141,7 @@ def _tables(reader: _Reader, key: str) -> list[dict[str, Any]]:
     return value
 
 
-def _entry_time(reader: _Reader, value: Any, label: str, horizon_s: float) -> float:
+def _entry_time(reader: TableReader, value: Any, label: str, horizon_s: float) -> float:
     """An entry time (s): a number in [0, horizon)."""
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise reader.fail(label, f"must be a number of seconds, got {value!r}")
@@ -154,7 +153,7 @@ def _entry_time(reader: _Reader, value: Any, label: str, horizon_s: float) -> fl
 
 
 def read_pedestrians(
-    p: _Reader,
+    p: TableReader,
     starts: FloatArray | None,
     goals: FloatArray | None,
     horizon_s: float,
@@ -250,7 +249,7 @@ def read_pedestrians(
 
 
 def _source(
-    p: _Reader,
+    p: TableReader,
     table: dict[str, Any],
     si: int,
     first: int,
@@ -264,9 +263,7 @@ def _source(
     Its ``count`` entries lie in [start_s, start_s + count / rate_per_s], which must
     end before the horizon, and at least ``headway_s`` apart, which must fit in it.
     """
-    from srfm.scenarios._schema import _Reader
-
-    q = _Reader(table, p.key(f"sources[{si}]"), p.file)
+    q = TableReader(table, p.key(f"sources[{si}]"), p.file)
     start = q.bounded_array("start", 0, required=True, kinds=("coordinate",))
     region = q.string("goal_region") if q.has("goal_region") else None
     goal = q.bounded_array("goal", 0, required=region is None, kinds=("coordinate",))
@@ -313,14 +310,12 @@ def _source(
 
 
 def _group(
-    p: _Reader, table: dict[str, Any], gi: int, horizon_s: float
+    p: TableReader, table: dict[str, Any], gi: int, horizon_s: float
 ) -> tuple[list[tuple[FloatArray, FloatArray, FloatArray]], float]:
     """The members (start, goal, route) of group ``gi`` (side by side across the
     direction of its first leg, ``spacing_m`` apart, sharing the route's shape) and
     the group's entry time."""
-    from srfm.scenarios._schema import _Reader
-
-    g = _Reader(table, p.key(f"groups[{gi}]"), p.file)
+    g = TableReader(table, p.key(f"groups[{gi}]"), p.file)
     start = g.bounded_array("start", 0, required=True, kinds=("coordinate",))
     goal = g.bounded_array("goal", 0, required=True, kinds=("coordinate",))
     size = g.integer("size", 2, minimum=1, maximum=MAX_GROUP_SIZE)
@@ -343,7 +338,7 @@ def _group(
     return out, enter
 
 
-def read_walls(o: _Reader) -> tuple[FloatArray, list[str]]:
+def read_walls(o: TableReader) -> tuple[FloatArray, list[str]]:
     """Wall segments (M, 4) from ``walls`` (4 numbers, or 5 with a thickness) and
     ``doors`` cut out of them; the label of each segment's source key."""
     lines: list[tuple[shapely.Geometry, float, str]] = []
@@ -424,7 +419,9 @@ def _segments(shape: shapely.Geometry) -> list[list[float]]:
     return out
 
 
-def read_regions(top: _Reader, world: WorldBounds) -> dict[str, tuple[float, float, float, float]]:
+def read_regions(
+    top: TableReader, world: WorldBounds
+) -> dict[str, tuple[float, float, float, float]]:
     """``[regions]``: name = [x_min, y_min, x_max, y_max] inside the world."""
     out: dict[str, tuple[float, float, float, float]] = {}
     if not top.has("regions"):
@@ -479,8 +476,6 @@ def check_layout(
         )
     if obstacles.empty:
         return
-    from srfm.planners.routing import Router  # the router imports srfm.scenarios
-
     shapes = [
         shapely.LineString([(a, b), (c, d)]) if (a, b) != (c, d) else shapely.Point(a, b)
         for a, b, c, d in obstacles.segments
@@ -515,7 +510,7 @@ def check_layout(
         key = label.replace("starts", "goals") if "starts" in label else label
         clear(layout.goals[p], r, key)
         if r not in routers:
-            routers[r] = Router(obstacles, _grown(world, r), clearance_m=r)
+            routers[r] = Router(obstacles, world.grown(r), clearance_m=r)
         points = [layout.starts[p], *layout.routes[p], layout.goals[p]]
         for k in range(1, len(points)):
             where = f"pedestrians.routes[{p}][{k - 1}]" if k < len(points) - 1 else key
@@ -523,17 +518,6 @@ def check_layout(
                 routers[r].route(tuple(points[k - 1]), tuple(points[k]))
             except PlannerError as exc:
                 raise ScenarioError(f"{source}: {where}: unreachable: {exc}") from None
-
-
-def _grown(world: WorldBounds, margin: float) -> WorldBounds:
-    """The world grown by ``margin``: the world's edge is no wall for pedestrians."""
-    return attrs.evolve(
-        world,
-        x_min=world.x_min - margin,
-        x_max=world.x_max + margin,
-        y_min=world.y_min - margin,
-        y_max=world.y_max + margin,
-    )
 
 
 MAX_RECORDING_SAMPLES: Final = 1_000_000
@@ -556,7 +540,7 @@ class RobotRecording:
     xy: FloatArray
 
 
-def read_recording(robot: _Reader, world: WorldBounds, start: FloatArray) -> RobotRecording:
+def read_recording(robot: TableReader, world: WorldBounds, start: FloatArray) -> RobotRecording:
     """``[robot.recording]``: ``times_s`` (s, from 0, strictly increasing) and ``xy``
     (one [x, y] per time, inside the world, the first at ``robot.start``)."""
     rec = robot.table("recording")

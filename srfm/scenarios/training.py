@@ -34,8 +34,8 @@ By default each family has probability 1/5; ``weights`` (``srfm train
 --family-weights``) draws them in other proportions, for example more ``standing``
 layouts for a policy that fails to cross standing crowds (docs/rl.md).
 
-Randomness is keyed by the seed only (``numpy.random.default_rng((seed, 7))``), so a
-layout never depends on what ran before it.
+Randomness is keyed by the seed only (the training stream,
+:func:`srfm._streams.training_rng`), so a layout never depends on what ran before it.
 """
 
 from __future__ import annotations
@@ -47,9 +47,11 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._streams import training_rng
 from srfm.errors import ScenarioError
-from srfm.scenarios._schema import RandomSpec, Scenario, WorldBounds
+from srfm.scenarios._schema import RandomSpec, Scenario
 from srfm.scenarios._setup import validate_seed
+from srfm.world import WorldBounds
 
 __all__ = ["TRAINING_FAMILIES", "TRAINING_SCENARIO", "family_weights", "training_layout"]
 
@@ -57,7 +59,6 @@ FloatArray = NDArray[np.float64]
 
 TRAINING_SCENARIO: Final = "mixed"  # the environment's name for these layouts
 TRAINING_FAMILIES: Final = ("walkers", "streams", "crossing", "standing", "circle")
-_STREAM: Final = 7  # second word of the generator's seed: its own stream
 _MARGIN_M: Final = 0.5  # everything at least this far inside the world
 _PED_GAP_M: Final = 0.7  # pedestrian starts at least this far apart (centres)
 _ROBOT_GAP_M: Final = 1.0  # pedestrian starts at least this far from the robot start
@@ -350,7 +351,7 @@ def training_layout(
         ScenarioError: a bad seed or an unknown family.
     """
     seed = validate_seed(seed)
-    rng = np.random.default_rng((seed, _STREAM))
+    rng = training_rng(seed)
     probabilities = family_weights(weights)
     if probabilities is None:
         drawn = TRAINING_FAMILIES[int(rng.integers(len(TRAINING_FAMILIES)))]

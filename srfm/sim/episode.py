@@ -16,6 +16,7 @@ from typing import Final
 import attrs
 import numpy as np
 
+from srfm._streams import PLANNER_STREAM, planner_rng
 from srfm._user_code import call_user_code, is_user_code, user_code_error
 from srfm._validate import path_name, planner_name
 from srfm.errors import PlannerError, ResourceError, SimulationError, SrfmError
@@ -36,15 +37,6 @@ __all__ = [
     "planner_rng",
     "run_episode",
 ]
-
-# The planner's random stream is SeedSequence(seed, spawn_key=(PLANNER_STREAM,)); the
-# scenario's set-up uses default_rng(seed) and re-goaling stream 2.
-PLANNER_STREAM = 1
-
-
-def planner_rng(seed: int) -> np.random.Generator:
-    """The planner's own generator for episode ``seed``."""
-    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(PLANNER_STREAM,)))
 
 
 def build_planner(name: str) -> Planner:

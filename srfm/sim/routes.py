@@ -4,7 +4,7 @@ The one place where the goal is replaced by a waypoint, shared by the simulator
 (:class:`srfm.sim.TwinSimulator`) and the gymnasium environment (:mod:`srfm.rl`):
 
 - **Robot.** In a scenario with walls or pillars, :class:`RobotRoute` asks the global
-  router (:class:`srfm.planners.routing.Router`, clearance = robot radius +
+  router (:class:`srfm.world.Router`, clearance = robot radius +
   ``ROBOT_CLEARANCE_MARGIN_M``) for a path from the start to the goal; every local
   planner then sees the path's current waypoint as ``Observation.robot_goal``. The
   robot moves on to the next waypoint when it comes within ``ROBOT_SWITCH_RADIUS_M``
@@ -35,8 +35,8 @@ from numpy.typing import NDArray
 
 from srfm.errors import PlannerError
 from srfm.models.state import Obstacles
-from srfm.planners.routing import Router
-from srfm.scenarios import EpisodeSetup, Scenario, WorldBounds
+from srfm.scenarios import EpisodeSetup, Scenario
+from srfm.world import Router, WorldBounds
 
 __all__ = [
     "ROBOT_CLEARANCE_MARGIN_M",
@@ -71,16 +71,6 @@ def router_for(obstacles: Obstacles, world: WorldBounds, clearance_m: float) -> 
         _routers.pop(next(iter(_routers)))
     _routers[key] = (obstacles, router)
     return router
-
-
-def _open_world(world: WorldBounds, margin: float) -> WorldBounds:
-    """The world grown by ``margin``: its edge is no wall for pedestrians."""
-    return WorldBounds(
-        x_min=world.x_min - margin,
-        x_max=world.x_max + margin,
-        y_min=world.y_min - margin,
-        y_max=world.y_max + margin,
-    )
 
 
 class RobotRoute:
@@ -167,7 +157,7 @@ def _pedestrian_plans(setup: EpisodeSetup) -> list[tuple[FloatArray, NDArray[np.
 
 def _ped_routers(scenario: Scenario, r: float) -> tuple[Router, ...]:
     """The routers a pedestrian of radius ``r`` uses: clearance r, then r / 2."""
-    world = _open_world(scenario.world, r)
+    world = scenario.world.grown(r)
     out = []
     for clearance in (r, 0.5 * r):
         try:

@@ -187,13 +187,13 @@ def all_tasks(spec: SweepSpec) -> list[_SweepTask]:
 
 
 def _manifest(spec: SweepSpec) -> dict[str, Any]:
-    from srfm.benchmark._runner import _versions
+    from srfm.benchmark._request import package_versions
 
     return {
         "schema": SWEEP_SCHEMA,
         "name": spec.name,
         "spec": str(spec.source),
-        "versions": _versions(),
+        "versions": package_versions(),
         "metric_params": _metric_params(),
         **spec.identity(),
     }

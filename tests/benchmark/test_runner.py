@@ -317,7 +317,7 @@ _THREADS_SCRIPT = """
 import json, multiprocessing
 import numba, numpy
 from threadpoolctl import threadpool_info
-from srfm.benchmark._runner import _init_worker
+from srfm.benchmark._workers import init_worker
 
 def counts():
     numba.get_num_threads()  # launch numba's threading layer
@@ -325,7 +325,7 @@ def counts():
             "pools": {p["internal_api"]: p["num_threads"] for p in threadpool_info()}}
 
 parent = counts()
-with multiprocessing.get_context("fork").Pool(1, initializer=_init_worker) as pool:
+with multiprocessing.get_context("fork").Pool(1, initializer=init_worker) as pool:
     worker = pool.apply(counts)
 print(json.dumps({"parent": parent, "worker": worker}))
 """

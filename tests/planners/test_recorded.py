@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import srfm
-from srfm.benchmark._runner import default_planners
+from srfm.benchmark import default_planners
 from srfm.errors import PlannerError, ScenarioError
 from srfm.planners import make_planner
 from srfm.planners.recorded import (

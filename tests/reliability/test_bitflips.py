@@ -19,7 +19,7 @@ import pytest
 
 import srfm
 from srfm.benchmark import episode_path, read_episode, run_benchmark
-from srfm.benchmark._runner import _check_manifest
+from srfm.benchmark._request import check_manifest
 from srfm.benchmark.figures import figure_episode_path, load_figure_episode
 from srfm.datasets import eth_ucy, jrdb, navwareset
 from srfm.scenarios import load_scenario
@@ -91,7 +91,7 @@ def test_manifest(run: tuple[Path, Path]) -> None:
     tiny, out = run
     request = tiny_request(tiny, range(2))
     manifest = out / "manifest.json"
-    for result in _each_flip(manifest, lambda p: _check_manifest(out, request), step=11):
+    for result in _each_flip(manifest, lambda p: check_manifest(out, request), step=11):
         assert isinstance(result, dict | srfm.BenchmarkError)
 
 

@@ -78,7 +78,7 @@ def main() -> None:
     cpu0 = time.process_time()
     import numba.core.event as ev
 
-    from srfm.benchmark import _runner
+    from srfm.benchmark import _request, _runner
     from srfm.cli.benchmark import _log_writer
 
     print(f"imports: {time.process_time() - cpu0:.1f} CPU-s, NUMBA_CACHE_DIR {cache}")
@@ -110,11 +110,11 @@ def main() -> None:
                 phase_compile[phase[0]] += spent
 
     out = Path(tmp.name) / "out"
-    request = _runner.BenchmarkRequest.create(planners=args.planners, quick=True)
+    request = _request.BenchmarkRequest.create(planners=args.planners, quick=True)
     writer = _log_writer(request, out, not args.no_logs, True, "compact", "1", False)
     out.mkdir()
-    manifest = _runner._manifest(request, None)
-    (out / _runner.MANIFEST).write_text(json.dumps(manifest, indent=2, sort_keys=True) + "\n")
+    manifest = _request.new_manifest(request, None)
+    (out / _request.MANIFEST).write_text(json.dumps(manifest, indent=2, sort_keys=True) + "\n")
     tasks = _runner._pending_tasks(out, request, writer, True, [])
     phases: list[tuple[str, float]] = []
     pass_time: dict[str, float] = defaultdict(float)

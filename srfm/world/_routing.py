@@ -26,7 +26,7 @@ from scipy.sparse.csgraph import dijkstra
 
 from srfm.errors import PlannerError
 from srfm.models.state import Obstacles
-from srfm.scenarios import WorldBounds
+from srfm.world._bounds import WorldBounds
 
 FloatArray = NDArray[np.float64]
 

@@ -8,8 +8,7 @@ import shapely
 
 from srfm.errors import PlannerError
 from srfm.models.state import Obstacles
-from srfm.planners.routing import Router, next_waypoint
-from srfm.scenarios import WorldBounds
+from srfm.world import Router, WorldBounds, next_waypoint
 
 WORLD = WorldBounds(x_min=0.0, x_max=10.0, y_min=0.0, y_max=10.0)
 # A wall across the middle at x = 5 with a 1.2 m door between y = 6 and y = 7.2.

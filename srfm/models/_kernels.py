@@ -792,7 +792,7 @@ def step_serial(
     integrate(crowd.pos, crowd.vel, force_buf, crowd.vmax, dt)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def step_exact(crowd: CrowdArrays, context: ForceContext, dt: float, force_buf: np.ndarray) -> None:
     """One crowd step with every pedestrian pair, in index order (the exact kernel),
     whatever ``context.cut[0]``; obstacles cut at ``context.cut[1]``.
@@ -838,7 +838,7 @@ def step_parallel(
     integrate(pos, vel, force_buf, crowd.vmax, dt)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def mark_arrivals(
     pos: np.ndarray, goal: np.ndarray, goal_radius: float, arrived: np.ndarray, new: np.ndarray
 ) -> int:

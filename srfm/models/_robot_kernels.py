@@ -206,7 +206,7 @@ def move_robot(robot: np.ndarray, c0: float, c1: float, limits: RobotLimits, dt:
     robot[OMEGA] = wrap_angle(new_theta - theta) / dt
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def robot_event(
     robot: np.ndarray,
     crowd: CrowdArrays,

@@ -147,9 +147,17 @@ class EnvCore:
     def reset(self, episode_seed: int) -> None:
         """Start episode ``episode_seed`` (the scenario's set-up for that seed)."""
         setup = episode_setup(self.scenario, episode_seed)
-        engine = EpisodeEngine(
-            setup, self.params, cutoff="exact", counterfactual=self.config.counterfactual_twin
-        )
+        engine = self.engine
+        if engine is None:
+            engine = EpisodeEngine(
+                setup,
+                self.params,
+                cutoff="exact",
+                counterfactual=self.config.counterfactual_twin,
+                records=False,
+            )
+        else:
+            engine.reset(setup)
         if engine.outcome is not None:
             raise ScenarioError(
                 f"{self.scenario.source}: seed {setup.seed}: the robot's episode ends at "
@@ -191,6 +199,7 @@ class EnvCore:
         engine = self.engine
         assert engine is not None
         env_step, reward_and_observation, observe = self._specialize(engine)
+        rules = engine.has_routes or self.regoal  # Python work after a quiet step
         action = self.arrays.action
         action[0] = a0
         action[1] = a1
@@ -207,15 +216,16 @@ class EnvCore:
             event, nearest = engine.enter_sample(event, nearest)
             if engine.n_present != present:  # the reward and observation with them
                 reward_and_observation(engine.arrays, env, event)
-            route = engine.robot_route
-            waypoint = -1 if route is None else route.index
-            engine.apply_events(n_new, event, nearest)
-            if self.regoal and n_new:  # with the new goals
-                reward_and_observation(engine.arrays, env, event)
-            if route is not None and event == _rk.EVENT_NONE and route.index != waypoint:
-                self._set(steer=self._steer(engine))
-                if last:
-                    observe(engine.arrays, self.arrays, event)
+            if rules or n_new or event != _rk.EVENT_NONE:
+                route = engine.robot_route
+                waypoint = -1 if route is None else route.index
+                engine.apply_events(n_new, event, nearest)
+                if self.regoal and n_new:  # with the new goals
+                    reward_and_observation(engine.arrays, env, event)
+                if route is not None and event == _rk.EVENT_NONE and route.index != waypoint:
+                    self._set(steer=self._steer(engine))
+                    if last:
+                        observe(engine.arrays, self.arrays, event)
             for term in REWARD_TERMS:
                 total[term] += out[term]
             if event != _rk.EVENT_NONE:

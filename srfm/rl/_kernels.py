@@ -104,7 +104,7 @@ class EnvArrays(NamedTuple):
     regoal: bool
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def one_step_deviation(crowd: CrowdArrays, felt: ForceContext, dt: float, zone: float) -> float:
     """r_div: the one-step counterfactual deviation summed over the social zone (m).
 
@@ -144,7 +144,7 @@ def one_step_deviation(crowd: CrowdArrays, felt: ForceContext, dt: float, zone: 
     return total
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def reward_and_observation(ep: EpisodeArrays, env: EnvArrays, event: int) -> None:
     """Reward terms into ``env.out`` and the observation into ``env.obs`` after a step.
 
@@ -194,7 +194,7 @@ def reward_and_observation(ep: EpisodeArrays, env: EnvArrays, event: int) -> Non
     observe(ep, env, event)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def observe(ep: EpisodeArrays, env: EnvArrays, event: int) -> int:
     """The observation into ``env.obs`` (:func:`build_observation`) after ``event``;
     the number of pedestrians in the social zone."""

@@ -31,6 +31,7 @@ from numba import njit
 
 from srfm.models._arrays import CrowdArrays, ForceContext
 from srfm.models._kernels import mark_arrivals, step_exact, step_parallel, step_serial
+from srfm.models._primitives import FALSE
 from srfm.models._robot_kernels import (
     EVENT_NONE,
     VX,
@@ -90,9 +91,8 @@ class EpisodeArrays(NamedTuple):
         robot: (7,) the robot state (:mod:`srfm.models._robot_kernels` layout).
         felt: what the factual crowd feels: the parameters, the robot's body
             (``felt.robot`` (3,): x, y at the current sample, radius), the obstacles
-            and the cut-offs.
-        blind: the same for the counterfactual crowd, the robot switched off (the
-            same arrays).
+            and the cut-offs (the counterfactual crowd feels the same with the robot
+            switched off).
         force_buf: (N, 2) scratch for the forces.
         limits: the robot's body and limits.
         task: the robot's goal, world and horizon.
@@ -105,7 +105,6 @@ class EpisodeArrays(NamedTuple):
     counterfactual_arrivals: ArrivalFlags
     robot: np.ndarray
     felt: ForceContext
-    blind: ForceContext
     force_buf: np.ndarray
     limits: RobotLimits
     task: RobotTask
@@ -128,9 +127,11 @@ def _advance(
         move_robot(robot, c0, c1, ep.limits, o.dt_s)
     else:
         robot[VX:] = 0.0  # at rest where its episode ended
-    crowd_step(ep.factual, ep.felt, o.dt_s, ep.force_buf)
+    felt = ep.felt
+    crowd_step(ep.factual, felt, o.dt_s, ep.force_buf)
     if o.counterfactual:
-        crowd_step(ep.counterfactual, ep.blind, o.dt_s, ep.force_buf)
+        blind = ForceContext(felt.params, body, FALSE, felt.obstacles, felt.cut)
+        crowd_step(ep.counterfactual, blind, o.dt_s, ep.force_buf)
     radius = o.ped_goal_radius_m
     f = ep.factual
     flags = ep.factual_arrivals

@@ -39,7 +39,7 @@ from numpy.typing import NDArray
 from srfm._jit import specialize
 from srfm.models import _robot_kernels as _rk
 from srfm.models._arrays import ForceContext
-from srfm.models._primitives import FALSE, TRUE
+from srfm.models._primitives import TRUE
 from srfm.models.forces import Cutoff, kernel_cutoffs
 from srfm.models.params import SRFMParams
 from srfm.models.robot import RobotState
@@ -84,6 +84,8 @@ class EpisodeEngine:
         counterfactual: step the counterfactual crowd (else it stays at its start; the
             environment's training set-up, whose reward needs only a one-step
             counterfactual).
+        records: return the events as :class:`~srfm.sim.record.Event` records (the
+            environment, which needs none, saves their cost).
 
     Attributes:
         factual, counterfactual: the two crowds, every pedestrian of the episode (the
@@ -94,6 +96,8 @@ class EpisodeEngine:
         end_step: the sample at which it ended (the horizon while it goes on).
         step_index: the current sample k.
         n_present: the pedestrians there at sample k (the first ``n_present``).
+        has_routes: the robot or some pedestrians follow routes (work after every
+            step); False in scenarios without obstacles and given routes.
         initial_events: the robot event at sample 0, if the robot starts in
             collision, out of the world or at its goal (its episode then ends there).
         arrays: the kernels' view of the episode (:class:`srfm.sim._kernels.EpisodeArrays`).
@@ -107,14 +111,45 @@ class EpisodeEngine:
         parallel: bool = False,
         cutoff: Cutoff = "auto",
         counterfactual: bool = True,
+        records: bool = True,
     ) -> None:
+        self.params = params if params is not None else SRFMParams()
+        self.records = records
+        self._parallel = parallel
+        self._cutoff: Cutoff = cutoff
+        self._counterfactual = counterfactual
+        # The kernels with their argument types resolved (srfm._jit.specialize), kept
+        # over resets: the engine makes every array it hands them itself (float64 or
+        # bool, C-contiguous, writable) and the parameter tuples of fixed classes, so
+        # their types are the same in every episode.
+        self._specialized: dict[Any, Callable[..., Any]] = {}
+        self._obstacles_of: Any = None
+        self.reset(setup)
+
+    def reset(self, setup: EpisodeSetup) -> None:
+        """Start the episode ``setup`` (the engine's arrays reused where they fit)."""
         scenario = setup.scenario
         self.setup = setup
         self.scenario = scenario
-        self.params = params if params is not None else SRFMParams()
-        self.factual: CrowdState = setup.crowd.copy()
-        self.counterfactual: CrowdState = setup.crowd.copy()
-        n = self.factual.n
+        crowd = setup.crowd
+        n = crowd.n
+        if getattr(self, "factual", None) is not None and self.factual.n == n:
+            for twin in (self.factual, self.counterfactual):
+                for name in ("pos", "vel", "goal", "radius", "v0", "vmax"):
+                    getattr(twin, name)[:] = getattr(crowd, name)
+        else:
+            self.factual = crowd.copy()
+            self.counterfactual = crowd.copy()
+            self._arrived = np.zeros((2, n), dtype=np.bool_)
+            self._new = np.zeros((2, n), dtype=np.bool_)
+            self._goal_count = np.zeros((2, n), dtype=np.int64)
+            self._force_buf = np.empty((n, 2))
+        # Arrivals, per twin (rows 0, 1 = factual, counterfactual).
+        self._arrived[:] = False
+        self._new[:] = False
+        self._goal_count[:] = 0
+        self._regoal = scenario.random is not None and scenario.random.regoal
+        self._goal_cache: dict[tuple[int, int], FloatArray] = {}  # both twins draw alike
         self.robot = RobotState(
             x=float(setup.robot_start[0]),
             y=float(setup.robot_start[1]),
@@ -125,12 +160,6 @@ class EpisodeEngine:
         self.outcome: RobotOutcome | None = None
         self.end_step = scenario.horizon_steps
         self.step_index = 0
-        # Arrivals, per twin (rows 0, 1 = factual, counterfactual).
-        self._arrived = np.zeros((2, n), dtype=np.bool_)
-        self._new = np.zeros((2, n), dtype=np.bool_)
-        self._regoal = scenario.random is not None and scenario.random.regoal
-        self._goal_count = np.zeros((2, n), dtype=np.int64)
-        self._goal_cache: dict[tuple[int, int], FloatArray] = {}  # both twins draw alike
         # Routes (srfm.sim.routes): the robot's planner and the pedestrians steer to
         # waypoints in scenarios with obstacles or given routes; none otherwise.
         obstacles = scenario.obstacles
@@ -144,23 +173,24 @@ class EpisodeEngine:
                 if routes.any:
                     self.crowd(twin).goal[:] = routes.targets()
                     self._ped_routes[twin] = routes
+        self.has_routes = self.robot_route is not None or bool(self._ped_routes)
         self._enter_step = setup.ped_enter_step
         self.n_present = setup.n_present(0)
         # The kernels' arguments: the same arrays (updated in place) at every step.
         self._body = np.array([self.robot[_rk.X], self.robot[_rk.Y], scenario.robot.radius_m])
-        self._obstacles = obstacles.for_kernels()
-        self._force_buf = np.empty((n, 2))
-        self._cut = kernel_cutoffs(cutoff, self.params, self.factual.radius)
+        if obstacles is not self._obstacles_of:
+            self._obstacles = obstacles.for_kernels()
+            self._obstacles_of = obstacles
+        self._cut = kernel_cutoffs(self._cutoff, self.params, crowd.radius)
         kernel_params = self.params.for_kernels()
         self._felt = ForceContext(kernel_params, self._body, TRUE, self._obstacles, self._cut)
-        self._blind = self._felt._replace(robot_on=FALSE)
         self._limits = scenario.robot.for_kernels()
         self._options = _k.StepOptions(
             dt_s=float(scenario.dt_s),
             ped_goal_radius_m=float(scenario.ped_goal_radius_m),
-            counterfactual=counterfactual,
+            counterfactual=self._counterfactual,
         )
-        if parallel:
+        if self._parallel:
             self._kernel = _k.advance_parallel
         elif math.isinf(self._cut[0]):
             self._kernel = _k.advance_exact  # no cell list to compile
@@ -170,12 +200,19 @@ class EpisodeEngine:
         # The step kernel is specialised at the first step, so that building an engine
         # and observing compiles neither the crowd step nor the robot's motion (the
         # benchmark's warm-up compiles a planner's kernels that way beside them).
-        self._advance: Callable[..., tuple[int, int, int]] | None = None
-        self._robot_event: Callable[..., tuple[int, int]] = specialize(
-            _rk.robot_event, *self._event_args(), 0
+        self._advance: Callable[..., tuple[int, int, int]] | None = self._specialized.get(
+            self._kernel
         )
+        self._robot_event = self._specialize(_rk.robot_event, *self._event_args(), 0)
         code, nearest = self._robot_event(*self._event_args(), 0)
         self.initial_events: list[Event] = self._robot_events(code, nearest)
+
+    def _specialize(self, kernel: Any, *args: Any) -> Callable[..., Any]:
+        entry = self._specialized.get(kernel)
+        if entry is None:
+            entry = specialize(kernel, *args)
+            self._specialized[kernel] = entry
+        return entry
 
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
@@ -183,13 +220,14 @@ class EpisodeEngine:
         # arguments are made again on unpickling.
         for name in ("_advance", "_robot_event", "arrays"):
             del state[name]
+        state["_specialized"] = {}
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
         self._advance = None
         self._pack(self.n_present)
-        self._robot_event = specialize(_rk.robot_event, *self._event_args(), 0)
+        self._robot_event = self._specialize(_rk.robot_event, *self._event_args(), 0)
 
     def crowd(self, twin: int) -> CrowdState:
         """The factual (0) or counterfactual (1) crowd."""
@@ -219,7 +257,6 @@ class EpisodeEngine:
             counterfactual_arrivals=_k.ArrivalFlags(self._arrived[1, :m], self._new[1, :m]),
             robot=self.robot,
             felt=self._felt,
-            blind=self._blind,
             force_buf=self._force_buf[:m],
             limits=self._limits,
             task=self.task,
@@ -243,7 +280,7 @@ class EpisodeEngine:
         """One step with the robot's command (c0, c1), already checked (ignored once the
         robot's episode has ended); the events detected at the new sample."""
         if self._advance is None:
-            self._advance = specialize(self._kernel, self.arrays, 0.0, 0.0, True, 0)
+            self._advance = self._specialize(self._kernel, self.arrays, 0.0, 0.0, True, 0)
         n_new, code, nearest = self._advance(
             self.arrays, c0, c1, self.robot_active, self.step_index
         )
@@ -284,21 +321,17 @@ class EpisodeEngine:
         return events
 
     def _arrivals(self, twin: int) -> list[Event]:
-        """The twin's new arrivals at its goal: events, and new goals (re-goaling) or
-        the arrived mark."""
-        events = []
-        t = self.time_s
-        k = self.step_index
-        name = _TWINS[twin]
+        """The twin's new arrivals at its goal (an arrival at a route's waypoint is
+        none): new goals (re-goaling) or the arrived mark, and their records."""
+        ids = np.flatnonzero(self._new[twin, : self.n_present])
         routes = self._ped_routes.get(twin)
-        goal = self.crowd(twin).goal
-        for idx in np.flatnonzero(self._new[twin, : self.n_present]):
-            i = int(idx)
-            if routes is not None and not routes.at_goal_leg(i):
-                continue  # near a waypoint on the way, not at the goal
-            events.append(Event(step=k, time_s=t, kind="ped_arrival", agent=i, twin=name))
-            if self._regoal:
-                count = self._goal_count[twin]
+        if routes is not None:
+            ids = ids[[routes.at_goal_leg(int(i)) for i in ids]]
+        if self._regoal:
+            goal = self.crowd(twin).goal
+            count = self._goal_count[twin]
+            for idx in ids:
+                i = int(idx)
                 count[i] += 1
                 key = (i, int(count[i]))
                 new_goal = self._goal_cache.get(key)
@@ -306,9 +339,14 @@ class EpisodeEngine:
                     new_goal = next_goal(self.setup, i, key[1], goal[i].copy())
                     self._goal_cache[key] = new_goal
                 goal[i] = new_goal
-            else:
-                self._arrived[twin, i] = True
-        return events
+        else:
+            self._arrived[twin, ids] = True
+        if not self.records:
+            return []
+        t = self.time_s
+        k = self.step_index
+        name = _TWINS[twin]
+        return [Event(step=k, time_s=t, kind="ped_arrival", agent=int(i), twin=name) for i in ids]
 
     def _robot_events(self, code: int, nearest: int) -> list[Event]:
         """The robot event ``code`` at the current sample as a record; it ends the
@@ -316,8 +354,9 @@ class EpisodeEngine:
         if code == _rk.EVENT_NONE:
             return []
         k = self.step_index
-        event = Event(step=k, time_s=self.time_s, kind=_EVENT_KINDS[code], agent=int(nearest))
         self.robot_active = False
         self.outcome = EVENT_OUTCOMES[code]
         self.end_step = k
-        return [event]
+        if not self.records:
+            return []
+        return [Event(step=k, time_s=self.time_s, kind=_EVENT_KINDS[code], agent=int(nearest))]

@@ -100,9 +100,10 @@ class CrowdState:
     def for_kernels(self, m: int | None = None) -> CrowdArrays:
         """The kernels' view of the first ``m`` pedestrians (all for None): views of
         these arrays, so a kernel's update is this crowd's."""
-        k = self.n if m is None else m
+        if m is None or m == self.n:
+            return CrowdArrays(self.pos, self.vel, self.goal, self.radius, self.v0, self.vmax)
         return CrowdArrays(
-            self.pos[:k], self.vel[:k], self.goal[:k], self.radius[:k], self.v0[:k], self.vmax[:k]
+            self.pos[:m], self.vel[:m], self.goal[:m], self.radius[:m], self.v0[:m], self.vmax[:m]
         )
 
     def copy(self) -> CrowdState:
@@ -154,6 +155,9 @@ class Obstacles:
 
     segments: FloatArray = attrs.field(factory=lambda: np.zeros((0, 4)))
     circles: FloatArray = attrs.field(factory=lambda: np.zeros((0, 3)))
+    _kernel_arrays: ObstacleArrays | None = attrs.field(
+        default=None, init=False, repr=False, eq=False
+    )
 
     def __attrs_post_init__(self) -> None:
         seg = float_array(self.segments, "segments", (None, 4), SimulationError)
@@ -192,14 +196,18 @@ class Obstacles:
         compile the crowd step and the robot's checks again (seconds of CPU each with
         an empty cache). The copies are the same type everywhere.
         """
-        segments = np.array(self.segments, dtype=np.float64, order="C")
-        circles = np.array(self.circles, dtype=np.float64, order="C")
-        return ObstacleArrays(
-            segments=segments,
-            circles=circles,
-            pillar_xy=np.array(circles[:, :2], order="C"),
-            pillar_r=np.array(circles[:, 2], order="C"),
-        )
+        if self._kernel_arrays is None:  # made once per Obstacles (kernels only read them)
+            segments = np.array(self.segments, dtype=np.float64, order="C")
+            circles = np.array(self.circles, dtype=np.float64, order="C")
+            arrays = ObstacleArrays(
+                segments=segments,
+                circles=circles,
+                pillar_xy=np.array(circles[:, :2], order="C"),
+                pillar_r=np.array(circles[:, 2], order="C"),
+            )
+            object.__setattr__(self, "_kernel_arrays", arrays)
+        assert self._kernel_arrays is not None
+        return self._kernel_arrays
 
 
 def _obstacles(segments: FloatArray, circles: FloatArray) -> Obstacles:

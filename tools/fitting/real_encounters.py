@@ -1,8 +1,9 @@
 """How real people answer a robot (issue 28): model-free evidence from NavWareSet, and
 prediction windows aligned to encounters checked on synthetic data.
 
-    nice .venv/bin/python tools/fitting/real_encounters.py
+    PYTHONPATH=. nice .venv/bin/python tools/fitting/real_encounters.py
 
+(``PYTHONPATH=.``: part 2 re-simulates pedestrians with ``tests/datasets/_synthetic.py``.)
 One command makes every figure and table of docs/real_encounters.md: it reads every
 NavWareSet scene (``$SRFM_DATA_DIR/navwareset_quant``, default
 ``../shared/data/navwareset_quant``, both formats), measures how each pedestrian's
@@ -13,7 +14,7 @@ back from synthetic pedestrians with encounter-aligned windows (part 2, which al
 needs the 12-file excerpt ``navwareset/`` for the recorded robots). It writes the
 figures (PNG), ``results.json`` and ``tables.md`` into ``docs/real_encounters/`` and
 prints the tables. Deterministic: every random draw comes from ``--seed``; the plan it
-follows (what is confirmatory, what exploratory) is the page's first section.
+follows (what is confirmatory, what exploratory) is the page's section "The plan".
 """
 
 from __future__ import annotations

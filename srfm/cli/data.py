@@ -343,7 +343,7 @@ def _add_window_options(func: F, stride_s: float) -> F:
     return func
 
 
-def _load_windows(files: Sequence[Path], **config: float) -> Any:
+def _load_windows(files: Sequence[Path], **config: Any) -> Any:
     from srfm.datasets import read_mcap
     from srfm.errors import ParameterError
     from srfm.fitting import WindowConfig, build_windows

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import weakref
 from typing import Any
 
 import attrs
@@ -155,9 +156,6 @@ class Obstacles:
 
     segments: FloatArray = attrs.field(factory=lambda: np.zeros((0, 4)))
     circles: FloatArray = attrs.field(factory=lambda: np.zeros((0, 3)))
-    _kernel_arrays: ObstacleArrays | None = attrs.field(
-        default=None, init=False, repr=False, eq=False
-    )
 
     def __attrs_post_init__(self) -> None:
         seg = float_array(self.segments, "segments", (None, 4), SimulationError)
@@ -196,7 +194,8 @@ class Obstacles:
         compile the crowd step and the robot's checks again (seconds of CPU each with
         an empty cache). The copies are the same type everywhere.
         """
-        if self._kernel_arrays is None:  # made once per Obstacles (kernels only read them)
+        arrays = _KERNEL_ARRAYS.get(self)
+        if arrays is None:  # made once per Obstacles (the kernels only read them)
             segments = np.array(self.segments, dtype=np.float64, order="C")
             circles = np.array(self.circles, dtype=np.float64, order="C")
             arrays = ObstacleArrays(
@@ -205,9 +204,13 @@ class Obstacles:
                 pillar_xy=np.array(circles[:, :2], order="C"),
                 pillar_r=np.array(circles[:, 2], order="C"),
             )
-            object.__setattr__(self, "_kernel_arrays", arrays)
-        assert self._kernel_arrays is not None
-        return self._kernel_arrays
+            _KERNEL_ARRAYS[self] = arrays
+        return arrays
+
+
+# The kernels' arrays of each Obstacles, kept beside it rather than in it, so that an
+# obstacle's content (what a scenario's fingerprint hashes) is only its walls and pillars.
+_KERNEL_ARRAYS: weakref.WeakKeyDictionary[Obstacles, ObstacleArrays] = weakref.WeakKeyDictionary()
 
 
 def _obstacles(segments: FloatArray, circles: FloatArray) -> Obstacles:

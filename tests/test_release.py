@@ -47,7 +47,7 @@ def _wheel(dist: Path) -> Path:
 
 def test_twine_accepts_both_files(dist: Path) -> None:
     files = sorted(dist.iterdir())
-    assert [p.suffix for p in files] == [".gz", ".whl"]
+    assert sorted(p.suffix for p in files) == [".gz", ".whl"]
     out = _run(sys.executable, "-m", "twine", "check", "--strict", *files)
     assert out.count("PASSED") == 2
 
@@ -66,6 +66,18 @@ def test_the_wheel_holds_what_a_user_needs_only(dist: Path) -> None:
     sources = {str(p.relative_to(REPO)) for p in (REPO / "srfm").rglob("*.py")}
     assert {n for n in package if n.endswith(".py")} == sources
     assert wheel.stat().st_size < WHEEL_LIMIT_BYTES, wheel.stat().st_size
+
+
+def test_the_sdist_holds_the_package_and_its_notes(dist: Path) -> None:
+    import tarfile
+
+    (sdist,) = dist.glob("srfm-*.tar.gz")
+    with tarfile.open(sdist) as tar:
+        top = {Path(n).parts[1] for n in tar.getnames() if len(Path(n).parts) > 1}
+    assert top == {
+        "CHANGELOG.md", "MANIFEST.in", "PKG-INFO", "README.md", "constraints.txt",
+        "pyproject.toml", "setup.cfg", "srfm", "srfm.egg-info",
+    }  # fmt: skip
 
 
 def test_the_version_comes_from_pyproject(dist: Path) -> None:

@@ -171,3 +171,20 @@ def test_benchmark_output_off_a_terminal(tmp_path: Path) -> None:
     listed = next(line for line in lines if line.startswith("results in "))
     assert listed.endswith(", manifest.json")
     assert (out / "manifest.json").is_file()
+
+
+def test_the_readme_command_table_lists_every_command() -> None:
+    """Every command and subcommand of `srfm` has a row in README's command table."""
+    import click
+
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
+    rows = [line for line in readme.split("| command | what it does |", 1)[1].splitlines()]
+    table = "\n".join(rows[: next(i for i, r in enumerate(rows[2:], 2) if not r.startswith("|"))])
+    names = []
+    for name, command in main.commands.items():
+        if isinstance(command, click.Group):
+            names += [f"srfm {name} {sub}" for sub in command.commands]
+        else:
+            names.append(f"srfm {name}")
+    missing = [n for n in names if f"`{n}" not in table]
+    assert not missing, missing

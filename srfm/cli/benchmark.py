@@ -10,7 +10,8 @@ from typing import TYPE_CHECKING
 
 import click
 
-from srfm.cli._common import load_params_option, user_errors
+from srfm._text import count
+from srfm.cli._common import load_params_option, progressbar, user_errors
 
 if TYPE_CHECKING:
     from srfm.benchmark import BenchmarkRequest
@@ -299,11 +300,12 @@ def benchmark(
     writer = _log_writer(request, out, logs, mcap, mcap_profile, rrd_seeds, forces)
     total = len(request.scenarios) * len(request.planners) * len(request.seeds)
     click.echo(
-        f"benchmark: {len(request.scenarios)} scenarios × {len(request.planners)} planners "
-        f"× {len(request.seeds)} seeds = {total} episodes -> {out}",
+        f"benchmark: {count(len(request.scenarios), 'scenario')} × "
+        f"{count(len(request.planners), 'planner')} × {count(len(request.seeds), 'seed')} = "
+        f"{count(total, 'episode')} -> {out}",
         err=True,
     )
-    with click.progressbar(length=total, label="episodes", file=sys.stderr) as bar:
+    with progressbar(length=total, label="episodes") as bar:
 
         def advance(n: int) -> None:
             bar.update(n)

@@ -9,7 +9,8 @@ from typing import Any
 
 import click
 
-from srfm.cli._common import user_errors
+from srfm._text import count
+from srfm.cli._common import progressbar, user_errors
 
 __all__ = ["sweep"]
 
@@ -99,16 +100,15 @@ def run(
         raise click.UsageError("--scheduler and --scheduler-file need --executor dask")
     spec = load_spec(spec_file)
     click.echo(
-        f"sweep {spec.name}: {len(spec.cells)} cells × {len(spec.scenarios)} scenarios × "
-        f"{len(spec.planners)} planners × {len(spec.seeds)} seeds = {spec.episodes} "
-        f"episodes -> {out}",
+        f"sweep {spec.name}: {count(len(spec.cells), 'cell')} × "
+        f"{count(len(spec.scenarios), 'scenario')} × {count(len(spec.planners), 'planner')} × "
+        f"{count(len(spec.seeds), 'seed')} = {count(spec.episodes, 'episode')} -> {out}",
         err=True,
     )
     rate = _Rate(spec.episodes)
-    with click.progressbar(
+    with progressbar(
         length=spec.episodes,
         label="episodes",
-        file=sys.stderr,
         show_pos=True,
         show_eta=False,
         item_show_func=rate.text,

@@ -197,7 +197,8 @@ def apply_command(state: RobotState, command: Any, config: RobotConfig, dt: floa
 
     Args:
         state: the robot before the step.
-        command: (2,) (v, ω) for a unicycle, (vx, vy) world frame for a holonomic robot.
+        command: (2,) (v m/s, ω rad/s) for a unicycle, (vx, vy) m/s in the world frame
+            for a holonomic robot.
         config: body and limits.
         dt: step (s).
 

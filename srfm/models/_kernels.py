@@ -27,6 +27,7 @@ heading and is treated isotropically (ψ = 1).
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 from llvmlite import ir
@@ -43,6 +44,9 @@ from srfm.models._primitives import (
     disc_repulsion,
 )
 from srfm.models.params import SRFMKernelParams
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
 
 
 @njit(cache=True, inline="always")
@@ -251,23 +255,64 @@ def _sort_by_x(order: np.ndarray, a: int, b: int, pos: np.ndarray) -> None:
 # cut-off circle more closely (fewer candidate pairs beyond it) at the price of more,
 # shorter runs per pedestrian (3 was the fastest of 2, 3, 4 and 6 at N = 1000 and 10,000).
 ROW_SPLIT = 3
-# The pair loop runs over whole multiples of this many candidates (the vector width of
-# AVX-512 in float64; a multiple of AVX2's 4), the lanes past a run masked out, so that
-# no scalar remainder loop runs: a short run costs one vector iteration, not up to 7
-# scalar ones. dat and acc have this many padding columns.
+
+# The pair pass (_pair_block, _pair_terms, fast_exp) is written for LLVM's loop
+# vectoriser, and its bits are fixed by this source alone. What to keep when changing it:
+#
+# * The lanes. One iteration of the loop over q takes one candidate q of a run against
+#   the PAIR_BLOCK pedestrians of a block: four independent pair terms. The vectoriser
+#   puts consecutive q side by side in a vector register (4 per AVX2 instruction, 8 with
+#   AVX-512): a vector lane is one candidate, and each lane carries the block's four
+#   chains. A run is walked in whole multiples of LANE_PAD candidates, so that no scalar
+#   remainder loop runs; dat, acc_x and acc_y have LANE_PAD padding columns after the n
+#   agents (x = 1e30, far from everyone; r, h and c zero). A candidate past the run's
+#   end, not after the pedestrian in pair-once order, beyond the cut-off or closer than
+#   EPS gets the weight 0 by a select, never a branch. A block short of PAIR_BLOCK
+#   pedestrians is filled with the first padding column, n.
+# * No fastmath flags. Each rounding is written out: a product is fused with an addition
+#   exactly where _fma says so (LLVM's llvm.fma, one rounding, one instruction on a CPU
+#   with FMA), and each pedestrian's force is summed lane by lane: lane j of ``lanes``
+#   takes the candidates q ≡ j (mod LANE_PAD) in increasing q, then the LANE_PAD lanes
+#   are added in a fixed tree (_lane_total). Nothing is left to LLVM to choose: the bits
+#   do not depend on the vector width, on which iterations run as vector or as scalar
+#   code, nor on the caller. numba re-optimises a copy of _pair_block inside every
+#   caller's module and a process runs the copy it loaded first; with the flags
+#   ``reassoc`` and ``contract`` (before 2026-11-27) LLVM re-chose the order of the sums
+#   and the fused products in each copy, so that results depended on the on-disk cache,
+#   on the order of the calls and on how the caller passed its arrays
+#   (docs/performance.md, "Determinism of the cut-off's pair pass").
+# * Memory the vectoriser can check. LLVM vectorises the loop only if it can prove at
+#   run time, with a bounded number of checks, that the arrays written (acc_x, acc_y,
+#   lanes) do not overlap those read, and if every index is a plain count from 0. So the
+#   force accumulators are two 1-D arrays (two rows of one array, written at a distance
+#   known only at run time, make LLVM check every access pair apart and give up); the
+#   eight lane rows sit in one flat array at the compile-time distance LANE_ROW, each
+#   lane's running sum stored LANE_PAD further on (a dependence at a constant distance,
+#   safe for up to LANE_PAD lanes per vector); and every array is sliced at the run's
+#   start, so that q counts from 0 (no negative-index wraparound).
+# * The tests that guard it, in tests/models/test_cutoff.py: the cut kernel against the
+#   exact one (within the omitted terms' bound, or up to rounding when nothing is
+#   omitted, also for runs longer than a lane segment), fast_exp against math.exp, the
+#   pair loop still vectorised (test_pair_loop_is_vectorised), and a cut-off episode
+#   byte for byte the same compiled and loaded from the cache
+#   (test_cutoff_episode_is_identical_compiled_and_cached).
+#
+# The pair loop runs over whole multiples of LANE_PAD candidates (the vector width of
+# AVX-512 in float64; a multiple of AVX2's 4): a short run costs one vector iteration,
+# not up to 7 scalar ones.
 LANE_PAD = 8
 # Pedestrians of a row that share one window per row in the pair loop (_pair_block):
 # four independent chains per vector lane, and a quarter of the runs.
 PAIR_BLOCK = 4
-# Flags of the pair pass only (never of the exact kernel): reassociation and contraction
-# let LLVM vectorise the inner loop (a reduction, fused multiply-adds). The pass stays
-# deterministic (same input, same machine, same bits); it is not bit for bit the
-# index-order sum of the exact kernel anyway.
-PAIR_FASTMATH = {"reassoc", "contract", "nsz"}
+# The lane rows' stride in the flat ``lanes`` array (a constant, see above), and the
+# candidates a lane row holds at a time: a longer run is walked in segments of
+# LANE_SEGMENT, each segment's lane sums carried to the front of the rows.
+LANE_ROW = 512
+LANE_SEGMENT = LANE_ROW - LANE_PAD
 
 
 @intrinsic
-def _float_bits(typingctx, x):  # type: ignore[no-untyped-def]
+def _float_bits_ir(typingctx, x):  # type: ignore[no-untyped-def]
     """The IEEE 754 bits of a float64 as an int64 (a bit cast, no conversion)."""
     sig = types.int64(types.float64)
 
@@ -278,7 +323,7 @@ def _float_bits(typingctx, x):  # type: ignore[no-untyped-def]
 
 
 @intrinsic
-def _bits_float(typingctx, i):  # type: ignore[no-untyped-def]
+def _bits_float_ir(typingctx, i):  # type: ignore[no-untyped-def]
     """The float64 whose IEEE 754 bits are the int64 ``i`` (a bit cast, no conversion)."""
     sig = types.float64(types.int64)
 
@@ -288,49 +333,65 @@ def _bits_float(typingctx, i):  # type: ignore[no-untyped-def]
     return sig, codegen
 
 
+@intrinsic
+def _fma_ir(typingctx, a, b, c):  # type: ignore[no-untyped-def]
+    """a·b + c with one rounding (LLVM's llvm.fma: the same bits in any context; one
+    instruction on a CPU with FMA, a correctly rounded libm call on one without)."""
+    sig = types.float64(types.float64, types.float64, types.float64)
+
+    def codegen(context, builder, signature, args):  # type: ignore[no-untyped-def]
+        fn = builder.module.declare_intrinsic("llvm.fma", [ir.DoubleType()] * 3)
+        return builder.call(fn, args)
+
+    return sig, codegen
+
+
+# the intrinsics as the kernels call them (the same objects, typed for the type checker)
+_float_bits = cast("Callable[[float], int]", _float_bits_ir)
+_bits_float = cast("Callable[[int], float]", _bits_float_ir)
+_fma = cast("Callable[[float, float, float], float]", _fma_ir)
+
 _LOG2E = 1.4426950408889634
 _LN2_HI = 0.693147180369123816490  # ln 2 split in two (Cody and Waite): n·_LN2_HI is exact
 _LN2_LO = 1.90821492927058770002e-10
 _ROUND_SHIFT = 6755399441055744.0  # 1.5·2^52: an integer added to it lands in the low bits
 
 
-@njit(cache=True, fastmath=PAIR_FASTMATH)
+@njit(cache=True)
 def fast_exp(arg: float) -> float:
     """exp(arg), arg clipped to [−EXP_ARG_MAX, EXP_ARG_MAX], branch-free so that the pair
     loop vectorises (numba's math.exp is a libm call per element).
 
     arg = n ln 2 + t with n = round(arg / ln 2) and |t| <= ln 2 / 2; e^t from its Taylor
-    polynomial of degree 12 (truncation below 2e-17 relative), 2^n written straight into
-    the exponent bits. Agrees with math.exp to a few units in the last place. Compiled
-    with the pair loop's fastmath flags, set here explicitly: numba lets a callee without
-    flags of its own inherit its caller's, so that otherwise its bits would depend on
-    who compiled it first. n comes from ``floor``, not from the add-and-subtract
-    rounding trick, which reassociation would fold away.
+    polynomial of degree 12 (truncation below 2e-17 relative) in Horner form with fused
+    multiply-adds, 2^n written straight into the exponent bits. Within 2.3e-16 relative
+    of math.exp over [−60, 60]. No fastmath (see the pair pass's comment above
+    LANE_PAD): reassociation would fold the two-part ln 2 into one product.
     """
     x = min(max(arg, -EXP_ARG_MAX), EXP_ARG_MAX)
-    nf = math.floor(x * _LOG2E + 0.5)
-    t = (x - nf * _LN2_HI) - nf * _LN2_LO
+    nf = np.floor(_fma(x, _LOG2E, 0.5))  # a float: no float-to-int conversion per lane
+    t = _fma(-nf, _LN2_LO, _fma(-nf, _LN2_HI, x))
     p = 1.0 / 479001600.0
-    p = p * t + 1.0 / 39916800.0
-    p = p * t + 1.0 / 3628800.0
-    p = p * t + 1.0 / 362880.0
-    p = p * t + 1.0 / 40320.0
-    p = p * t + 1.0 / 5040.0
-    p = p * t + 1.0 / 720.0
-    p = p * t + 1.0 / 120.0
-    p = p * t + 1.0 / 24.0
-    p = p * t + 1.0 / 6.0
-    p = p * t + 0.5
-    p = p * t + 1.0
-    p = p * t + 1.0
+    p = _fma(p, t, 1.0 / 39916800.0)
+    p = _fma(p, t, 1.0 / 3628800.0)
+    p = _fma(p, t, 1.0 / 362880.0)
+    p = _fma(p, t, 1.0 / 40320.0)
+    p = _fma(p, t, 1.0 / 5040.0)
+    p = _fma(p, t, 1.0 / 720.0)
+    p = _fma(p, t, 1.0 / 120.0)
+    p = _fma(p, t, 1.0 / 24.0)
+    p = _fma(p, t, 1.0 / 6.0)
+    p = _fma(p, t, 0.5)
+    p = _fma(p, t, 1.0)
+    p = _fma(p, t, 1.0)
     # nf + 1.5·2^52 is exact and holds nf in its low bits: n without a float-to-int64
     # conversion (AVX2 has none)
-    n: int = _float_bits(nf + _ROUND_SHIFT) - _float_bits(_ROUND_SHIFT)  # type: ignore[call-arg]
-    scale: float = _bits_float((n + 1023) << 52)
+    n = _float_bits(nf + _ROUND_SHIFT) - _float_bits(_ROUND_SHIFT)
+    scale = _bits_float((n + 1023) << 52)
     return p * scale
 
 
-@njit(cache=True, fastmath=PAIR_FASTMATH, inline="always")
+@njit(cache=True, inline="always")
 def _pair_terms(
     xk: float,
     yk: float,
@@ -348,26 +409,36 @@ def _pair_terms(
     cut2: float,
     inv_b: float,
 ) -> tuple[float, float, float, float]:
-    """The forces of one pair (k, q) on k and on q, (x, y) each; zero unless ``live`` and
-    the pair is closer than the cut-off (``cut2`` its square) and not closer than EPS.
+    """``(mk, mq, dx, dy)`` of one pair (k, q): the forces on k and on q are mk (dx, dy)
+    and −mq (dx, dy), with (dx, dy) from q to k; mk = mq = 0 unless ``live`` and the pair
+    is closer than the cut-off (``cut2`` its square) and not closer than EPS.
     Branch-free (a select), so that the loop around it vectorises; the columns are those
-    of :func:`cell_pair_forces` (radii over B, A in c and h'): A exp((r_k + r_q − d) / B)
-    ψ times the unit vector (dx, dy) / d from q to k, for each."""
+    of :func:`cell_pair_forces` (radii over B, A in c and h'): m = A exp((r_k + r_q − d)
+    / B) ψ / d, each with its own ψ."""
     eps2 = EPS * EPS
     dx = xk - xq
     dy = yk - yq
-    d2 = dx * dx + dy * dy
+    d2 = _fma(dx, dx, dy * dy)
     d = math.sqrt(max(d2, eps2))
     inv_d = 1.0 / d
-    e = fast_exp(rk + rq - d * inv_b)
+    e = fast_exp(_fma(-d, inv_b, rk + rq))
     # e / d: the unit vector from q to k is (dx, dy) / d
     s = e * inv_d if live & (d2 < cut2) & (d2 >= eps2) else 0.0
-    mk = s * (ck + (hxk * dx + hyk * dy) * inv_d)
-    mq = s * (cq - (hxq * dx + hyq * dy) * inv_d)
-    return mk * dx, mk * dy, mq * dx, mq * dy
+    mk = s * _fma(_fma(hxk, dx, hyk * dy), inv_d, ck)
+    mq = s * _fma(-_fma(hxq, dx, hyq * dy), inv_d, cq)
+    return mk, mq, dx, dy
 
 
-@njit(cache=True, fastmath=PAIR_FASTMATH)
+@njit(cache=True, inline="always")
+def _lane_total(lanes: np.ndarray, at: int) -> float:
+    """The sum of the LANE_PAD lanes ``lanes[at : at + LANE_PAD]``, in a fixed tree."""
+    total: float = ((lanes[at] + lanes[at + 4]) + (lanes[at + 2] + lanes[at + 6])) + (
+        (lanes[at + 1] + lanes[at + 5]) + (lanes[at + 3] + lanes[at + 7])
+    )
+    return total
+
+
+@njit(cache=True)
 def _pair_block(
     k: np.ndarray,
     lo: int,
@@ -375,16 +446,20 @@ def _pair_block(
     dat: np.ndarray,
     cut2: float,
     inv_b: float,
-    acc: np.ndarray,
+    acc_x: np.ndarray,
+    acc_y: np.ndarray,
+    lanes: np.ndarray,
 ) -> None:
     """The pairs (k[j], q) for the PAIR_BLOCK agents ``k`` and q in [lo, hi) with q > k[j]
     of the row-ordered agents ``dat`` (columns x, y, r / B, hx', hy', c: A ψ = c ±
-    (hx', hy')·u, see :func:`cell_pair_forces`), each share added into ``acc``.
+    (hx', hy')·u, see :func:`cell_pair_forces`), each share added into ``acc_x`` and
+    ``acc_y``; ``lanes`` (2 PAIR_BLOCK LANE_ROW,) is scratch.
 
-    The loop runs over q, a whole number of LANE_PAD lanes past ``lo`` (``dat`` and
-    ``acc`` have LANE_PAD padding columns; the lanes past ``hi`` get no force): without
-    a scalar remainder and with the PAIR_BLOCK agents' independent chains in every lane
-    it vectorises well even for the short runs of the row windows.
+    The loop runs over q, a whole number of LANE_PAD lanes past ``lo``, the force on
+    each k[j] summed lane by lane (the comment above LANE_PAD says what the lanes are,
+    why the sums are written out and what keeps the loop vectorised): without a scalar
+    remainder and with the PAIR_BLOCK agents' independent chains in every lane it
+    vectorises well even for the short runs of the row windows.
     """
     k0 = k[0]
     k1 = k[1]
@@ -422,61 +497,76 @@ def _pair_block(
         dat[4, k3],
         dat[5, k3],
     )
-    # row slices of the run, indexed from 0: a loop index known to be >= 0 lets LLVM
-    # drop numba's negative-index wraparound and vectorise the loop
-    xs = dat[0, lo:]
-    ys = dat[1, lo:]
-    rs = dat[2, lo:]
-    hxs = dat[3, lo:]
-    hys = dat[4, lo:]
-    cs = dat[5, lo:]
-    ax = acc[0, lo:]
-    ay = acc[1, lo:]
-    # q (from lo) must be past k[j]: q > k[j] − lo
-    m0 = k0 - lo
-    m1 = k1 - lo
-    m2 = k2 - lo
-    m3 = k3 - lo
+    # lane row r (x and y of k[0], then of k[1], ...) at lanes[r * LANE_ROW:]; the lane
+    # sums of the candidates before q at [q, q + LANE_PAD), starting from zero
+    for r in range(2 * PAIR_BLOCK):
+        for j in range(LANE_PAD):
+            lanes[r * LANE_ROW + j] = 0.0
     m = hi - lo
-    fx0 = fy0 = fx1 = fy1 = fx2 = fy2 = fx3 = fy3 = 0.0
-    for q in range((m + LANE_PAD - 1) & -LANE_PAD):
-        xq = xs[q]
-        yq = ys[q]
-        rq = rs[q]
-        hxq = hxs[q]
-        hyq = hys[q]
-        cq = cs[q]
-        inside = q < m
-        a0, b0, gx0, gy0 = _pair_terms(
-            x0, y0, r0, hx0, hy0, c0, xq, yq, rq, hxq, hyq, cq, inside & (q > m0), cut2, inv_b
-        )
-        a1, b1, gx1, gy1 = _pair_terms(
-            x1, y1, r1, hx1, hy1, c1, xq, yq, rq, hxq, hyq, cq, inside & (q > m1), cut2, inv_b
-        )
-        a2, b2, gx2, gy2 = _pair_terms(
-            x2, y2, r2, hx2, hy2, c2, xq, yq, rq, hxq, hyq, cq, inside & (q > m2), cut2, inv_b
-        )
-        a3, b3, gx3, gy3 = _pair_terms(
-            x3, y3, r3, hx3, hy3, c3, xq, yq, rq, hxq, hyq, cq, inside & (q > m3), cut2, inv_b
-        )
-        fx0 += a0
-        fy0 += b0
-        fx1 += a1
-        fy1 += b1
-        fx2 += a2
-        fy2 += b2
-        fx3 += a3
-        fy3 += b3
-        ax[q] -= (gx0 + gx1) + (gx2 + gx3)
-        ay[q] -= (gy0 + gy1) + (gy2 + gy3)
-    acc[0, k0] += fx0
-    acc[1, k0] += fy0
-    acc[0, k1] += fx1
-    acc[1, k1] += fy1
-    acc[0, k2] += fx2
-    acc[1, k2] += fy2
-    acc[0, k3] += fx3
-    acc[1, k3] += fy3
+    end = (m + LANE_PAD - 1) & -LANE_PAD
+    at = 0  # where the lane sums of the candidates so far are
+    for s in range(0, end, LANE_SEGMENT):
+        if at > 0:  # a further segment: its lane sums start from the last one's
+            for r in range(2 * PAIR_BLOCK):
+                for j in range(LANE_PAD):
+                    lanes[r * LANE_ROW + j] = lanes[r * LANE_ROW + at + j]
+        at = min(LANE_SEGMENT, end - s)
+        # the segment's slices, indexed from 0: a loop index known to be >= 0 lets LLVM
+        # drop numba's negative-index wraparound and vectorise the loop
+        start = lo + s
+        xs = dat[0, start:]
+        ys = dat[1, start:]
+        rs = dat[2, start:]
+        hxs = dat[3, start:]
+        hys = dat[4, start:]
+        cs = dat[5, start:]
+        ax = acc_x[start:]
+        ay = acc_y[start:]
+        # q (from start) must be before hi and past k[j]: q > k[j] − start
+        left = hi - start
+        m0 = k0 - start
+        m1 = k1 - start
+        m2 = k2 - start
+        m3 = k3 - start
+        for q in range(at):
+            xq = xs[q]
+            yq = ys[q]
+            rq = rs[q]
+            hxq = hxs[q]
+            hyq = hys[q]
+            cq = cs[q]
+            inside = q < left
+            mk0, mq0, dx0, dy0 = _pair_terms(
+                x0, y0, r0, hx0, hy0, c0, xq, yq, rq, hxq, hyq, cq, inside & (q > m0), cut2, inv_b
+            )
+            mk1, mq1, dx1, dy1 = _pair_terms(
+                x1, y1, r1, hx1, hy1, c1, xq, yq, rq, hxq, hyq, cq, inside & (q > m1), cut2, inv_b
+            )
+            mk2, mq2, dx2, dy2 = _pair_terms(
+                x2, y2, r2, hx2, hy2, c2, xq, yq, rq, hxq, hyq, cq, inside & (q > m2), cut2, inv_b
+            )
+            mk3, mq3, dx3, dy3 = _pair_terms(
+                x3, y3, r3, hx3, hy3, c3, xq, yq, rq, hxq, hyq, cq, inside & (q > m3), cut2, inv_b
+            )
+            p = q + LANE_PAD
+            lanes[p] = _fma(mk0, dx0, lanes[q])
+            lanes[LANE_ROW + p] = _fma(mk0, dy0, lanes[LANE_ROW + q])
+            lanes[2 * LANE_ROW + p] = _fma(mk1, dx1, lanes[2 * LANE_ROW + q])
+            lanes[3 * LANE_ROW + p] = _fma(mk1, dy1, lanes[3 * LANE_ROW + q])
+            lanes[4 * LANE_ROW + p] = _fma(mk2, dx2, lanes[4 * LANE_ROW + q])
+            lanes[5 * LANE_ROW + p] = _fma(mk2, dy2, lanes[5 * LANE_ROW + q])
+            lanes[6 * LANE_ROW + p] = _fma(mk3, dx3, lanes[6 * LANE_ROW + q])
+            lanes[7 * LANE_ROW + p] = _fma(mk3, dy3, lanes[7 * LANE_ROW + q])
+            ax[q] -= _fma(mq3, dx3, _fma(mq2, dx2, _fma(mq1, dx1, mq0 * dx0)))
+            ay[q] -= _fma(mq3, dy3, _fma(mq2, dy2, _fma(mq1, dy1, mq0 * dy0)))
+    acc_x[k0] += _lane_total(lanes, at)
+    acc_y[k0] += _lane_total(lanes, LANE_ROW + at)
+    acc_x[k1] += _lane_total(lanes, 2 * LANE_ROW + at)
+    acc_y[k1] += _lane_total(lanes, 3 * LANE_ROW + at)
+    acc_x[k2] += _lane_total(lanes, 4 * LANE_ROW + at)
+    acc_y[k2] += _lane_total(lanes, 5 * LANE_ROW + at)
+    acc_x[k3] += _lane_total(lanes, 6 * LANE_ROW + at)
+    acc_y[k3] += _lane_total(lanes, 7 * LANE_ROW + at)
 
 
 @njit(cache=True)
@@ -645,9 +735,10 @@ def cell_pair_forces(crowd: CrowdArrays, params: SRFMKernelParams, cutoff: float
     (:func:`_row_windows`: contiguous runs, so the pair loop vectorises). The
     exponential A exp((r_i + r_j − d) / B) (:func:`fast_exp`) is shared, each agent gets
     its own ψ, written as ψ = (λ + w) − w e·u with w = (1 − λ)/2 (ψ = 1 without a
-    heading), the terms of :func:`disc_repulsion`. Sums follow that visiting order, so
-    the result is deterministic and equals the exact kernel's up to rounding (a few
-    units in the last place).
+    heading), the terms of :func:`disc_repulsion`. Sums follow that visiting order (a
+    pedestrian's share of one run lane by lane, :func:`_pair_block`), every rounding
+    written out, so the result is the same bits in any process, whatever compiled it,
+    and equals the exact kernel's up to rounding (a few units in the last place).
     """
     pos = crowd.pos
     vel = crowd.vel
@@ -684,7 +775,9 @@ def cell_pair_forces(crowd: CrowdArrays, params: SRFMKernelParams, cutoff: float
             dat[3, k] = 0.0
             dat[4, k] = 0.0
             dat[5, k] = a_p
-    acc = np.zeros((2, n + LANE_PAD))
+    # the forces in row order, two arrays (not one (2, n) array: see above LANE_PAD)
+    acc_x = np.zeros(n + LANE_PAD)
+    acc_y = np.zeros(n + LANE_PAD)
     cut2 = cutoff * cutoff
     reach, chord = window_setup(cutoff, grid, _magnitude(pos))
     lo = np.zeros(chord.shape[0], dtype=np.int64)
@@ -693,6 +786,7 @@ def cell_pair_forces(crowd: CrowdArrays, params: SRFMKernelParams, cutoff: float
     xs = dat[0]
     ys = dat[1]
     block = np.empty(PAIR_BLOCK, dtype=np.int64)
+    lanes = np.empty(2 * PAIR_BLOCK * LANE_ROW)
     for row in range(starts.shape[0] - 1):
         _reset_windows(row, starts, lo, hi)
         for first in range(starts[row], starts[row + 1], PAIR_BLOCK):
@@ -704,12 +798,12 @@ def cell_pair_forces(crowd: CrowdArrays, params: SRFMKernelParams, cutoff: float
             for o in range(
                 _row_windows(first, last, row, xs, ys, starts, grid, reach, chord, lo, hi, run)
             ):
-                _pair_block(block, run[0, o], run[1, o], dat, cut2, inv_b, acc)
+                _pair_block(block, run[0, o], run[1, o], dat, cut2, inv_b, acc_x, acc_y, lanes)
     out = np.empty((n, 2))
     for k in range(n):
         i = order[k]
-        out[i, 0] = acc[0, k]
-        out[i, 1] = acc[1, k]
+        out[i, 0] = acc_x[k]
+        out[i, 1] = acc_y[k]
     return out
 
 

@@ -1,9 +1,17 @@
-"""The interaction cut-off and the cell list against the exact kernel (issue 19)."""
+"""The interaction cut-off and the cell list against the exact kernel (issue 19); the pair
+pass vectorised and the same bits compiled or loaded from the cache (issue 27)."""
 
 from __future__ import annotations
 
 import math
+import os
+import platform
+import re
+import subprocess
+import sys
+from pathlib import Path
 
+import numba
 import numpy as np
 import pytest
 
@@ -228,11 +236,13 @@ def test_builtin_scenarios_below_the_threshold_keep_the_exact_kernel() -> None:
 
 def test_fast_exp_matches_math_exp() -> None:
     xs = np.concatenate([np.linspace(-60.0, 60.0, 20001), [-0.0, 1e-300, -1e-300, 0.3466]])
+    # within 1e-15 (2.3e-16 measured): a compiler folding the two-part ln 2 of the
+    # argument reduction into one product (reassociation) would give 2.2e-15
     for x in xs:
-        assert _kernels.fast_exp(float(x)) == pytest.approx(math.exp(x), rel=4e-15, abs=0.0)
+        assert _kernels.fast_exp(float(x)) == pytest.approx(math.exp(x), rel=1e-15, abs=0.0)
     # clipped at ±EXP_ARG_MAX like capped_exp, never inf or 0
-    assert _kernels.fast_exp(1e300) == pytest.approx(math.exp(60.0), rel=4e-15)
-    assert _kernels.fast_exp(-1e300) == pytest.approx(math.exp(-60.0), rel=4e-15)
+    assert _kernels.fast_exp(1e300) == pytest.approx(math.exp(60.0), rel=1e-15)
+    assert _kernels.fast_exp(-1e300) == pytest.approx(math.exp(-60.0), rel=1e-15)
 
 
 @pytest.mark.parametrize("b_ped", [1e-320, 1e-300, 1e-3])
@@ -272,3 +282,115 @@ def test_agents_without_heading_are_isotropic_in_the_cell_list() -> None:
     everyone = force_components(c, PARAMS, cutoff=60.0).pedestrians
     exact = force_components(c, PARAMS, cutoff="exact").pedestrians
     np.testing.assert_allclose(everyone, exact, rtol=1e-12, atol=1e-13)
+
+
+def test_runs_longer_than_a_lane_segment_match_exact() -> None:
+    # 1200 agents in one row (a strip 4 m tall, rows of 4.5 m), all within the cut-off of
+    # each other: runs of up to 1199 candidates, walked in segments of LANE_SEGMENT
+    rng = np.random.default_rng(6)
+    pos = np.stack([rng.uniform(0.0, 12.0, 1200), rng.uniform(0.0, 4.0, 1200)], axis=1)
+    c = crowd(pos, seed=6)
+    _, starts, _ = _kernels.build_rows(c.pos, 13.5 / _kernels.ROW_SPLIT)
+    assert starts.tolist() == [0, c.n]
+    assert c.n > 2 * _kernels.LANE_SEGMENT
+    exact = force_components(c, PARAMS, cutoff="exact").pedestrians
+    cut = force_components(c, PARAMS, cutoff=13.5).pedestrians
+    np.testing.assert_allclose(cut, exact, rtol=1e-12, atol=1e-14 * np.abs(exact).max())
+
+
+@pytest.mark.skipif(platform.machine().lower() not in ("x86_64", "amd64"), reason="x86-64 only")
+def test_pair_loop_is_vectorised() -> None:
+    # a fresh compile (numba does not show the code of a cached one): the optimised IR of
+    # the pair loop has vector square roots, <4 x double> with AVX2, <8 x ...> with
+    # AVX-512; a change that stops LLVM vectorising it (see the comment above LANE_PAD)
+    # costs about three times the time
+    pair_block = numba.njit(_kernels._pair_block.py_func)
+    m = 21
+    dat = np.zeros((6, m + _kernels.LANE_PAD))
+    dat[0, m:] = 1e30
+    acc_x = np.zeros(m + _kernels.LANE_PAD)
+    acc_y = np.zeros(m + _kernels.LANE_PAD)
+    lanes = np.empty(2 * _kernels.PAIR_BLOCK * _kernels.LANE_ROW)
+    pair_block(np.arange(4), 0, m, dat, 4.0, 1.0, acc_x, acc_y, lanes)
+    (llvm_ir,) = pair_block.inspect_llvm().values()
+    assert re.search(r"@llvm\.sqrt\.v\d+f64\(", llvm_ir)
+
+
+_CUTOFF_CROWD = """\
+schema_version = 1
+name = "cutoff_crowd"
+description = "48 pedestrians with random goals: more than the cell list's threshold."
+kind = "random"
+
+[simulation]
+dt_s = 0.06666666666666667
+horizon_steps = 20
+
+[world]
+x_min = 0.0
+x_max = 20.0
+y_min = 0.0
+y_max = 20.0
+
+[robot]
+kinematics = "unicycle"
+radius_m = 0.2
+max_speed_mps = 0.5
+max_angular_speed_radps = 3.141592653589793
+
+[pedestrians]
+radius_m = 0.3
+desired_speed_mps = 1.25
+max_speed_mps = 1.25
+goal_radius_m = 0.5
+
+[random]
+count = 48
+"""
+
+_EPISODE_DIGEST = """\
+import sys
+import srfm
+from tests.conftest import record_digest
+print(record_digest(srfm.run_episode(sys.argv[1], 0, "straight")))
+"""
+
+
+def test_cutoff_episode_is_identical_compiled_and_cached(tmp_path: Path) -> None:
+    # The same episode in two processes sharing an empty numba cache: the first compiles
+    # every kernel, the second loads them. Before 2026-11-27 the pair pass's fastmath
+    # flags let LLVM sum in a different order in each compiled copy of it, and the two
+    # records differed in their last bits.
+    from tests.conftest import REPO, write_scenario
+
+    scenario = write_scenario(tmp_path / "cutoff_crowd.toml", _CUTOFF_CROWD)
+    spec = srfm.load_scenario(scenario).random
+    assert spec is not None
+    assert spec.count >= CELL_LIST_MIN_AGENTS  # the cell list's path
+    cache = tmp_path / "numba"
+    paths = [str(Path(srfm.__file__).resolve().parents[1]), str(REPO)]
+    env = {
+        **os.environ,
+        "NUMBA_CACHE_DIR": str(cache),
+        "PYTHONPATH": os.pathsep.join([*paths, os.environ.get("PYTHONPATH", "")]),
+    }
+
+    def digest() -> str:
+        out = subprocess.run(
+            [sys.executable, "-c", _EPISODE_DIGEST, str(scenario)],
+            capture_output=True,
+            text=True,
+            env=env,
+            timeout=600,
+            check=False,
+        )
+        assert out.returncode == 0, out.stderr
+        return out.stdout.strip()
+
+    compiled = digest()
+    files = {p: p.stat().st_mtime_ns for p in cache.rglob("*") if p.is_file()}
+    assert any(p.name.startswith("_kernels.cell_pair_forces") for p in files)
+    cached = digest()
+    # the second process loaded everything (it wrote nothing) and got the same bytes
+    assert {p: p.stat().st_mtime_ns for p in cache.rglob("*") if p.is_file()} == files
+    assert cached == compiled

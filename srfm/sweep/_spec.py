@@ -176,10 +176,11 @@ def _seeds(where: _Where, value: Any) -> tuple[int, ...]:
     seeds: list[int] = []
     if isinstance(value, str):
         for part in value.split(","):
-            bounds = part.strip().split("-")
-            if len(bounds) > 2 or not all(b.strip().isdigit() for b in bounds):
+            texts = part.strip().split("-")
+            bounds = [n for t in texts if (n := _validate.decimal(t.strip())) is not None]
+            if len(texts) > 2 or len(bounds) != len(texts):  # ASCII digits: not ٣, not 1_000
                 raise where.error("seeds", f"{part.strip()!r} is not a seed or a range like 0-29")
-            a, b = int(bounds[0]), int(bounds[-1])
+            a, b = bounds[0], bounds[-1]
             if b < a or b - a + 1 + len(seeds) > MAX_SEEDS:
                 raise where.error("seeds", f"bad range {part.strip()!r} (at most {MAX_SEEDS})")
             seeds.extend(range(a, b + 1))

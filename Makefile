@@ -1,49 +1,70 @@
-# Quick start: `make benchmark` (set up, then run the main job) and `make test`
-# (set up, then lint, type-check and run the test suite). Both create .venv and
-# install the package on first use; constraints.txt keeps torch on the CPU build.
+# Quick start: `make benchmark` (set up what the quick benchmark needs, then run it) and
+# `make test` (set up everything, then lint, type-check, build the documentation and run
+# the test suite). Both create .venv and install on first use; constraints.txt keeps
+# torch on the CPU build.
 
 PYTHON ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 PIP_INSTALL := $(BIN)/python -m pip install --disable-pip-version-check -q -c constraints.txt
-STAMP := $(VENV)/.installed
+# The library alone (what `make benchmark` needs), and every extra (what `make test` needs).
+RUN_STAMP := $(VENV)/.installed-run
+DEV_STAMP := $(VENV)/.installed-dev
+DEV_EXTRAS := dev,rl,sbx,dask,sweep,docs,release
 
-.PHONY: setup benchmark benchmark-full test lint typecheck pytest bench-perf clean
+.PHONY: setup benchmark benchmark-full test lint typecheck docs pytest dist bench-perf clean
 
-setup: $(STAMP)
+setup: $(DEV_STAMP)
 
-$(STAMP): pyproject.toml constraints.txt
-	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	$(PIP_INSTALL) -e '.[dev,rl,sbx,dask,sweep]'
-	@touch $(STAMP)
+$(BIN)/python:
+	$(PYTHON) -m venv $(VENV)
+
+$(RUN_STAMP): pyproject.toml constraints.txt | $(BIN)/python
+	$(PIP_INSTALL) -e .
+	@touch $@
+
+$(DEV_STAMP): pyproject.toml constraints.txt | $(BIN)/python
+	$(PIP_INSTALL) -e '.[$(DEV_EXTRAS)]'
+	@touch $@ $(RUN_STAMP)
 
 # The main job: the benchmark on the built-in evaluation scenarios with every
 # registered planner. --quick runs seeds 0-2 in seconds; `make benchmark-full` runs the
-# paper's 100 seeds. Results (tables, CSV, figures) go to results/.
-benchmark: $(STAMP)
+# paper's 100 seeds. Results (tables, CSV, figures, report.html) go to results/.
+benchmark: $(RUN_STAMP)
 	$(BIN)/srfm benchmark --quick --out results/quick
 
-benchmark-full: $(STAMP)
+benchmark-full: $(RUN_STAMP)
 	$(BIN)/srfm benchmark --out results/full
 
-test: $(STAMP) lint typecheck pytest
+test: $(DEV_STAMP) lint typecheck docs pytest
 
-lint: $(STAMP)
-	$(BIN)/ruff check srfm tests tools
-	$(BIN)/ruff format --check srfm tests tools
+lint: $(DEV_STAMP)
+	$(BIN)/ruff check srfm tests tools examples
+	$(BIN)/ruff format --check srfm tests tools examples
 
-typecheck: $(STAMP)
+typecheck: $(DEV_STAMP)
 	$(BIN)/mypy
 
-pytest: $(STAMP)
+# The documentation site (docs/*.md and the API reference) into site/; any warning
+# (a broken link, a public name without a docstring) fails it.
+docs: $(DEV_STAMP)
+	$(BIN)/mkdocs build --strict --site-dir site
+
+pytest: $(DEV_STAMP)
 	$(BIN)/pytest -q
 
+# The release files: a wheel and an sdist in dist/, checked by twine.
+dist: $(DEV_STAMP)
+	rm -rf dist
+	$(BIN)/python -m build --outdir dist
+	$(BIN)/twine check --strict dist/*
+
 # Performance measurements (docs/performance.md); needs the bench extra.
-bench-perf: $(STAMP)
+bench-perf: $(DEV_STAMP)
 	$(PIP_INSTALL) -e '.[dev,bench]'
 	$(BIN)/python tools/bench/bench_crowd_step.py
 	$(BIN)/python tools/bench/bench_episode.py
 	$(BIN)/python tools/bench/bench_frechet.py
 
 clean:
-	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache .hypothesis
+	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache .hypothesis site dist

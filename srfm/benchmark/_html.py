@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any, Final
 
 from srfm._io import MAX_DOCUMENT_BYTES, atomic_write_bytes, folder_lock, read_input_bytes
+from srfm._text import count
 from srfm.benchmark._request import check_manifest_schema
 from srfm.errors import BenchmarkError
 from srfm.metrics.episode import EPISODE_METRICS, METRIC_GROUPS
@@ -451,9 +452,9 @@ def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
     reference = summary["table"].get("reference")
     title = "srfm benchmark results"
     intro = (
-        f"{len(scenarios)} scenarios × {len(planners)} planners × {len(seeds)} seeds "
-        f"= {len(rows)} twin episodes. Reference planner for the significance tests: "
-        f"{reference or 'none'}."
+        f"{count(len(scenarios), 'scenario')} × {count(len(planners), 'planner')} × "
+        f"{count(len(seeds), 'seed')} = {count(len(rows), 'twin episode')}. Reference planner "
+        f"for the significance tests: {reference or 'none'}."
     )
     nav = "".join(
         f'<a href="#{k}">{_esc(v)}</a>'

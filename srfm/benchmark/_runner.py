@@ -81,7 +81,9 @@ class BenchmarkSummary:
         episodes: episodes in the request.
         simulated: episodes simulated by this run (the rest were already there).
         wall_time_s: wall time of the simulation part (s).
-        files: the report files written, relative to ``out``.
+        files: the files of the results written, relative to ``out``: the report
+            files (tables, CSV and Parquet files, summary, figures, report.html), then
+            manifest.json (the episode files and logs are in episodes/ and logs/).
         resimulated: damaged episode files found and simulated again.
         jobs: worker processes used at most (fewer than asked when memory is short).
     """
@@ -477,7 +479,7 @@ def run_benchmark(
         episodes=total,
         simulated=pending,
         wall_time_s=wall,
-        files=files,
+        files=(*files, MANIFEST),
         resimulated=tuple(damaged),
         jobs=jobs,
     )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import signal
 import sys
 import threading
@@ -98,6 +99,16 @@ def main(ctx: click.Context, debug: bool) -> None:
     write the output; 75 results folder in use; 130 interrupted (docs/reliability.md).
     """
     ctx.meta["srfm.debug"] = debug
+    _current_folder_importable()
+
+
+def _current_folder_importable() -> None:
+    """Modules in the current folder import by name, as under ``python -m``, so that
+    ``-p myplanners:Wait`` finds ``./myplanners.py``. The folder goes last on the path:
+    a file there never hides an installed package."""
+    here = os.getcwd()
+    if "" not in sys.path and here not in sys.path:
+        sys.path.append(here)
 
 
 for _command in (

@@ -25,9 +25,9 @@ import functools
 import os
 import sys
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
-from typing import Any, Final, TypeVar
+from typing import Any, Final, Generic, TypeVar
 
 import click
 
@@ -44,11 +44,14 @@ __all__ = [
     "UserError",
     "debug_enabled",
     "load_params_option",
+    "on_terminal",
     "one_line_usage_error",
+    "progressbar",
     "user_errors",
 ]
 
 F = TypeVar("F", bound=Callable[..., Any])
+V = TypeVar("V")
 
 DEBUG_ENV: Final = "SRFM_DEBUG"
 EXIT_USER: Final = 2
@@ -181,3 +184,45 @@ def quiet_broken_pipe() -> None:
     except (OSError, ValueError):
         pass
     sys.exit(141)
+
+
+class _NoBar(Generic[V]):
+    """The progress bar's interface, showing nothing."""
+
+    def __init__(self, iterable: Iterable[V] | None) -> None:
+        self._iterable = iterable
+
+    def __enter__(self) -> _NoBar[V]:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        return None
+
+    def __iter__(self) -> Iterator[V]:
+        return iter(self._iterable if self._iterable is not None else ())
+
+    def update(self, n_steps: int, current_item: V | None = None) -> None:
+        """Nothing to show."""
+
+
+def progressbar(
+    iterable: Iterable[V] | None = None, *, length: int | None = None, label: str, **options: Any
+) -> Any:
+    """click's progress bar on stderr when stderr is a terminal; otherwise (a file, a
+    pipe, CI logs) an object with the same interface that prints nothing, not even the
+    label click would print once."""
+    if not _is_terminal(sys.stderr):
+        return _NoBar(iterable)
+    return click.progressbar(iterable, length=length, label=label, file=sys.stderr, **options)
+
+
+def on_terminal() -> bool:
+    """Whether stderr is a terminal (progress bars are shown)."""
+    return _is_terminal(sys.stderr)
+
+
+def _is_terminal(stream: Any) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError):  # replaced or closed
+        return False

@@ -11,7 +11,8 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from srfm.cli._common import EXIT_INTERRUPTED, load_params_option, user_errors
+from srfm._text import count
+from srfm.cli._common import EXIT_INTERRUPTED, load_params_option, progressbar, user_errors
 
 if TYPE_CHECKING:
     from srfm.benchmark import BenchmarkRequest, BenchmarkSummary
@@ -314,16 +315,14 @@ def benchmark(
             def start(estimate: RunEstimate) -> None:
                 nonlocal bar
                 click.echo(
-                    f"benchmark: {len(request.scenarios)} scenarios × "
-                    f"{len(request.planners)} planners × {len(request.seeds)} seeds = "
-                    f"{total} episodes -> {out}",
+                    f"benchmark: {count(len(request.scenarios), 'scenario')} × "
+                    f"{count(len(request.planners), 'planner')} × "
+                    f"{count(len(request.seeds), 'seed')} = {count(total, 'episode')} -> {out}",
                     err=True,
                 )
                 if estimate.large:
                     click.echo(f"estimate: {estimate.describe()}", err=True)
-                bar = stack.enter_context(
-                    click.progressbar(length=total, label="episodes", file=sys.stderr)
-                )
+                bar = stack.enter_context(progressbar(length=total, label="episodes"))
 
             def advance(n: int) -> None:
                 bar.update(n)

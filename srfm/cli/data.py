@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 import time
 import warnings
 from collections.abc import Callable, Sequence
@@ -19,7 +18,7 @@ from typing import Any, TypeVar
 import click
 
 from srfm._validate import MAX_DURATION_S
-from srfm.cli._common import load_params_option, user_errors
+from srfm.cli._common import load_params_option, progressbar, user_errors
 from srfm.errors import DatasetError
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -123,9 +122,7 @@ def convert(
     scenes = []
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        with click.progressbar(
-            files, label=f"reading {len(files)} {dataset} file(s)", file=sys.stderr
-        ) as bar:
+        with progressbar(files, label=f"reading {len(files)} {dataset} file(s)") as bar:
             for f in bar:
                 scenes.append(read_one(f))
     _echo_warnings(caught)
@@ -343,7 +340,7 @@ def _add_window_options(func: F, stride_s: float) -> F:
     return func
 
 
-def _load_windows(files: Sequence[Path], **config: float) -> Any:
+def _load_windows(files: Sequence[Path], **config: Any) -> Any:
     from srfm.datasets import read_mcap
     from srfm.errors import ParameterError
     from srfm.fitting import WindowConfig, build_windows

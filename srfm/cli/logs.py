@@ -11,6 +11,7 @@ from pathlib import Path
 
 import click
 
+from srfm._text import count
 from srfm.cli._common import UserError, user_errors
 from srfm.errors import LogError
 
@@ -51,8 +52,9 @@ def score(paths: tuple[Path, ...], out: Path | None, force: bool) -> None:
     result = score_logs(paths)  # a bad input names itself before the output is judged
     n = len(result.episodes)
     click.echo(
-        f"score: {n} episode logs, {len(result.scenarios)} scenarios × "
-        f"{len(result.planners)} planners, {len(result.seeds)} seeds in every cell",
+        f"score: {count(n, 'episode log')}, {count(len(result.scenarios), 'scenario')} × "
+        f"{count(len(result.planners), 'planner')}, {count(len(result.seeds), 'seed')} in "
+        "every cell",
         err=True,
     )
     for note in result.notes:

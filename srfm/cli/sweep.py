@@ -10,7 +10,8 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from srfm.cli._common import EXIT_INTERRUPTED, user_errors
+from srfm._text import count
+from srfm.cli._common import EXIT_INTERRUPTED, progressbar, user_errors
 
 if TYPE_CHECKING:
     from srfm.sim.budget import RunEstimate
@@ -119,18 +120,19 @@ def run(
             def start(estimate: RunEstimate) -> None:
                 nonlocal bar
                 click.echo(
-                    f"sweep {spec.name}: {len(spec.cells)} cells × {len(spec.scenarios)} "
-                    f"scenarios × {len(spec.planners)} planners × {len(spec.seeds)} seeds = "
-                    f"{spec.episodes} episodes -> {out}",
+                    f"sweep {spec.name}: {count(len(spec.cells), 'cell')} × "
+                    f"{count(len(spec.scenarios), 'scenario')} × "
+                    f"{count(len(spec.planners), 'planner')} × "
+                    f"{count(len(spec.seeds), 'seed')} = {count(spec.episodes, 'episode')} "
+                    f"-> {out}",
                     err=True,
                 )
                 if estimate.large:
                     click.echo(f"estimate: {estimate.describe()}", err=True)
                 bar = stack.enter_context(
-                    click.progressbar(
+                    progressbar(
                         length=spec.episodes,
                         label="episodes",
-                        file=sys.stderr,
                         show_pos=True,
                         show_eta=False,
                         item_show_func=rate.text,

@@ -4,13 +4,12 @@
 from __future__ import annotations
 
 import shlex
-import sys
 from pathlib import Path
 from typing import Any
 
 import click
 
-from srfm.cli._common import SEED, user_errors
+from srfm.cli._common import SEED, on_terminal, progressbar, user_errors
 
 __all__ = ["export_policy", "train"]
 
@@ -357,9 +356,7 @@ def _train(
     if not progress:
         result = run_training(config, run_dir, resume=resume, log=click.echo, command=command)
     else:
-        with click.progressbar(
-            length=steps, label="training", show_pos=True, show_eta=True, file=sys.stderr
-        ) as bar:
+        with progressbar(length=steps, label="training", show_pos=True, show_eta=True) as bar:
             done = [0]
 
             def advance(n: int) -> None:
@@ -368,7 +365,8 @@ def _train(
                     done[0] = n
 
             def say(message: str) -> None:
-                click.echo("", err=True)
+                if on_terminal():
+                    click.echo("", err=True)  # end the progress bar's line
                 click.echo(message)
 
             result = run_training(

@@ -7,7 +7,7 @@ pedestrian and robot parameters by nonlinear least squares on those predictions,
 the paper; :func:`evaluate_ade` reports the paper's ADE table. See ``docs/fitting.md``.
 """
 
-from srfm.fitting._ade import ADE_ROWS, AdeRow, evaluate_ade, window_errors
+from srfm.fitting._ade import ADE_ROWS, AdeRow, evaluate_ade, pass_errors, window_errors
 from srfm.fitting._encounters import Encounter, replay_encounter
 from srfm.fitting._fit import BOUNDS, STAGE_FIELDS, FitResult, StageResult, fit_params
 from srfm.fitting._predict import MODES, displacement_errors, predict
@@ -18,20 +18,24 @@ from srfm.fitting._protocol import (
     TABLE2_MODES,
     PairedTest,
     SceneGroups,
+    WindowMetrics,
     bootstrap_robot_part,
     fit_robot_part,
     heldout_errors,
+    heldout_metrics,
     leave_one_scene_out,
     paired_test,
     scene_groups,
 )
-from srfm.fitting._windows import WindowConfig, Windows, build_windows
+from srfm.fitting._windows import ALIGNS, GOALS, WindowConfig, Windows, build_windows
 
 __all__ = [
     "ADE_ROWS",
+    "ALIGNS",
     "BOUNDS",
     "EVAL_WINDOWS",
     "FIT_WINDOWS",
+    "GOALS",
     "MODES",
     "ROBOT_FIELDS",
     "STAGE_FIELDS",
@@ -43,6 +47,7 @@ __all__ = [
     "SceneGroups",
     "StageResult",
     "WindowConfig",
+    "WindowMetrics",
     "Windows",
     "bootstrap_robot_part",
     "build_windows",
@@ -51,8 +56,10 @@ __all__ = [
     "fit_params",
     "fit_robot_part",
     "heldout_errors",
+    "heldout_metrics",
     "leave_one_scene_out",
     "paired_test",
+    "pass_errors",
     "predict",
     "replay_encounter",
     "scene_groups",

@@ -13,7 +13,7 @@ from srfm.fitting._predict import MODES, Mode, displacement_errors, predict
 from srfm.fitting._windows import Windows
 from srfm.models.params import SRFMParams
 
-__all__ = ["ADE_ROWS", "AdeRow", "evaluate_ade", "window_errors"]
+__all__ = ["ADE_ROWS", "AdeRow", "evaluate_ade", "pass_errors", "window_errors"]
 
 # (model, mode, interaction windows?, the paper's ADE on JRDB in m or None)
 ADE_ROWS: Final[tuple[tuple[str, Mode, bool, float | None], ...]] = (
@@ -61,11 +61,71 @@ def window_errors(
     """Per-window ADE and FDE (m), each (Q,), for the windows in ``sel``."""
     if sel.size == 0:
         return np.zeros(0), np.zeros(0)
-    err = displacement_errors(windows, sel, predict(windows, params, sel, mode))
+    return displacement_summary(windows, sel, predict(windows, params, sel, mode))
+
+
+def displacement_summary(
+    windows: Windows, sel: NDArray[np.int64], predicted: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Per-window ADE and FDE (m), each (Q,), of the predictions ``predicted`` (the rows
+    :meth:`Windows.rows` gives for ``sel``, as :func:`predict` returns them)."""
+    if sel.size == 0:
+        return np.zeros(0), np.zeros(0)
+    err = displacement_errors(windows, sel, predicted)
     steps = windows.steps[sel]
     ends = np.cumsum(steps)
     ade = np.add.reduceat(err, ends - steps) / steps
     return ade, err[ends - 1]
+
+
+def pass_errors(
+    windows: Windows, sel: NDArray[np.int64], predicted: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Per-window errors of the two quantities the deviation metric depends on, each (Q,),
+    predicted minus observed (m), over the window's predicted samples:
+
+    - **pass distance**: the minimum centre distance to the robot (over the samples at
+      which the robot is observed);
+    - **path offset**: the lateral position at the pass (each path's own closest
+      approach to the robot) relative to the line through the window start along the
+      initial velocity, positive to the left of that velocity.
+
+    NaN for a window whose robot is observed at none of its predicted samples (or, for
+    the path offset, whose initial velocity is zero). ``predicted``: the rows
+    :meth:`Windows.rows` gives for ``sel``, as :func:`predict` returns them.
+    """
+    sel = np.ascontiguousarray(sel, dtype=np.int64)
+    rows = windows.rows(sel)
+    observed = windows.observed[rows]
+    frame = np.repeat(windows.frame0[sel], windows.steps[sel]) + _within(windows, sel) + 1
+    on = windows.rb_on[frame]
+    robot = windows.rb_a[frame]
+    d_obs = np.where(on, np.linalg.norm(observed - robot, axis=1), np.inf)
+    d_pred = np.where(on, np.linalg.norm(predicted - robot, axis=1), np.inf)
+    distance = np.full(sel.size, np.nan)
+    offset = np.full(sel.size, np.nan)
+    start = 0
+    for q, w in enumerate(sel):
+        stop = start + int(windows.steps[w])
+        if np.any(on[start:stop]):
+            i_obs = start + int(np.argmin(d_obs[start:stop]))
+            i_pred = start + int(np.argmin(d_pred[start:stop]))
+            distance[q] = d_pred[i_pred] - d_obs[i_obs]
+            v = windows.vel[w]
+            speed = math.hypot(float(v[0]), float(v[1]))
+            if speed > 0.0:
+                normal = np.array([-v[1], v[0]]) / speed
+                offset[q] = float((predicted[i_pred] - observed[i_obs]) @ normal)
+        start = stop
+    return distance, offset
+
+
+def _within(windows: Windows, sel: NDArray[np.int64]) -> NDArray[np.int64]:
+    """(R,) the index of each row within its window (0 for the first predicted step)."""
+    steps = windows.steps[sel]
+    return (np.arange(int(steps.sum())) - np.repeat(np.cumsum(steps) - steps, steps)).astype(
+        np.int64
+    )
 
 
 def evaluate_ade(windows: Windows, params: SRFMParams) -> list[AdeRow]:

@@ -19,9 +19,9 @@ from numpy.typing import NDArray
 
 from srfm.datasets._trajectories import Trajectories
 from srfm.errors import ParameterError
-from srfm.fitting._ade import window_errors
+from srfm.fitting._ade import displacement_summary, pass_errors
 from srfm.fitting._fit import fit_params
-from srfm.fitting._predict import Mode
+from srfm.fitting._predict import Mode, predict
 from srfm.fitting._windows import WindowConfig, Windows
 from srfm.models.params import SRFMParams
 
@@ -32,9 +32,11 @@ __all__ = [
     "TABLE2_MODES",
     "PairedTest",
     "SceneGroups",
+    "WindowMetrics",
     "bootstrap_robot_part",
     "fit_robot_part",
     "heldout_errors",
+    "heldout_metrics",
     "leave_one_scene_out",
     "paired_test",
     "scene_groups",
@@ -259,13 +261,34 @@ TABLE2_MODES: Final[tuple[Mode, ...]] = (
 )
 
 
-def heldout_errors(
+@attrs.frozen(kw_only=True, eq=False)
+class WindowMetrics:
+    """Per-window prediction errors of one model, each (W,).
+
+    Attributes:
+        ade, fde: average and final displacement error (m).
+        pass_distance: predicted minus observed minimum centre distance to the robot
+            over the window (m); NaN when the robot is observed at none of its samples.
+        path_offset: predicted minus observed lateral position at the pass, relative to
+            the line through the window start along the initial velocity (m, positive
+            to the left of it); NaN as ``pass_distance`` or with a zero initial velocity.
+            See :func:`srfm.fitting.pass_errors`.
+    """
+
+    ade: NDArray[np.float64]
+    fde: NDArray[np.float64]
+    pass_distance: NDArray[np.float64]
+    path_offset: NDArray[np.float64]
+
+
+def heldout_metrics(
     windows: Windows,
     groups: SceneGroups,
     base: SRFMParams,
     per_group: Sequence[SRFMParams],
-) -> dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]]:
-    """Per-window ADE and FDE (m) of every :data:`TABLE2_MODES` model, each (W,).
+) -> dict[str, WindowMetrics]:
+    """Per-window ADE, FDE, pass-distance and path-offset errors of every
+    :data:`TABLE2_MODES` model.
 
     The pedestrian part is ``base``'s in every model; the SRFM's robot part for the
     windows of scene g is ``per_group[g]``'s (the fit that held scene g out).
@@ -274,20 +297,41 @@ def heldout_errors(
         raise ParameterError(
             f"need one parameter set per scene ({groups.n_groups}), got {len(per_group)}"
         )
-    out: dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
+    out: dict[str, WindowMetrics] = {}
     every = np.arange(windows.n_windows, dtype=np.int64)
     for mode in TABLE2_MODES:
-        ade = np.full(windows.n_windows, np.nan)
-        fde = np.full(windows.n_windows, np.nan)
+        cols = [np.full(windows.n_windows, np.nan) for _ in range(4)]
         if mode == "srfm":
-            for g in range(groups.n_groups):
-                sel = groups.windows_of([g])
-                params = base.replace(**_robot(per_group[g]))
-                ade[sel], fde[sel] = window_errors(windows, sel, params, mode)
+            parts = [
+                (groups.windows_of([g]), base.replace(**_robot(per_group[g])))
+                for g in range(groups.n_groups)
+            ]
         else:
-            ade[:], fde[:] = window_errors(windows, every, base, mode)
-        out[mode] = (ade, fde)
+            parts = [(every, base)]
+        for sel, params in parts:
+            if sel.size == 0:
+                continue
+            predicted = predict(windows, params, sel, mode)
+            cols[0][sel], cols[1][sel] = displacement_summary(windows, sel, predicted)
+            cols[2][sel], cols[3][sel] = pass_errors(windows, sel, predicted)
+        out[mode] = WindowMetrics(
+            ade=cols[0], fde=cols[1], pass_distance=cols[2], path_offset=cols[3]
+        )
     return out
+
+
+def heldout_errors(
+    windows: Windows,
+    groups: SceneGroups,
+    base: SRFMParams,
+    per_group: Sequence[SRFMParams],
+) -> dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]]:
+    """Per-window ADE and FDE (m) of every :data:`TABLE2_MODES` model, each (W,): the
+    first two columns of :func:`heldout_metrics`."""
+    return {
+        mode: (m.ade, m.fde)
+        for mode, m in heldout_metrics(windows, groups, base, per_group).items()
+    }
 
 
 @attrs.frozen(kw_only=True)

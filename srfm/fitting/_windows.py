@@ -8,8 +8,8 @@ the robot move as observed. See ``docs/fitting.md`` for the exact definition.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from typing import Final, NamedTuple
+from collections.abc import Callable, Sequence
+from typing import Final, Literal, NamedTuple, get_args
 
 import attrs
 import numpy as np
@@ -19,13 +19,22 @@ from srfm._validate import physical, positive, unit_interval
 from srfm.datasets._trajectories import PEDESTRIAN, Trajectories
 from srfm.errors import DatasetError, ParameterError
 
-__all__ = ["WindowConfig", "Windows", "build_windows"]
+__all__ = ["ALIGNS", "GOALS", "Align", "Goal", "WindowConfig", "Windows", "build_windows"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
 # Helbing & Molnár 1995: a pedestrian's top speed is about 1.3 times its desired speed.
 VMAX_FACTOR: Final = 1.3
+
+# Where windows start: every ``stride`` along a track, or once per encounter with the
+# robot, ``lead`` before the closest approach.
+Align = Literal["stride", "encounter"]
+ALIGNS: Final[tuple[str, ...]] = get_args(Align)
+# The goal of a window's pedestrian: the track's last position, or a point straight
+# ahead along the initial velocity (nothing after the window start).
+Goal = Literal["track_end", "heading"]
+GOALS: Final[tuple[str, ...]] = get_args(Goal)
 
 
 def _pos(inst: object, attribute: attrs.Attribute[float], value: float) -> None:
@@ -50,6 +59,16 @@ def _speed(inst: object, attribute: attrs.Attribute[float], value: float) -> Non
 
 def _quantile(inst: object, attribute: attrs.Attribute[float], value: float) -> None:
     unit_interval(value, attribute.name, ParameterError)
+
+
+def _one_of(choices: tuple[str, ...]) -> Callable[[object, attrs.Attribute[str], str], None]:
+    def check(inst: object, attribute: attrs.Attribute[str], value: str) -> None:
+        if value not in choices:
+            raise ParameterError(
+                f"{attribute.name} must be one of {', '.join(choices)}; got {value!r}"
+            )
+
+    return check
 
 
 @attrs.frozen(kw_only=True)
@@ -87,6 +106,29 @@ class WindowConfig:
             NavWareSet protocol (``docs/fitting.md``) uses 0.3 m/s to leave out windows
             that start while the pedestrian waits for the experimenter's cue, which no
             force model can time.
+        align: where windows start. ``"stride"`` (default): every ``stride_s`` along
+            each track segment. ``"encounter"``: one window per track segment whose
+            closest centre distance to the robot (over the segment's samples with the
+            robot observed) is at most ``interaction_radius_m``, starting ``lead_s``
+            before that closest approach (the sample nearest to it), so that the
+            avoidance happens inside the window; none when the segment has too few
+            samples before or after (velocity span, horizon) or the start is slower
+            than ``min_start_speed_mps``. ``stride_s`` is then not used.
+        lead_s: for ``align="encounter"``: time from the window start to the closest
+            approach (s); shorter than ``horizon_s``. Default 3 s
+            (``docs/real_encounters.md``: people begin to steer away about 2.5–3.5 s
+            before the closest approach).
+        goal: the pedestrian's goal. ``"track_end"`` (default): the last observed
+            position of the track (the same for every window of the track).
+            ``"heading"``: the point ``goal_distance_m`` straight ahead of the window
+            start along the initial velocity, the constant-velocity extrapolation of
+            the pre-window heading; it uses nothing observed after the window start, so
+            an avoidance inside the window cannot leak into it (the start position
+            itself when the initial velocity is zero).
+        goal_distance_m: for ``goal="heading"``: distance of the goal (m). Default
+            10 m, beyond what a pedestrian walks in a window (4.8 s at 1.3 m/s is
+            6.2 m), so the goal force does not slow the pedestrian down (it does
+            within v0 · 1 s of the goal).
     """
 
     horizon_s: float = attrs.field(default=4.8, validator=_duration)
@@ -100,6 +142,17 @@ class WindowConfig:
     max_substep_s: float = attrs.field(default=1.0 / 15.0, validator=_duration)
     max_gap_factor: float = attrs.field(default=1.5, validator=_pos)
     min_start_speed_mps: float = attrs.field(default=0.0, validator=_speed)
+    align: str = attrs.field(default="stride", validator=_one_of(ALIGNS))
+    lead_s: float = attrs.field(default=3.0, validator=_duration)
+    goal: str = attrs.field(default="track_end", validator=_one_of(GOALS))
+    goal_distance_m: float = attrs.field(default=10.0, validator=_length)
+
+    def __attrs_post_init__(self) -> None:
+        if self.align == "encounter" and self.lead_s >= self.horizon_s:
+            raise ParameterError(
+                f"lead_s ({self.lead_s:g} s) must be shorter than horizon_s "
+                f"({self.horizon_s:g} s): the closest approach must lie inside the window"
+            )
 
 
 @attrs.frozen(kw_only=True, eq=False)
@@ -222,6 +275,7 @@ class _Cadence(NamedTuple):
     velocity_span: int
     speed_span: int
     max_gap_s: float
+    lead: int
 
 
 def build_windows(scenes: Sequence[Trajectories], config: WindowConfig | None = None) -> Windows:
@@ -341,6 +395,7 @@ def _scene_windows(
         velocity_span=_samples(config.velocity_span_s, dt_nom),
         speed_span=_samples(config.speed_span_s, dt_nom),
         max_gap_s=config.max_gap_factor * dt_nom,
+        lead=round(config.lead_s / dt_nom),
     )
     windows: list[_Window] = []
     for a in np.flatnonzero(_pedestrians(scene)):
@@ -374,19 +429,18 @@ def _track_segments(tf: IntArray, tt: FloatArray, max_gap_s: float) -> list[tupl
 def _track_windows(
     track: _Track, replay: _SceneReplay, cadence: _Cadence, config: WindowConfig
 ) -> list[_Window]:
-    """The windows of one track: every ``stride`` samples of each segment, with the
-    velocity span before the start and the horizon after it inside the segment, and a
-    start speed of at least ``config.min_start_speed_mps``."""
+    """The windows of one track: in each segment, at the starts :func:`_starts` gives,
+    with the velocity span before the start and the horizon after it inside the
+    segment, and a start speed of at least ``config.min_start_speed_mps``."""
     tf, txy, tt = track.frames, track.xy, track.t
     segments = _track_segments(tf, tt, cadence.max_gap_s)
     speed0 = _desired_speed(txy, tt, segments, cadence.speed_span, config.speed_quantile)
-    goal = txy[-1]
     horizon = cadence.horizon
     m_v = cadence.velocity_span
     min_speed = config.min_start_speed_mps
     windows: list[_Window] = []
     for lo, hi in segments:
-        for k in range(lo + m_v, hi - horizon, cadence.stride):
+        for k in _starts(track, replay, cadence, config, lo, hi):
             v_k = (txy[k] - txy[k - m_v]) / (tt[k] - tt[k - m_v])
             if min_speed > 0.0 and math.hypot(v_k[0], v_k[1]) < min_speed:
                 continue
@@ -400,7 +454,7 @@ def _track_windows(
                     steps=horizon,
                     pos=txy[k],
                     vel=v_k,
-                    goal=goal,
+                    goal=_goal(txy, k, v_k, config),
                     v0=speed0,
                     min_robot_distance=_min_robot_distance(txy[span], tf[span], replay),
                     observed=txy[ks],
@@ -408,6 +462,39 @@ def _track_windows(
                 )
             )
     return windows
+
+
+def _starts(
+    track: _Track, replay: _SceneReplay, cadence: _Cadence, config: WindowConfig, lo: int, hi: int
+) -> range | list[int]:
+    """Window starts (sample indices) in the segment [lo, hi): every ``stride`` samples
+    with room for the velocity span and the horizon, or (``align="encounter"``) the one
+    ``lead`` samples before the segment's closest approach to the robot when that is
+    within the interaction radius and the window fits."""
+    first, stop = lo + cadence.velocity_span, hi - cadence.horizon
+    if config.align == "stride":
+        return range(first, stop, cadence.stride)
+    fr = track.frames[lo:hi]
+    on = replay.rb_on[fr]
+    if not np.any(on):
+        return []
+    d = np.linalg.norm(track.xy[lo:hi] - replay.rb_a[fr], axis=1)
+    d[~on] = np.inf
+    k_pass = lo + int(np.argmin(d))
+    k = k_pass - cadence.lead
+    if d[k_pass - lo] > config.interaction_radius_m or not first <= k < stop:
+        return []
+    return [k]
+
+
+def _goal(txy: FloatArray, k: int, v_k: FloatArray, config: WindowConfig) -> FloatArray:
+    """The goal of a window starting at sample k (``config.goal``)."""
+    if config.goal == "track_end":
+        goal: FloatArray = txy[-1]
+        return goal
+    speed = math.hypot(v_k[0], v_k[1])
+    goal = txy[k] + v_k * (config.goal_distance_m / speed) if speed > 0.0 else txy[k].copy()
+    return goal
 
 
 def _min_robot_distance(xy: FloatArray, fr: IntArray, replay: _SceneReplay) -> float:

@@ -33,6 +33,7 @@ Entity tree (timelines ``step`` = sample index and ``sim_time`` = simulated time
 
 from __future__ import annotations
 
+import hashlib
 import math
 import os
 import tempfile
@@ -96,11 +97,35 @@ def _blueprint(scenario: Scenario) -> Any:
         rrb.TextLogView(origin="/events", name="events"),
         row_shares=[3, 2, 2],
     )
+    root = rrb.Horizontal(world_view, side, column_shares=[3, 2])
+    # Fixed view and container ids (rerun draws them at random): the same scenario gives
+    # the same blueprint.
+    for k, part in enumerate((root, world_view, side, *side.contents)):
+        part.id = uuid.UUID(int=k + 1)
     return rrb.Blueprint(
-        rrb.Horizontal(world_view, side, column_shares=[3, 2]),
+        root,
         rrb.TimePanel(timeline="sim_time", state="expanded"),
         collapse_panels=False,
     )
+
+
+def recording_id(
+    record: EpisodeRecord, metrics: EpisodeMetrics | None = None, forces: bool = False
+) -> str:
+    """The recording id of an episode's ``.rrd`` file: ``SCENARIO-PLANNER-SEED-DIGEST``,
+    the digest a SHA-256 over everything the file shows (every array of the record, its
+    outcome and events, the metrics, whether forces are drawn). Two identical runs give
+    the same id (the viewer treats their files as one recording); any difference gives
+    another."""
+    h = hashlib.sha256()
+    for name, arr in sorted(record.arrays().items()):
+        h.update(f"{name} {arr.dtype} {arr.shape}".encode())
+        h.update(np.ascontiguousarray(arr).tobytes())
+    h.update(repr((record.scenario, record.planner, record.seed, record.outcome)).encode())
+    h.update(repr((record.end_step, record.events, forces)).encode())
+    if metrics is not None:
+        h.update(repr(sorted(metrics.values.items())).encode())
+    return f"{record.scenario}-{record.planner}-{record.seed}-{h.hexdigest()[:16]}"
 
 
 def _summary(record: EpisodeRecord, metrics: EpisodeMetrics | None) -> str:
@@ -381,8 +406,11 @@ def write_rrd(
     fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     os.close(fd)
     tmp = Path(tmp_name)
-    recording_id = f"{record.scenario}-{record.planner}-{record.seed}-{uuid.uuid4().hex[:8]}"
-    rec = rr.RecordingStream(APPLICATION_ID, recording_id=recording_id, send_properties=False)
+    rec = rr.RecordingStream(
+        APPLICATION_ID,
+        recording_id=recording_id(record, metrics, forces),
+        send_properties=False,
+    )
     try:
         rec.set_log_tick_enabled(False)  # only the step and sim_time timelines
         rec.set_log_time_enabled(False)

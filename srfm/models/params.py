@@ -191,6 +191,11 @@ PRESETS: Final[dict[str, SRFMParams]] = {
         lambda_robot=0.196,
     ),
 }
+"""Named SRFM parameter sets (:meth:`SRFMParams.preset`, ``--params NAME``):
+``agrawal2024`` (the paper's Table 1, fitted on JRDB; the default), ``ferrer2013`` (one
+A = 2.66 m/s², B = 0.79 m for people and robot alike) and ``navwareset2025`` (fitted by
+srfm on NavWareSet; a prediction fit, not a simulator preset). Strengths in m/s²,
+ranges in m, τ in s (docs/model.md, docs/fitting.md)."""
 
 
 def load_params(path: str | Path) -> SRFMParams:

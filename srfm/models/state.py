@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import weakref
 from typing import Any
 
 import attrs
@@ -100,9 +101,10 @@ class CrowdState:
     def for_kernels(self, m: int | None = None) -> CrowdArrays:
         """The kernels' view of the first ``m`` pedestrians (all for None): views of
         these arrays, so a kernel's update is this crowd's."""
-        k = self.n if m is None else m
+        if m is None or m == self.n:
+            return CrowdArrays(self.pos, self.vel, self.goal, self.radius, self.v0, self.vmax)
         return CrowdArrays(
-            self.pos[:k], self.vel[:k], self.goal[:k], self.radius[:k], self.v0[:k], self.vmax[:k]
+            self.pos[:m], self.vel[:m], self.goal[:m], self.radius[:m], self.v0[:m], self.vmax[:m]
         )
 
     def copy(self) -> CrowdState:
@@ -192,14 +194,23 @@ class Obstacles:
         compile the crowd step and the robot's checks again (seconds of CPU each with
         an empty cache). The copies are the same type everywhere.
         """
-        segments = np.array(self.segments, dtype=np.float64, order="C")
-        circles = np.array(self.circles, dtype=np.float64, order="C")
-        return ObstacleArrays(
-            segments=segments,
-            circles=circles,
-            pillar_xy=np.array(circles[:, :2], order="C"),
-            pillar_r=np.array(circles[:, 2], order="C"),
-        )
+        arrays = _KERNEL_ARRAYS.get(self)
+        if arrays is None:  # made once per Obstacles (the kernels only read them)
+            segments = np.array(self.segments, dtype=np.float64, order="C")
+            circles = np.array(self.circles, dtype=np.float64, order="C")
+            arrays = ObstacleArrays(
+                segments=segments,
+                circles=circles,
+                pillar_xy=np.array(circles[:, :2], order="C"),
+                pillar_r=np.array(circles[:, 2], order="C"),
+            )
+            _KERNEL_ARRAYS[self] = arrays
+        return arrays
+
+
+# The kernels' arrays of each Obstacles, kept beside it rather than in it, so that an
+# obstacle's content (what a scenario's fingerprint hashes) is only its walls and pillars.
+_KERNEL_ARRAYS: weakref.WeakKeyDictionary[Obstacles, ObstacleArrays] = weakref.WeakKeyDictionary()
 
 
 def _obstacles(segments: FloatArray, circles: FloatArray) -> Obstacles:

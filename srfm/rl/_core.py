@@ -32,7 +32,8 @@ from srfm.sim.engine import EpisodeEngine
 __all__ = ["REWARD_TERMS", "EnvCore", "resolve_scenario"]
 
 REWARD_TERMS: Final = (_k.OUT_REWARD, _k.OUT_R_DIST, _k.OUT_R_DIV, _k.OUT_R_TERM, _k.OUT_R_PROGRESS)
-"""The entries of the kernel's ``out`` that an action sums over its simulation steps."""
+"""The entries of the kernel's ``out`` that an action sums over its simulation steps
+(:attr:`EnvCore.total` holds them in this order)."""
 
 
 def resolve_scenario(scenario: Scenario, config: EnvConfig) -> Scenario:
@@ -60,7 +61,7 @@ class EnvCore:
         self.n = n
         self.repeat = int(config.action_repeat)
         self.regoal = scenario.random is not None and scenario.random.regoal
-        self.total = np.zeros(_k.OUT_SIZE)  # one action's reward terms (see step)
+        self.total = [0.0] * len(REWARD_TERMS)  # one action's reward terms (see step)
         reward = _k.RewardParams(
             k1=float(config.k1),
             k2=float(config.k2),
@@ -186,8 +187,9 @@ class EnvCore:
         """Apply the action (a0, a1) for ``config.action_repeat`` simulation steps, or
         until the episode ends; return the event code.
 
-        The reward terms summed over those steps are in ``self.total`` (indices
-        :data:`REWARD_TERMS` of :mod:`srfm.rl._kernels`' ``out``) and the observation
+        The reward terms summed over those steps are in ``self.total`` (the entries
+        :data:`REWARD_TERMS` of :mod:`srfm.rl._kernels`' ``out``, in that order, as
+        floats) and the observation
         in ``self.obs``. The progress term uses γ = 1 on every step of the action but
         its last one (the horizon's step is a last one), so that its sum telescopes
         to γ Φ(s_{t+k}) − Φ(s_t): potential-based per action.
@@ -204,8 +206,7 @@ class EnvCore:
         action[0] = a0
         action[1] = a1
         out = self.arrays.out
-        total = self.total
-        total[:] = 0.0
+        total = [0.0] * len(REWARD_TERMS)
         last_step = self.scenario.horizon_steps - 1
         event = _rk.EVENT_NONE
         for k in range(self.repeat):
@@ -226,10 +227,11 @@ class EnvCore:
                     self._set(steer=self._steer(engine))
                     if last:
                         observe(engine.arrays, self.arrays, event)
-            for term in REWARD_TERMS:
-                total[term] += out[term]
+            terms = out.tolist()
+            total = [t + terms[i] for t, i in zip(total, REWARD_TERMS, strict=True)]
             if event != _rk.EVENT_NONE:
                 break
+        self.total = total
         return event
 
     def robot_state(self) -> RobotState:

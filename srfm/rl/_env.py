@@ -16,7 +16,6 @@ from srfm.models import _robot_kernels as _rk
 from srfm.models.params import SRFMParams
 from srfm.models.robot import RobotState, command_pair
 from srfm.planners._observation import EnvConfig, obs_size
-from srfm.rl import _kernels as _k
 from srfm.rl._core import EnvCore, resolve_scenario
 from srfm.scenarios import Scenario, load_scenario, validate_seed
 from srfm.scenarios.training import TRAINING_SCENARIO, training_layout
@@ -253,12 +252,12 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         a0, a1 = command_pair(action, "an action")
         core = self._core
         event = core.step(a0, a1)
-        out = core.total
+        reward, r_dist, r_div, r_term, r_progress = core.total  # in REWARD_TERMS order
         info: dict[str, Any] = {
-            "r_dist": float(out[_k.OUT_R_DIST]),
-            "r_div": float(out[_k.OUT_R_DIV]),
-            "r_term": float(out[_k.OUT_R_TERM]),
-            "r_progress": float(out[_k.OUT_R_PROGRESS]),
+            "r_dist": r_dist,
+            "r_div": r_div,
+            "r_term": r_term,
+            "r_progress": r_progress,
         }
         terminated = event in _TERMINAL
         truncated = event == _rk.EVENT_TIMEOUT
@@ -266,7 +265,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
             self._running = False
             info["outcome"] = EVENT_OUTCOMES[event]
             info["is_success"] = event == _rk.EVENT_GOAL
-        return core.obs.copy(), float(out[_k.OUT_REWARD]), terminated, truncated, info
+        return core.obs.copy(), reward, terminated, truncated, info
 
     def set_k2(self, k2: float) -> None:
         """Change the deviation weight k2 (1/m) from the next step on (a curriculum

@@ -61,6 +61,8 @@ __all__ = [
 
 # The paper's five evaluation scenarios, in its order, then the training scenario.
 EVALUATION_SCENARIOS: Final = ("footpath", "crosswalk", "cross_footpath", "circle", "concert")
+"""The paper's five evaluation scenarios, in its order (15 m × 15 m worlds, 10
+pedestrians, 750 steps of 1/15 s = 50 s); the benchmark's default suite."""
 # Scenarios after Francis et al. 2023 ("Principles and guidelines for evaluating social
 # robot navigation algorithms"), with walls, doors, corners and rooms (issue 17).
 FRANCIS_SCENARIOS: Final = (
@@ -100,6 +102,9 @@ BUILTIN_SCENARIOS: Final = (
     *NAVWARESET_SCENARIOS,
     *FLOW_SCENARIOS,
 )
+"""The names of every built-in scenario: the paper's five, its random training scenario,
+then the scenarios after Francis et al. 2023, the NavWareSet room and the flows
+(``srfm scenarios`` describes each; docs/scenarios.md)."""
 # Large crowds (issue 19; 300-400 pedestrians, stepped with the cell list and the
 # interaction cut-off): built in and loadable by name, run by `srfm benchmark --suite
 # large`, but kept out of BUILTIN_SCENARIOS, whose scenarios every test, the RL

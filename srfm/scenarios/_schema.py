@@ -126,7 +126,43 @@ class Scenario:
     """A validated scenario. Build it with :func:`srfm.load_scenario`.
 
     For ``kind == "fixed"`` the pedestrians and the robot are listed; for
-    ``kind == "random"`` they are drawn per seed under ``random``'s constraints.
+    ``kind == "random"`` they are drawn per seed under ``random``'s constraints. The
+    file schema and every bound: docs/scenarios.md.
+
+    Attributes:
+        name, description: the scenario's name and one-line description.
+        kind: ``"fixed"`` or ``"random"``.
+        dt_s: simulation step (s).
+        horizon_steps: steps of both twins in every episode.
+        world: the world rectangle (m); the robot is out of bounds outside it.
+        robot: the robot's body and limits (m, m/s, rad/s, m/s², rad/s²).
+        robot_start, robot_goal: (2,) the robot's start and goal (m); None for
+            ``random``.
+        robot_heading_rad: the robot's start heading (rad); None: facing its goal.
+        ped_starts, ped_goals: (N, 2) the listed pedestrians' starts and goals (m),
+            before the per-seed noise; None for ``random``.
+        ped_radius_m: body radius (m), one for all or (N,).
+        ped_desired_speed_mps, ped_max_speed_mps: desired speed v0 and speed cap
+            (m/s), one for all or (N,).
+        ped_goal_radius_m: arrival distance (m).
+        noise_m: half-width (m) of the per-seed offset of starts, waypoints and goals.
+        random: the constraints of a ``random`` scenario, else None.
+        obstacles: walls (m; thick walls as their outlines, doors cut out) and pillars.
+        source: ``builtin:NAME`` or the file's path.
+        schema_version: 1 or 2.
+        ped_routes: per listed pedestrian, (K, 2) waypoints (m) walked before the goal.
+        ped_waits_s: per listed pedestrian, (K,) seconds spent at each waypoint.
+        ped_switch_radius_m: a waypoint counts as reached within this distance (m).
+        ped_speed_noise_mps: half-width (m/s) of the per-seed change of desired speeds.
+        ped_groups: indices of the pedestrians that walk together, per group.
+        ped_standing: indices of the pedestrians that stand (goal = start).
+        regions: named rectangles (x_min, y_min, x_max, y_max) (m).
+        map_points: (M, 2) points of a recorded map (m), or None.
+        robot_recording: a recorded robot trajectory (times in s, positions in m).
+        ped_enter_s: (N,) entry time of each pedestrian (s), None when all are there
+            at the start.
+        ped_enter_noise_s: half-width (s) of the per-seed change of entry times > 0.
+        ped_sources: streams of pedestrians entering at a rate (per s).
     """
 
     name: str

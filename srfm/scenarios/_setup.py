@@ -186,7 +186,18 @@ def entry_steps(scenario: Scenario, times: FloatArray) -> NDArray[np.int64]:
 
 
 def episode_setup(scenario: Scenario, seed: int) -> EpisodeSetup:
-    """Make the set-up of episode ``seed`` of ``scenario``."""
+    """Make the set-up of episode ``seed`` of ``scenario``: the pedestrians and the robot
+    of that episode before its first step, drawn from the seed's own random stream.
+
+    Args:
+        scenario: the scenario.
+        seed: the episode seed, in [0, 2^32 - 1].
+
+    Returns:
+        The robot's start and goal (m) and heading (rad); the crowd (positions and goals
+        in m, speeds in m/s, radii in m) after the per-seed noise; waypoints (m), waits
+        (s) and entry steps where the scenario has them.
+    """
     seed = validate_seed(seed)
     rng = _streams.setup_rng(seed)
     routes: tuple[FloatArray, ...] | None = None

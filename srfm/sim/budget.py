@@ -44,6 +44,7 @@ from typing import Final
 
 import attrs
 
+from srfm._text import count
 from srfm.errors import ResourceError
 from srfm.scenarios import Scenario
 from srfm.sim.episode import estimate_episode_memory, format_bytes, memory_room
@@ -180,10 +181,11 @@ class RunEstimate:
             where = f"about {format_duration(self.cpu_s)} of CPU time on the cluster"
         else:
             assert self.wall_s is not None
-            where = f"about {format_duration(self.wall_s)} on {self.workers} worker(s)"
+            where = f"about {format_duration(self.wall_s)} on {count(self.workers, 'worker')}"
             if self.workers > 1:
                 where += f" ({format_duration(self.cpu_s)} of CPU time)"
-        return f"{self.episodes:,} episode(s): {where}, {format_bytes(self.memory_bytes)} of memory"
+        episodes = f"{self.episodes:,} episode" + ("" if self.episodes == 1 else "s")
+        return f"{episodes}: {where}, {format_bytes(self.memory_bytes)} of memory"
 
 
 def estimate_run(

@@ -103,6 +103,10 @@ class EpisodeEngine:
         arrays: the kernels' view of the episode (:class:`srfm.sim._kernels.EpisodeArrays`).
     """
 
+    factual: CrowdState
+    counterfactual: CrowdState
+    _robot_event: Callable[..., tuple[int, int]]
+
     def __init__(
         self,
         setup: EpisodeSetup,
@@ -133,10 +137,10 @@ class EpisodeEngine:
         self.scenario = scenario
         crowd = setup.crowd
         n = crowd.n
-        if getattr(self, "factual", None) is not None and self.factual.n == n:
-            for twin in (self.factual, self.counterfactual):
+        if self._crowds_fit(n):
+            for state in (self.factual, self.counterfactual):
                 for name in ("pos", "vel", "goal", "radius", "v0", "vmax"):
-                    getattr(twin, name)[:] = getattr(crowd, name)
+                    getattr(state, name)[:] = getattr(crowd, name)
         else:
             self.factual = crowd.copy()
             self.counterfactual = crowd.copy()
@@ -169,10 +173,10 @@ class EpisodeEngine:
             self.robot_route = RobotRoute(scenario, setup.robot_start, setup.robot_goal)
             self.robot_route.update(self.robot[_rk.X], self.robot[_rk.Y])
         if not obstacles.empty or setup.ped_routes is not None:
-            for twin, routes in enumerate(PedestrianRoutes.twins(setup)):
+            for side, routes in enumerate(PedestrianRoutes.twins(setup)):
                 if routes.any:
-                    self.crowd(twin).goal[:] = routes.targets()
-                    self._ped_routes[twin] = routes
+                    self.crowd(side).goal[:] = routes.targets()
+                    self._ped_routes[side] = routes
         self.has_routes = self.robot_route is not None or bool(self._ped_routes)
         self._enter_step = setup.ped_enter_step
         self.n_present = setup.n_present(0)
@@ -206,6 +210,11 @@ class EpisodeEngine:
         self._robot_event = self._specialize(_rk.robot_event, *self._event_args(), 0)
         code, nearest = self._robot_event(*self._event_args(), 0)
         self.initial_events: list[Event] = self._robot_events(code, nearest)
+
+    def _crowds_fit(self, n: int) -> bool:
+        """The crowds' arrays of an earlier episode hold ``n`` pedestrians."""
+        factual: CrowdState | None = self.__dict__.get("factual")
+        return factual is not None and factual.n == n
 
     def _specialize(self, kernel: Any, *args: Any) -> Callable[..., Any]:
         entry = self._specialized.get(kernel)
@@ -250,8 +259,9 @@ class EpisodeEngine:
 
     def _pack(self, m: int) -> None:
         """The kernels' view of the first ``m`` pedestrians (views of the crowds' arrays)."""
+        self._factual_view = self.factual.for_kernels(m)
         self.arrays = _k.EpisodeArrays(
-            factual=self.factual.for_kernels(m),
+            factual=self._factual_view,
             counterfactual=self.counterfactual.for_kernels(m),
             factual_arrivals=_k.ArrivalFlags(self._arrived[0, :m], self._new[0, :m]),
             counterfactual_arrivals=_k.ArrivalFlags(self._arrived[1, :m], self._new[1, :m]),
@@ -265,8 +275,7 @@ class EpisodeEngine:
 
     def _event_args(self) -> tuple[Any, ...]:
         """:func:`robot_event`'s arguments but the sample index."""
-        a = self.arrays
-        return (a.robot, a.factual, self._obstacles, a.limits, a.task)
+        return (self.robot, self._factual_view, self._obstacles, self._limits, self.task)
 
     def steering_goal(self) -> FloatArray:
         """(2,) what the robot's planner steers to: the route's current waypoint in a

@@ -44,11 +44,8 @@ class TwinSimulator:
     Args:
         setup: the episode's start (see :func:`srfm.scenarios.episode_setup`).
         params: SRFM parameters; the ``agrawal2024`` preset when omitted.
-        parallel: use the threaded force kernel (for idle cores only; serial by
-            default). Results are identical either way.
-        cutoff: interaction cut-off of the crowd steps (:func:`srfm.models.forces.kernel_cutoffs`):
-            "auto" (exact below ``CELL_LIST_MIN_AGENTS`` pedestrians), "exact", or a
-            pedestrian cut-off in m.
+        parallel: the threaded force kernel, see :class:`~srfm.sim.engine.EpisodeEngine`.
+        cutoff: the interaction cut-off, see :class:`~srfm.sim.engine.EpisodeEngine`.
 
     Attributes:
         engine: the episode (:class:`srfm.sim.engine.EpisodeEngine`).

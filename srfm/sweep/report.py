@@ -37,6 +37,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm._io import MAX_DOCUMENT_BYTES, read_input_bytes, write_file_set
+from srfm._text import count
 from srfm.errors import SweepError
 from srfm.metrics.episode import EPISODE_METRICS
 from srfm.metrics.stats import ALPHA, compare
@@ -548,8 +549,8 @@ def write_sweep_report(folder: str | Path, *, metric: str = "frechet_m") -> list
         "",
         f"{data.episodes} of {data.expected} episodes "
         + ("(complete)." if data.episodes == data.expected else "(the sweep is not finished).")
-        + f" {len(data.cells)} cells × {len(data.scenarios)} scenarios × "
-        f"{len(data.planners)} planners; factors: {', '.join(data.factors)}.",
+        + f" {count(len(data.cells), 'cell')} × {count(len(data.scenarios), 'scenario')} × "
+        f"{count(len(data.planners), 'planner')}; factors: {', '.join(data.factors)}.",
         "",
     ]
     for factor in data.factors:

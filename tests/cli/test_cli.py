@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -129,3 +130,61 @@ def test_installed_entry_point() -> None:
     bad = subprocess.run([exe, "simulate", "--scenario", "nope"], capture_output=True, text=True)
     assert bad.returncode == 2
     assert bad.stderr.strip().startswith("Error: unknown scenario 'nope'")
+
+
+def test_a_planner_module_in_the_current_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`-p module:attribute` finds a module of the current folder, as `python -m` would,
+    without PYTHONPATH (the installed `srfm` script does not put the folder on the path)."""
+    (tmp_path / "h8_cwd_planners.py").write_text(
+        "import numpy as np\n\n"
+        "class Wait:\n"
+        "    name = 'wait'\n"
+        "    detection_range_m = 2.0\n"
+        "    def reset(self, context, rng):\n"
+        "        pass\n"
+        "    def act(self, observation):\n"
+        "        return np.zeros(2)\n",
+        encoding="utf-8",
+    )
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(sys, "path", [p for p in sys.path if p not in ("", ".")])
+    code, out = run("simulate", "--scenario", "crosswalk", "--planner", "h8_cwd_planners:Wait")
+    assert code == 0, out
+    assert "planner h8_cwd_planners:Wait" in out
+    assert sys.path[-1] == str(tmp_path)
+
+
+def test_benchmark_output_off_a_terminal(tmp_path: Path) -> None:
+    """Off a terminal no progress bar (not even its label), counts in the singular where
+    they are 1, and the printed list of result files names manifest.json."""
+    out = tmp_path / "one"
+    code, text = run(
+        "benchmark", "-s", "crosswalk", "-p", "straight", "--seeds", "0", "--out", str(out),
+        "--no-logs", "--no-figures", "-j", "1",
+    )  # fmt: skip
+    assert code == 0, text
+    lines = text.splitlines()
+    assert f"benchmark: 1 scenario × 1 planner × 1 seed = 1 episode -> {out}" in lines
+    assert "episodes" not in " ".join(line.split()[0] for line in lines if line.strip())
+    listed = next(line for line in lines if line.startswith("results in "))
+    assert listed.endswith(", manifest.json")
+    assert (out / "manifest.json").is_file()
+
+
+def test_the_readme_command_table_lists_every_command() -> None:
+    """Every command and subcommand of `srfm` has a row in README's command table."""
+    import click
+
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
+    rows = [line for line in readme.split("| command | what it does |", 1)[1].splitlines()]
+    table = "\n".join(rows[: next(i for i, r in enumerate(rows[2:], 2) if not r.startswith("|"))])
+    names = []
+    for name, command in main.commands.items():
+        if isinstance(command, click.Group):
+            names += [f"srfm {name} {sub}" for sub in command.commands]
+        else:
+            names.append(f"srfm {name}")
+    missing = [n for n in names if f"`{n}" not in table]
+    assert not missing, missing

@@ -24,8 +24,11 @@ from srfm.fitting import (
     fit_params,
     fit_robot_part,
     heldout_errors,
+    heldout_metrics,
     leave_one_scene_out,
     paired_test,
+    pass_errors,
+    predict,
     replay_encounter,
     scene_groups,
 )
@@ -140,6 +143,25 @@ def test_scene_groups_and_holdout() -> None:
         assert ade.shape == (windows.n_windows,)
         assert np.all(np.isfinite(ade))
         assert np.all(fde >= 0)
+    # The protocol's evaluation with the pass-distance and path-offset errors: the same
+    # ADE and FDE, and the pass errors of each window as pass_errors gives them.
+    metrics = heldout_metrics(windows, groups, base, per_group)
+    assert tuple(metrics) == TABLE2_MODES
+    for mode, m in metrics.items():
+        np.testing.assert_array_equal(m.ade, err[mode][0])
+        np.testing.assert_array_equal(m.fde, err[mode][1])
+        assert np.all(np.isfinite(m.pass_distance))
+        assert np.all(np.isfinite(m.path_offset))
+    for g in range(3):
+        sel = groups.windows_of([g])
+        params = base.replace(
+            **{f: getattr(per_group[g], f) for f in ("a_robot", "b_robot", "lambda_robot")}
+        )
+        dist, off = pass_errors(windows, sel, predict(windows, params, sel, "srfm"))
+        np.testing.assert_array_equal(metrics["srfm"].pass_distance[sel], dist)
+        np.testing.assert_array_equal(metrics["srfm"].path_offset[sel], off)
+    # the robot force moves the pass: its pass-distance errors differ from the SFM's
+    assert not np.array_equal(metrics["srfm"].pass_distance, metrics["sfm"].pass_distance)
 
 
 def test_bootstrap_is_deterministic_and_resamples() -> None:

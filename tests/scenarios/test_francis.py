@@ -120,7 +120,7 @@ def test_benchmark_runs_the_navwareset_suite(tmp_path: Path) -> None:
         ],
     )
     assert result.exit_code == 0, result.output
-    assert "5 scenarios × 1 planners × 1 seeds" in result.output
+    assert "5 scenarios × 1 planner × 1 seed" in result.output
     rows = (out / "episodes.csv").read_text().splitlines()
     assert len(rows) == 1 + len(NAVWARESET_SCENARIOS)
     for name in NAVWARESET_SCENARIOS:

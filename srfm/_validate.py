@@ -12,6 +12,7 @@ kind                      range                       examples
 ``length``                [0, 1e7] m                  distances, margins, noise
 ``radius``                [0, 1e3] m                  body, goal and pillar radii
 ``speed``                 [0, 1e3] m/s                desired and top speeds
+``pedestrian_speed``      [0, 12.5] m/s               a scenario's pedestrians
 ``angular_speed``         [0, 1e3] rad/s              ω_max
 ``acceleration``          [0, 1e6] m/s² or rad/s²     robot acceleration limits
 ``duration``              [0, 86400] s                dataset frame intervals, windows
@@ -45,6 +46,9 @@ MAX_RADIUS_M: Final = 1e3
 """Largest body, goal or pillar radius (m) (the pedestrian bound of CrowdState)."""
 MAX_SPEED_MPS: Final = 1e3
 """Largest speed (m/s) (the pedestrian bound of CrowdState)."""
+MAX_PEDESTRIAN_SPEED_MPS: Final = 12.5
+"""Largest desired or top speed (m/s) of a scenario's pedestrians: faster than anyone
+runs (the 100 m world record peaks at 12.4 m/s); 1000 m/s is a typo, not a person."""
 MAX_DURATION_S: Final = 86400.0
 """Largest duration (s) an option or a dataset's frame interval may have (one day)."""
 MAX_INT64: Final = 2**63 - 1
@@ -59,6 +63,7 @@ BOUNDS: Final[dict[str, tuple[float, float, str]]] = {
     "length": (0.0, MAX_COORDINATE_M, "m"),
     "radius": (0.0, MAX_RADIUS_M, "m"),
     "speed": (0.0, MAX_SPEED_MPS, "m/s"),
+    "pedestrian_speed": (0.0, MAX_PEDESTRIAN_SPEED_MPS, "m/s"),
     "angular_speed": (0.0, 1e3, "rad/s"),
     "acceleration": (0.0, 1e6, "per s²"),
     "duration": (0.0, MAX_DURATION_S, "s"),

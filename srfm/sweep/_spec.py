@@ -50,7 +50,7 @@ from srfm import _validate
 from srfm._io import MAX_TOML_BYTES, read_input_text
 from srfm.errors import SrfmError, SweepError
 from srfm.models.params import SRFMParams, load_params
-from srfm.models.state import MAX_RADIUS_M, MAX_SPEED_MPS
+from srfm.models.state import MAX_RADIUS_M
 from srfm.scenarios import Scenario, load_scenario
 
 __all__ = [
@@ -218,8 +218,10 @@ def _check_value(where: _Where, key: str, name: str, value: float, base: SRFMPar
     elif name == "ped_radius_m":
         if not 0.0 < value <= MAX_RADIUS_M:
             raise where.error(key, f"must be in (0, {MAX_RADIUS_M:g}] m, got {value!r}")
-    elif not 0.0 <= value <= MAX_SPEED_MPS:  # ped_speed_mps
-        raise where.error(key, f"must be in [0, {MAX_SPEED_MPS:g}] m/s, got {value!r}")
+    elif not 0.0 <= value <= _validate.MAX_PEDESTRIAN_SPEED_MPS:  # ped_speed_mps: as in a scenario
+        raise where.error(
+            key, f"must be in [0, {_validate.MAX_PEDESTRIAN_SPEED_MPS:g}] m/s, got {value!r}"
+        )
     return value
 
 

@@ -16,6 +16,7 @@ Needs the ``dask`` extra (``pip install 'srfm[dask]'``).
 from __future__ import annotations
 
 import json
+import os
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from typing import Any, Final
@@ -80,6 +81,8 @@ def check_scheduler(scheduler: str | None, scheduler_file: str | Path | None) ->
         _check_address(scheduler, "--scheduler")
     if scheduler_file is not None:
         what = f"--scheduler-file {scheduler_file}"
+        if not os.path.lexists(scheduler_file):
+            raise BenchmarkError(f"{what}: no such file")
         data = read_input_bytes(
             scheduler_file,
             max_bytes=MAX_DOCUMENT_BYTES,

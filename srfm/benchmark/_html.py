@@ -125,6 +125,18 @@ def _json_file(out: Path, name: str, files: Mapping[str, bytes]) -> Any:
         raise BenchmarkError(f"{out / name}: damaged ({exc})") from None
 
 
+def _summary(out: Path, files: Mapping[str, bytes]) -> Any:
+    """``summary.json`` of this srfm's schema (another is an error saying what to do)."""
+    summary = _json_file(out, "summary.json", files)
+    if not isinstance(summary, dict) or summary.get("schema") != SUMMARY_SCHEMA:
+        got = summary.get("schema") if isinstance(summary, dict) else None
+        raise BenchmarkError(
+            f"{out / 'summary.json'}: summary schema {got!r}, this srfm writes "
+            f"{SUMMARY_SCHEMA!r}; run the benchmark again into a new --out folder"
+        )
+    return summary
+
+
 def _seed_ranges(seeds: Sequence[int]) -> str:
     """``[0, 1, 2, 5]`` as ``0–2, 5``."""
     parts: list[str] = []
@@ -437,13 +449,7 @@ def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
     files = dict(files or {})
     manifest = _json_file(out, MANIFEST, files)
     check_manifest_schema(out / MANIFEST, manifest)
-    summary = _json_file(out, "summary.json", files)
-    if not isinstance(summary, dict) or summary.get("schema") != SUMMARY_SCHEMA:
-        got = summary.get("schema") if isinstance(summary, dict) else None
-        raise BenchmarkError(
-            f"{out / 'summary.json'}: summary schema {got!r}, this srfm writes "
-            f"{SUMMARY_SCHEMA!r}; run the benchmark again into a new --out folder"
-        )
+    summary = _summary(out, files)
     request = summary["request"]
     scenarios = [str(s) for s in request["scenarios"]]
     planners = [str(p) for p in request["planners"]]
@@ -542,6 +548,7 @@ def check_reports(out: Path) -> None:
     manifest = _json_file(out, MANIFEST, {})
     check_manifest_schema(path, manifest)
     scenarios, planners, seeds, reference = _manifest_request(path, manifest)
+    _summary(out, {})  # an older or newer layout says so before the comparison below
     try:
         params = SRFMParams().replace(**manifest.get("params", {}))
     except (SrfmError, TypeError) as exc:

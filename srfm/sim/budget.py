@@ -67,8 +67,8 @@ TIME_LIMIT_ENV: Final = "SRFM_TIME_LIMIT"
 """Environment variable that sets the time limit: seconds, or with a unit (90m, 48h, 7d)."""
 DEFAULT_TIME_LIMIT_S: Final = 24 * 3600.0
 """A run estimated to take longer than this (wall time, one day) is refused unless forced."""
-LARGE_RUN_S: Final = 600.0
-"""A run estimated to take this long or longer (10 minutes) has its estimate printed."""
+LARGE_RUN_S: Final = 300.0
+"""A run estimated to take this long or longer (5 minutes) has its estimate printed."""
 LARGE_RUN_BYTES: Final = 2**30
 """A run estimated to need this much memory or more (1 GiB) has its estimate printed."""
 

@@ -443,7 +443,9 @@ def run_benchmark(
         jobs = check_episode_memory(scenario, jobs=jobs, **logs)
     remote = executor == "dask" and (scheduler is not None or scheduler_file is not None)
     estimate = estimate_benchmark(request, jobs=jobs, remote=remote, writer=writer)
-    check_run(estimate, what="benchmark", smaller="fewer scenarios, planners or seeds", force=force)
+    estimate = check_run(
+        estimate, what="the benchmark", smaller="fewer scenarios, planners or seeds", force=force
+    )
     claim_output_folder(out, kind="benchmark", force=force, legacy_markers=(MANIFEST,))
     with folder_lock(out):
         recover_file_set(out)  # a report set cut short by a kill: finish it first

@@ -120,9 +120,9 @@ def simulate(
     logs = {"mcap": not no_mcap, "rrd": not no_rrd, "forces": forces} if out is not None else {}
     check_episode_memory(scenario, **logs)
     estimate = estimate_run([(scenario, 1)], logs=logs)
-    check_run(
+    estimate = check_run(
         estimate,
-        what=f"an episode of {scenario.name!r}",
+        what=f"an episode of scenario {scenario.name!r}",
         smaller="a shorter simulation.horizon_steps or fewer pedestrians",
         force=force,
     )

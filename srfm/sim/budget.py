@@ -154,6 +154,8 @@ class RunEstimate:
         memory_bytes: the most memory the run needs at once on this machine.
         held_bytes: of it, what this process holds for the whole run.
         episode_bytes: one episode's memory (the largest).
+        beyond: the limits of this machine the run exceeds (:func:`check_run` fills it;
+            a run that goes ahead anyway was forced).
     """
 
     episodes: int
@@ -162,6 +164,7 @@ class RunEstimate:
     memory_bytes: int
     held_bytes: int
     episode_bytes: int
+    beyond: tuple[str, ...] = ()
 
     @property
     def wall_s(self) -> float | None:
@@ -170,9 +173,10 @@ class RunEstimate:
 
     @property
     def large(self) -> bool:
-        """Long or big enough for the command line to print the estimate."""
+        """Long or big enough for the command line to print the estimate (or beyond a
+        limit, run by force)."""
         wall = self.cpu_s if self.wall_s is None else self.wall_s
-        return wall >= LARGE_RUN_S or self.memory_bytes >= LARGE_RUN_BYTES
+        return bool(self.beyond) or wall >= LARGE_RUN_S or self.memory_bytes >= LARGE_RUN_BYTES
 
     def describe(self) -> str:
         """``2,000 episodes: about 3.5 h on 2 workers (7.0 h of CPU time), 1.20 GB of
@@ -185,7 +189,8 @@ class RunEstimate:
             if self.workers > 1:
                 where += f" ({format_duration(self.cpu_s)} of CPU time)"
         episodes = f"{self.episodes:,} episode" + ("" if self.episodes == 1 else "s")
-        return f"{episodes}: {where}, {format_bytes(self.memory_bytes)} of memory"
+        text = f"{episodes}: {where}, {format_bytes(self.memory_bytes)} of memory"
+        return text + (f"; {' and '.join(self.beyond)}" if self.beyond else "")
 
 
 def estimate_run(
@@ -225,33 +230,38 @@ def estimate_run(
     )
 
 
-def check_run(estimate: RunEstimate, *, what: str, smaller: str, force: bool = False) -> None:
+def check_run(
+    estimate: RunEstimate, *, what: str, smaller: str, force: bool = False
+) -> RunEstimate:
     """Refuse a run that cannot fit this machine's memory or would take longer than the
     time limit (:func:`time_limit`), unless ``force``.
 
     Args:
         estimate: the run's estimate.
-        what: the run, for the message (``"benchmark"``).
+        what: the run, for the message (``"the benchmark"``).
         smaller: how to ask for less (``"fewer scenarios, planners or seeds"``).
         force: go ahead anyway (``--force``).
+
+    Returns:
+        ``estimate`` with the limits it exceeds (``beyond``; empty unless forced).
 
     Raises:
         ResourceError: the estimate, the limit it exceeds, and how to go ahead.
     """
-    if force:
-        return
-    problems = []
+    beyond = []
     found = memory_room()
     if found is not None:
         room, source = found
         least = estimate.held_bytes + (0 if estimate.workers is None else estimate.episode_bytes)
         if least > room:
-            problems.append(f"more memory than the {format_bytes(max(room, 0))} of {source}")
+            beyond.append(f"more memory than the {format_bytes(max(room, 0))} of {source}")
     limit, source = time_limit()
     if estimate.wall_s is not None and estimate.wall_s > limit:
-        problems.append(f"longer than the limit of {format_duration(limit)} ({source})")
-    if problems:
+        beyond.append(f"longer than the limit of {format_duration(limit)} ({source})")
+    estimate = attrs.evolve(estimate, beyond=tuple(beyond))
+    if beyond and not force:
         raise ResourceError(
-            f"{what} too large for this machine: {estimate.describe()}; "
-            f"{' and '.join(problems)}. Ask for {smaller}, or give --force to run it anyway"
+            f"{what} is too large for this machine: {estimate.describe()}. Ask for {smaller}, "
+            "or give --force to run it anyway"
         )
+    return estimate

@@ -313,9 +313,9 @@ def run_sweep(
         for scenario, _ in kinds:
             check_episode_memory(scenario)  # one episode alone must fit
     estimate = estimate_sweep(spec, executor=executor, jobs=jobs, remote=remote)
-    check_run(
+    estimate = check_run(
         estimate,
-        what=f"sweep {spec.name!r}",
+        what=f"the sweep {spec.name!r}",
         smaller="fewer cells, scenarios, planners or seeds",
         force=force,
     )

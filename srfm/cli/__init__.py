@@ -75,7 +75,8 @@ class _Main(click.Group):
         except click.exceptions.NoArgsIsHelpError:
             raise  # `srfm data` alone prints the group's help
         except click.UsageError as exc:
-            raise one_line_usage_error(exc) from None
+            command = " ".join(filter(None, (ctx.command_path, ctx.invoked_subcommand)))
+            raise one_line_usage_error(exc, command) from None
         except BrokenPipeError:
             quiet_broken_pipe()
         except KeyboardInterrupt:

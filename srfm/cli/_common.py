@@ -70,10 +70,12 @@ class UserError(click.ClickException):
         self.exit_code = exit_code  # type: ignore[misc]  # click declares a class default
 
 
-def one_line_usage_error(exc: click.UsageError) -> UserError:
+def one_line_usage_error(exc: click.UsageError, command: str | None = None) -> UserError:
     """Click's usage error as srfm's one line (``Error: MESSAGE (see 'srfm CMD --help')``),
-    exit code 2, instead of click's usage line, hint line and error line."""
-    where = f" (see '{exc.ctx.command_path} --help')" if exc.ctx is not None else ""
+    exit code 2, instead of click's usage line, hint line and error line. ``command``
+    names the command when click's error does not (some parser errors)."""
+    path = exc.ctx.command_path if exc.ctx is not None else command
+    where = f" (see '{path} --help')" if path else ""
     return UserError(f"{exc.format_message()}{where}", exc.exit_code)
 
 

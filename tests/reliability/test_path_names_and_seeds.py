@@ -146,16 +146,17 @@ NOT_PLAIN = ["1_000", "٣", "１", "+3", "0x10", "3.0", "1e3", "²"]
 
 @pytest.mark.parametrize("text", NOT_PLAIN)
 def test_seeds_are_plain_ascii_digits_on_the_command_line(tmp_path: Path, text: str) -> None:
+    taken = tmp_path / "a-file"  # not a run folder: train would refuse it next
+    taken.write_text("x")
     for args in (
         ["simulate", "--scenario", "concert", "--seed", text],
-        ["train", "--seed", text, "--run-dir", str(tmp_path / "run")],
+        ["train", "--seed", text, "--run-dir", str(taken)],
     ):
         assert_one_line(cli(*args), "Invalid value for '--seed'", f"{text!r} is not a seed")
     out = str(tmp_path / "out")
     for option in ("--seeds", "--rrd-seeds"):
         res = cli("benchmark", "-s", "concert", "-p", "straight", option, text, "--out", out)
         assert_one_line(res, f"Invalid value for {option}")
-    assert not (tmp_path / "run").exists()
     assert not (tmp_path / "out").exists()
 
 

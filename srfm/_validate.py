@@ -12,13 +12,19 @@ kind                      range                       examples
 ``length``                [0, 1e7] m                  distances, margins, noise
 ``radius``                [0, 1e3] m                  body, goal and pillar radii
 ``speed``                 [0, 1e3] m/s                desired and top speeds
+``pedestrian_speed``      [0, 12.5] m/s               a scenario's pedestrians
 ``angular_speed``         [0, 1e3] rad/s              ω_max
 ``acceleration``          [0, 1e6] m/s² or rad/s²     robot acceleration limits
 ``duration``              [0, 86400] s                dataset frame intervals, windows
 ========================  ==========================  ===================================
 
 Integers: frame numbers and timestamps (ns) are in [0, 2⁶³ − 1] (int64); seeds in
-[0, :data:`MAX_SEED`].
+[0, :data:`MAX_SEED`]. An integer given as text (a seed or a count on the command line,
+a seed range of a sweep spec) is plain ASCII decimal digits (:func:`decimal`): not
+``1_000``, not ``٣``, not ``+3`` or `` 3``, which Python's ``int()`` all accepts.
+
+Keyword options of the public configuration classes: an unknown name is an error
+naming it and the known ones (:func:`keyword_options`), not a raw ``TypeError``.
 
 Names that become path components (scenario and planner names) pass :func:`path_name`.
 """
@@ -40,6 +46,9 @@ MAX_RADIUS_M: Final = 1e3
 """Largest body, goal or pillar radius (m) (the pedestrian bound of CrowdState)."""
 MAX_SPEED_MPS: Final = 1e3
 """Largest speed (m/s) (the pedestrian bound of CrowdState)."""
+MAX_PEDESTRIAN_SPEED_MPS: Final = 12.5
+"""Largest desired or top speed (m/s) of a scenario's pedestrians: faster than anyone
+runs (the 100 m world record peaks at 12.4 m/s); 1000 m/s is a typo, not a person."""
 MAX_DURATION_S: Final = 86400.0
 """Largest duration (s) an option or a dataset's frame interval may have (one day)."""
 MAX_INT64: Final = 2**63 - 1
@@ -54,12 +63,14 @@ BOUNDS: Final[dict[str, tuple[float, float, str]]] = {
     "length": (0.0, MAX_COORDINATE_M, "m"),
     "radius": (0.0, MAX_RADIUS_M, "m"),
     "speed": (0.0, MAX_SPEED_MPS, "m/s"),
+    "pedestrian_speed": (0.0, MAX_PEDESTRIAN_SPEED_MPS, "m/s"),
     "angular_speed": (0.0, 1e3, "rad/s"),
     "acceleration": (0.0, 1e6, "per s²"),
     "duration": (0.0, MAX_DURATION_S, "s"),
 }
 """kind -> (lowest, highest, unit) of every physical input (see the module doc)."""
 
+_DECIMAL_RE: Final = re.compile(r"[0-9]{1,20}", re.ASCII)
 _PATH_NAME_RE: Final = re.compile(r"[A-Za-z0-9][A-Za-z0-9._:-]*")
 _REGISTRY_NAME_RE: Final = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
 _SPEC_RE: Final = re.compile(r"[A-Za-z_]\w*(?:\.[A-Za-z_]\w*)*:[A-Za-z_]\w*", re.ASCII)
@@ -173,6 +184,29 @@ def seed(value: Any, error: type[SrfmError]) -> int:
             f"seed must be a non-negative integer at most {MAX_SEED} (2^32 - 1), got {value!r}"
         )
     return out
+
+
+def decimal(text: str) -> int | None:
+    """The integer written as plain ASCII decimal digits (at most 20), or None for any
+    other text: ``int()`` also takes ``1_000``, ``٣`` (an Arabic-Indic digit), ``+3`` and
+    surrounding spaces, none of which is a plain seed or count."""
+    return int(text) if _DECIMAL_RE.fullmatch(text) else None
+
+
+def keyword_options(
+    cls: type, args: tuple[Any, ...], options: dict[str, Any], error: type[SrfmError]
+) -> None:
+    """Refuse positional arguments and unknown keyword options of an attrs class before
+    its ``__init__`` runs (call it from the class's ``__new__``): one ``error`` naming
+    the option and the known ones, instead of Python's ``TypeError``."""
+    import attrs
+
+    known = [f.name for f in attrs.fields(cls) if f.init]
+    if args:
+        raise error(f"{cls.__name__} takes keyword options only ({', '.join(known)})")
+    unknown = sorted(set(options) - set(known))
+    if unknown:
+        raise error(f"{cls.__name__}: unknown option {unknown[0]!r}; known: {', '.join(known)}")
 
 
 def _name_problem(value: Any, what: str) -> str | None:

@@ -15,16 +15,21 @@ Needs the ``dask`` extra (``pip install 'srfm[dask]'``).
 
 from __future__ import annotations
 
+import json
 import os
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
-from typing import Any
+from typing import Any, Final
 
 from srfm._deps import require
+from srfm._io import MAX_DOCUMENT_BYTES, read_input_bytes
 from srfm.benchmark._workers import one_thread
 from srfm.errors import BenchmarkError
 
-__all__ = ["map_on_dask", "run_on_dask"]
+__all__ = ["check_scheduler", "map_on_dask", "run_on_dask"]
+
+# Address schemes whose location is HOST:PORT (ucx and inproc locations are not).
+_HOST_PORT_SCHEMES: Final = ("tcp", "tls", "ws", "wss")
 
 # Retries of a task that *raised* (a worker that died is handled by the scheduler's own
 # allowed-failures count): user planners are deterministic, so a second try of a raising
@@ -37,6 +42,64 @@ def _dask_task(run: Callable[[Any], int], task: Any) -> int:
     and the worker's life are the Dask worker's business, not the task's.)"""
     one_thread()
     return run(task)
+
+
+def _check_address(address: str, what: str) -> str:
+    """``address`` if Dask can connect to something there: a known scheme and, for
+    tcp, tls, ws and wss, a host and a port in [1, 65535]."""
+    from distributed.comm.addressing import get_address_host_port, parse_address
+    from distributed.comm.registry import get_backend
+
+    try:
+        scheme, _ = parse_address(address)
+        get_backend(scheme)  # an unknown scheme raises
+        if scheme in _HOST_PORT_SCHEMES:
+            host, port = get_address_host_port(address)
+            if not host or not 0 < port < 65536:
+                raise ValueError("a host and a port in [1, 65535] are needed")
+    except ValueError as exc:
+        raise BenchmarkError(
+            f"{what} {address!r} is not a Dask scheduler address such as tcp://HOST:8786 ({exc})"
+        ) from None
+    return address
+
+
+def check_scheduler(scheduler: str | None, scheduler_file: str | Path | None) -> None:
+    """Refuse, before anything is written, what cannot name a Dask scheduler: both
+    options, a malformed address, or a scheduler file that is missing, not JSON, or
+    without a well-formed ``address`` (a reachable scheduler is found only when
+    connecting). Needs the ``dask`` extra.
+
+    Raises:
+        BenchmarkError: naming the option and the bad value.
+        MissingDependencyError: ``distributed`` is not installed.
+    """
+    require("distributed", extra="dask")
+    if scheduler is not None and scheduler_file is not None:
+        raise BenchmarkError("give --scheduler or --scheduler-file, not both")
+    if scheduler is not None:
+        _check_address(scheduler, "--scheduler")
+    if scheduler_file is not None:
+        what = f"--scheduler-file {scheduler_file}"
+        if not os.path.lexists(scheduler_file):
+            raise BenchmarkError(f"{what}: no such file")
+        data = read_input_bytes(
+            scheduler_file,
+            max_bytes=MAX_DOCUMENT_BYTES,
+            error=BenchmarkError,
+            what="Dask scheduler file",
+        )
+        try:
+            doc = json.loads(data.decode("utf-8-sig"))
+        except (UnicodeDecodeError, ValueError, RecursionError) as exc:
+            raise BenchmarkError(f"{what}: not a Dask scheduler file (not JSON: {exc})") from None
+        address = doc.get("address") if isinstance(doc, dict) else None
+        if not isinstance(address, str):
+            raise BenchmarkError(
+                f'{what}: not a Dask scheduler file (no "address" string; `dask scheduler '
+                "--scheduler-file FILE` writes one)"
+            )
+        _check_address(address, f"{what}: address")
 
 
 def run_on_dask(
@@ -81,14 +144,12 @@ def map_on_dask(
             --scheduler-file``).
 
     Raises:
-        BenchmarkError: both ``scheduler`` and ``scheduler_file``, a missing scheduler
-            file, or a scheduler that cannot be reached.
+        BenchmarkError: both ``scheduler`` and ``scheduler_file``, a malformed address
+            or scheduler file (:func:`check_scheduler`), or a scheduler that cannot be
+            reached.
     """
     distributed = require("distributed", extra="dask")
-    if scheduler is not None and scheduler_file is not None:
-        raise BenchmarkError("give --scheduler or --scheduler-file, not both")
-    if scheduler_file is not None and not os.path.isfile(scheduler_file):
-        raise BenchmarkError(f"--scheduler-file {scheduler_file}: no such file")
+    check_scheduler(scheduler, scheduler_file)
     cluster = None
     try:
         if scheduler is None and scheduler_file is None:
@@ -106,7 +167,7 @@ def map_on_dask(
                     scheduler_file=None if scheduler_file is None else str(scheduler_file),
                     timeout="20s",
                 )
-            except (OSError, TimeoutError) as error:
+            except (OSError, TimeoutError, ValueError) as error:
                 where = scheduler or scheduler_file
                 raise BenchmarkError(f"cannot reach the Dask scheduler {where}: {error}") from None
         with client:

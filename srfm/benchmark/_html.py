@@ -21,9 +21,11 @@ from typing import Any, Final
 from srfm._io import MAX_DOCUMENT_BYTES, atomic_write_bytes, folder_lock, read_input_bytes
 from srfm._text import count
 from srfm.benchmark._request import check_manifest_schema
-from srfm.errors import BenchmarkError
+from srfm.benchmark._results import episode_path, read_episode
+from srfm.errors import BenchmarkError, SrfmError
 from srfm.metrics.episode import EPISODE_METRICS, METRIC_GROUPS
-from srfm.metrics.report import MANIFEST, SUMMARY_SCHEMA
+from srfm.metrics.report import MANIFEST, SUMMARY_SCHEMA, render_tables
+from srfm.models.params import SRFMParams
 from srfm.sim.record import ROBOT_OUTCOMES
 
 __all__ = ["REPORT", "render_report", "write_report"]
@@ -121,6 +123,18 @@ def _json_file(out: Path, name: str, files: Mapping[str, bytes]) -> Any:
         return json.loads(data.decode("utf-8"))
     except (UnicodeDecodeError, ValueError, RecursionError) as exc:
         raise BenchmarkError(f"{out / name}: damaged ({exc})") from None
+
+
+def _summary(out: Path, files: Mapping[str, bytes]) -> Any:
+    """``summary.json`` of this srfm's schema (another is an error saying what to do)."""
+    summary = _json_file(out, "summary.json", files)
+    if not isinstance(summary, dict) or summary.get("schema") != SUMMARY_SCHEMA:
+        got = summary.get("schema") if isinstance(summary, dict) else None
+        raise BenchmarkError(
+            f"{out / 'summary.json'}: summary schema {got!r}, this srfm writes "
+            f"{SUMMARY_SCHEMA!r}; run the benchmark again into a new --out folder"
+        )
+    return summary
 
 
 def _seed_ranges(seeds: Sequence[int]) -> str:
@@ -435,13 +449,7 @@ def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
     files = dict(files or {})
     manifest = _json_file(out, MANIFEST, files)
     check_manifest_schema(out / MANIFEST, manifest)
-    summary = _json_file(out, "summary.json", files)
-    if not isinstance(summary, dict) or summary.get("schema") != SUMMARY_SCHEMA:
-        got = summary.get("schema") if isinstance(summary, dict) else None
-        raise BenchmarkError(
-            f"{out / 'summary.json'}: summary schema {got!r}, this srfm writes "
-            f"{SUMMARY_SCHEMA!r}; run the benchmark again into a new --out folder"
-        )
+    summary = _summary(out, files)
     request = summary["request"]
     scenarios = [str(s) for s in request["scenarios"]]
     planners = [str(p) for p in request["planners"]]
@@ -501,17 +509,90 @@ def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
     return page.encode("utf-8")
 
 
-def write_report(out: str | Path) -> Path:
-    """Rebuild ``report.html`` of the results folder ``out`` from its files (holding the
-    folder's lock); return its path.
+# The report files the page is drawn from; each is checked against the episode files.
+_CHECKED_REPORTS: Final = ("summary.json", "episodes.csv")
+
+
+def _manifest_request(path: Path, manifest: Any) -> tuple[list[str], list[str], list[int], Any]:
+    """The scenarios, planners, seeds and reference of the run that wrote the folder's
+    reports last, from its manifest (a damaged one is an error naming it)."""
+    request = manifest.get("request") if isinstance(manifest, dict) else None
+    if isinstance(request, dict):
+        scenarios, planners, seeds = (request.get(k) for k in ("scenarios", "planners", "seeds"))
+        reference = request.get("reference")
+        if (
+            isinstance(scenarios, list)
+            and isinstance(planners, list)
+            and isinstance(seeds, list)
+            and scenarios
+            and planners
+            and seeds
+            and all(isinstance(x, str) for x in (*scenarios, *planners))
+            and all(type(x) is int for x in seeds)
+            and (reference is None or isinstance(reference, str))
+        ):
+            return scenarios, planners, seeds, reference
+    raise BenchmarkError(f"{path}: damaged manifest (its request); use a new --out")
+
+
+def check_reports(out: Path) -> None:
+    """Check what the results page is drawn from: the manifest, every episode file of
+    its request (:func:`~srfm.benchmark._results.read_episode`: schema, checksum, the
+    episode its path names), and ``summary.json`` and ``episodes.csv`` against the
+    tables those episodes give (rendered again, compared byte for byte).
 
     Raises:
-        BenchmarkError: see :func:`render_report`; also when ``out`` is not a folder.
+        BenchmarkError: naming the missing or damaged file, and what to do.
+    """
+    path = out / MANIFEST
+    manifest = _json_file(out, MANIFEST, {})
+    check_manifest_schema(path, manifest)
+    scenarios, planners, seeds, reference = _manifest_request(path, manifest)
+    _summary(out, {})  # an older or newer layout says so before the comparison below
+    try:
+        params = SRFMParams().replace(**manifest.get("params", {}))
+    except (SrfmError, TypeError) as exc:
+        raise BenchmarkError(f"{path}: damaged manifest (params: {exc}); use a new --out") from None
+    results = []
+    for scenario in scenarios:
+        for planner in planners:
+            for seed in seeds:
+                episode = episode_path(out, scenario, planner, seed)
+                if not episode.is_file():
+                    raise BenchmarkError(
+                        f"{episode} is missing: run the benchmark on {out} again to finish it"
+                    )
+                results.append(read_episode(episode, expect=(scenario, planner, seed)))
+    files, _ = render_tables(
+        results,
+        scenarios=scenarios,
+        planners=planners,
+        seeds=seeds,
+        params=params,
+        reference=reference,
+    )
+    for name in _CHECKED_REPORTS:
+        if _read_bytes(out, name, {}) != files[name]:
+            raise BenchmarkError(
+                f"{out / name}: does not match the folder's episode files (damaged, edited, "
+                f"or written by another srfm); run the benchmark on {out} again with the "
+                "same options to rewrite its reports"
+            )
+
+
+def write_report(out: str | Path) -> Path:
+    """Rebuild ``report.html`` of the results folder ``out`` from its files (holding the
+    folder's lock), after checking them (:func:`check_reports`); return its path.
+
+    Raises:
+        BenchmarkError: see :func:`render_report` and :func:`check_reports`; also when
+            ``out`` is not a folder.
     """
     out = Path(out)
     if not out.is_dir():
         raise BenchmarkError(f"{out} is not a folder")
     with folder_lock(out):
+        check_reports(out)
         data = render_report(out)
         path = out / REPORT
         atomic_write_bytes(path, data)

@@ -36,7 +36,7 @@ from srfm._io import (
     remove_stale_temporaries,
     write_file_set,
 )
-from srfm.benchmark._dask import map_on_dask
+from srfm.benchmark._dask import check_scheduler, map_on_dask
 from srfm.benchmark._html import REPORT, render_report
 from srfm.benchmark._request import MANIFEST, BenchmarkRequest, check_manifest
 from srfm.benchmark._results import episode_path, read_episode, write_episode
@@ -47,6 +47,7 @@ from srfm.metrics import EpisodeMetrics, episode_metrics
 from srfm.metrics.report import render_tables
 from srfm.models.params import SRFMParams
 from srfm.scenarios import Scenario
+from srfm.sim.budget import RunEstimate, check_run, estimate_run
 from srfm.sim.episode import build_planner, check_episode_memory, first_command, run_episode
 from srfm.sim.record import EpisodeRecord
 
@@ -55,6 +56,7 @@ __all__ = [
     "BenchmarkSummary",
     "EpisodeWriter",
     "check_executor",
+    "estimate_benchmark",
     "load_results",
     "map_tasks",
     "run_benchmark",
@@ -64,6 +66,10 @@ __all__ = [
 EXECUTORS: Final = ("process", "dask")
 _CHUNK: Final = 5  # seeds per worker task: small enough for a smooth progress bar
 _HELPER_TIMEOUT_S: Final = 900.0  # the warm-up helper's time limit (_compile_in_parent)
+# What this process holds per episode for the whole run (bytes, tracemalloc): its share
+# of the task list and, in the report phase, its metrics (plus 2 kB per pedestrian).
+_HELD_PER_EPISODE: Final = 5_200
+_HELD_PER_PEDESTRIAN: Final = 2_000
 
 
 @attrs.frozen(kw_only=True)
@@ -227,10 +233,13 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
 def check_executor(
     executor: str, jobs: int, scheduler: str | None, scheduler_file: str | Path | None
 ) -> None:
-    """Refuse an unknown executor, fewer than one job, or a scheduler without Dask.
+    """Refuse an unknown executor, fewer than one job, a scheduler without Dask, or a
+    scheduler address or file Dask cannot use (:func:`srfm.benchmark._dask.check_scheduler`):
+    before anything is written.
 
     Raises:
         BenchmarkError: naming the bad value.
+        MissingDependencyError: ``dask`` without the ``dask`` extra.
     """
     if jobs < 1:
         raise BenchmarkError(f"jobs must be at least 1, got {jobs}")
@@ -238,6 +247,8 @@ def check_executor(
         raise BenchmarkError(f"unknown executor {executor!r}; known: {', '.join(EXECUTORS)}")
     if executor != "dask" and (scheduler is not None or scheduler_file is not None):
         raise BenchmarkError("--scheduler and --scheduler-file need --executor dask")
+    if executor == "dask":
+        check_scheduler(scheduler, scheduler_file)
 
 
 def map_tasks(
@@ -340,11 +351,32 @@ def _log_options(writer: EpisodeWriter | None) -> dict[str, bool]:
     }
 
 
+def estimate_benchmark(
+    request: BenchmarkRequest,
+    *,
+    jobs: int,
+    remote: bool = False,
+    writer: EpisodeWriter | None = None,
+) -> RunEstimate:
+    """The time and memory of ``request`` on ``jobs`` workers (:mod:`srfm.sim.budget`):
+    every episode of the request, whether or not a folder already holds it."""
+    per_scenario = len(request.planners) * len(request.seeds)
+    return estimate_run(
+        ((s, per_scenario) for s in request.scenarios),
+        jobs=jobs,
+        remote=remote,
+        logs=_log_options(writer),
+        held_per_episode=_HELD_PER_EPISODE,
+        held_per_pedestrian=_HELD_PER_PEDESTRIAN,
+    )
+
+
 def run_benchmark(
     request: BenchmarkRequest,
     out: str | Path,
     *,
     jobs: int | None = None,
+    on_start: Callable[[RunEstimate], None] | None = None,
     on_progress: Callable[[int], None] | None = None,
     figures: bool = True,
     writer: EpisodeWriter | None = None,
@@ -356,21 +388,28 @@ def run_benchmark(
 ) -> BenchmarkSummary:
     """Run (or finish) a benchmark into ``out`` and write its reports.
 
-    Before any simulation: the folder is claimed (new, empty, or srfm's benchmark
-    folder; any other non-empty folder only with ``force``) and locked, a report set
-    cut short by a kill is completed, stale temporaries are removed, the manifest is
-    checked, and the episodes' memory is estimated (the pool is made smaller when
-    ``jobs`` episodes would not fit side by side).
+    Before anything is written: the executor and the scheduler are checked, the
+    episodes' memory is estimated (the pool is made smaller when ``jobs`` episodes
+    would not fit side by side), and so are the whole run's time and memory
+    (:func:`estimate_benchmark`; a run too large for this machine is refused unless
+    ``force``). Then, before any simulation: the folder is claimed (new, empty, or
+    srfm's benchmark folder; any other non-empty folder only with ``force``) and
+    locked, a report set cut short by a kill is completed, stale temporaries are
+    removed and the manifest is checked.
 
     Args:
         request: scenarios, planners, seeds and parameters.
         out: results folder; created if missing, resumed if it holds an earlier run.
         jobs: worker processes (default: the number of CPUs; 1 runs in this process).
+        on_start: called once with the run's estimate when every check has passed,
+            before the first simulation (where the command line starts its output).
         on_progress: called with the number of episodes finished since the last call
             (first with the number already present).
         figures: also draw the PNG figures.
         writer: optional per-episode hook (see :data:`EpisodeWriter`), e.g. log files.
-        force: write into a non-empty folder srfm did not create.
+        force: write into a non-empty folder srfm did not create, and run a request
+            too large for this machine's memory or the time limit
+            (:func:`srfm.sim.budget.check_run`).
         command: the command line that asked for this run, kept in the manifest and
             shown on the results page.
         executor: ``"process"`` (a local process pool of ``jobs`` workers) or
@@ -388,7 +427,8 @@ def run_benchmark(
             or a damaged manifest.
         OutputError: a non-empty folder srfm did not create (without ``force``).
         FolderInUseError: another srfm process is running on ``out``.
-        ResourceError: one episode would not fit in memory.
+        ResourceError: one episode would not fit in memory, or the run is too large
+            for this machine (without ``force``).
         WriteError: the folder cannot be written.
         UserCodeError: a user's planner raised.
     """
@@ -401,6 +441,11 @@ def run_benchmark(
     logs = _log_options(writer)
     for scenario in request.scenarios:
         jobs = check_episode_memory(scenario, jobs=jobs, **logs)
+    remote = executor == "dask" and (scheduler is not None or scheduler_file is not None)
+    estimate = estimate_benchmark(request, jobs=jobs, remote=remote, writer=writer)
+    estimate = check_run(
+        estimate, what="the benchmark", smaller="fewer scenarios, planners or seeds", force=force
+    )
     claim_output_folder(out, kind="benchmark", force=force, legacy_markers=(MANIFEST,))
     with folder_lock(out):
         recover_file_set(out)  # a report set cut short by a kill: finish it first
@@ -411,6 +456,8 @@ def run_benchmark(
         tasks = _pending_tasks(out, request, writer, figures, damaged)
         total = len(request.scenarios) * len(request.planners) * len(request.seeds)
         pending = sum(len(t.seeds) for t in tasks)
+        if on_start is not None:
+            on_start(estimate)
         if on_progress is not None:
             on_progress(total - pending)
         start = time.perf_counter()

@@ -3,12 +3,20 @@
 from __future__ import annotations
 
 import os
+import signal
 import sys
+import threading
+from collections.abc import Sequence
 from typing import Any
 
 import click
 
-from srfm.cli._common import DEBUG_ENV, quiet_broken_pipe
+from srfm.cli._common import (
+    DEBUG_ENV,
+    EXIT_INTERRUPTED,
+    one_line_usage_error,
+    quiet_broken_pipe,
+)
 from srfm.cli.benchmark import benchmark, report
 from srfm.cli.data import ade, data, fit
 from srfm.cli.logs import score, view
@@ -20,13 +28,60 @@ __all__ = ["main"]
 
 
 class _Main(click.Group):
-    """The ``srfm`` group: a closed stdout (``srfm ... | head``) ends it quietly."""
+    """The ``srfm`` group: every command's exits in one place.
+
+    - a usage error (an unknown option, a bad value) is one line, like every error;
+    - a closed stdout (``srfm ... | head``) ends the command quietly (141);
+    - Ctrl-C ends any command with 130 and ``interrupted`` (the benchmark and the
+      sweep say what they kept); once the command has finished, Ctrl-C is ignored
+      while the interpreter shuts down, which would otherwise end the process by the
+      signal itself (not 130) after the work was done.
+    """
+
+    def main(
+        self,
+        args: Sequence[str] | None = None,
+        prog_name: str | None = None,
+        complete_var: str | None = None,
+        standalone_mode: bool = True,
+        **extra: Any,
+    ) -> Any:
+        try:
+            return super().main(args, prog_name, complete_var, standalone_mode, **extra)
+        finally:
+            # `srfm ...` as a program (args from sys.argv), not a caller's own process
+            # (CliRunner passes args): the interpreter's shutdown, after the work, takes
+            # up to a second, during which Python no longer handles SIGINT.
+            if args is None and threading.current_thread() is threading.main_thread():
+                signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+    def make_context(
+        self,
+        info_name: str | None,
+        args: list[str],
+        parent: click.Context | None = None,
+        **extra: Any,
+    ) -> click.Context:
+        try:
+            return super().make_context(info_name, args, parent, **extra)
+        except click.exceptions.NoArgsIsHelpError:
+            raise  # `srfm` alone prints the help
+        except click.UsageError as exc:
+            raise one_line_usage_error(exc) from None
 
     def invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
+        except click.exceptions.NoArgsIsHelpError:
+            raise  # `srfm data` alone prints the group's help
+        except click.UsageError as exc:
+            command = " ".join(filter(None, (ctx.command_path, ctx.invoked_subcommand)))
+            raise one_line_usage_error(exc, command) from None
         except BrokenPipeError:
             quiet_broken_pipe()
+        except KeyboardInterrupt:
+            click.echo("\ninterrupted", err=True)
+            sys.exit(EXIT_INTERRUPTED)
 
 
 @click.group(cls=_Main, context_settings={"help_option_names": ["-h", "--help"]})

@@ -10,6 +10,10 @@ Exit codes (docs/reliability.md):
 - 75: the results folder is in use by another srfm run;
 - 130: interrupted (Ctrl-C).
 
+Every error is one line, ``Error: MESSAGE``: srfm's own, and click's usage errors too
+(an unknown option, a missing argument, a bad value), which click prints as three lines
+(usage, hint, error) and :func:`one_line_usage_error` turns into one.
+
 ``srfm --debug COMMAND`` or the environment variable ``SRFM_DEBUG=1`` prints the
 traceback behind a one-line error as well (for a user's planner: the traceback inside
 the planner's own code).
@@ -32,13 +36,16 @@ from srfm.models.params import SRFMParams
 
 __all__ = [
     "DEBUG_ENV",
+    "EXIT_INTERRUPTED",
     "EXIT_IN_USE",
     "EXIT_USER",
     "EXIT_WRITE",
+    "SEED",
     "UserError",
     "debug_enabled",
     "load_params_option",
     "on_terminal",
+    "one_line_usage_error",
     "progressbar",
     "user_errors",
 ]
@@ -50,6 +57,7 @@ DEBUG_ENV: Final = "SRFM_DEBUG"
 EXIT_USER: Final = 2
 EXIT_WRITE: Final = 73  # sysexits EX_CANTCREAT
 EXIT_IN_USE: Final = 75  # sysexits EX_TEMPFAIL: try again later
+EXIT_INTERRUPTED: Final = 130  # 128 + SIGINT, as a shell reports a process ended by Ctrl-C
 
 
 class UserError(click.ClickException):
@@ -60,6 +68,41 @@ class UserError(click.ClickException):
     def __init__(self, message: str, exit_code: int = EXIT_USER) -> None:
         super().__init__(message)
         self.exit_code = exit_code  # type: ignore[misc]  # click declares a class default
+
+
+def one_line_usage_error(exc: click.UsageError, command: str | None = None) -> UserError:
+    """Click's usage error as srfm's one line (``Error: MESSAGE (see 'srfm CMD --help')``),
+    exit code 2, instead of click's usage line, hint line and error line. ``command``
+    names the command when click's error does not (some parser errors)."""
+    path = exc.ctx.command_path if exc.ctx is not None else command
+    where = f" (see '{path} --help')" if path else ""
+    return UserError(f"{exc.format_message()}{where}", exc.exit_code)
+
+
+class _Seed(click.ParamType[int, Any]):
+    """An episode seed on the command line: plain ASCII decimal digits, in [0, 2^32 - 1]
+    (``int()`` would also take ``1_000`` and ``٣``)."""
+
+    name = "integer"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> int:
+        from srfm._validate import MAX_SEED, decimal
+
+        if isinstance(value, int) and not isinstance(value, bool):  # a default
+            number: int | None = value
+        else:
+            number = decimal(str(value))
+        if number is None or not 0 <= number <= MAX_SEED:
+            self.fail(
+                f"{value!r} is not a seed: plain decimal digits, in [0, {MAX_SEED}] (2^32 - 1)",
+                param,
+                ctx,
+            )
+        return number
+
+
+SEED: Final = _Seed()
+"""The click type of every ``--seed`` option."""
 
 
 def debug_enabled() -> bool:

@@ -2,20 +2,22 @@
 
 from __future__ import annotations
 
+import contextlib
 import re
 import shlex
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import click
 
 from srfm._text import count
-from srfm.cli._common import load_params_option, progressbar, user_errors
+from srfm.cli._common import EXIT_INTERRUPTED, load_params_option, progressbar, user_errors
 
 if TYPE_CHECKING:
-    from srfm.benchmark import BenchmarkRequest
+    from srfm.benchmark import BenchmarkRequest, BenchmarkSummary
     from srfm.logs import EpisodeLogger
+    from srfm.sim.budget import RunEstimate
 
 __all__ = ["benchmark", "report"]
 
@@ -56,13 +58,12 @@ def _parse_seeds(text: str) -> list[int]:
 
 def _parse_rrd_seeds(text: str) -> int | None:
     """``"all"`` (None) or a non-negative count."""
+    from srfm._validate import decimal
+
     if text.strip().lower() == "all":
         return None
-    try:
-        value = int(text) if len(text) <= 20 else -1
-    except ValueError:
-        value = -1
-    if value < 0:
+    value = decimal(text)
+    if value is None:
         raise click.BadParameter(
             f"{text!r} is not a number of seeds (0, 1, 2, ...) or 'all'", param_hint="--rrd-seeds"
         )
@@ -172,7 +173,13 @@ def _split(values: tuple[str, ...]) -> list[str]:
     help="Results folder; an interrupted run there is resumed. It must be new, empty or "
     "made by srfm benchmark; one run at a time.",
 )
-@click.option("--force", is_flag=True, help="Write into a non-empty folder srfm did not make.")
+@click.option(
+    "--force",
+    is_flag=True,
+    help="Write into a non-empty folder srfm did not make; run a request that is "
+    "estimated to need more memory than this machine has or longer than the time "
+    "limit (24 h, or SRFM_TIME_LIMIT).",
+)
 @click.option(
     "--jobs",
     "-j",
@@ -299,22 +306,32 @@ def benchmark(
     )
     writer = _log_writer(request, out, logs, mcap, mcap_profile, rrd_seeds, forces)
     total = len(request.scenarios) * len(request.planners) * len(request.seeds)
-    click.echo(
-        f"benchmark: {count(len(request.scenarios), 'scenario')} × "
-        f"{count(len(request.planners), 'planner')} × {count(len(request.seeds), 'seed')} = "
-        f"{count(total, 'episode')} -> {out}",
-        err=True,
-    )
-    with progressbar(length=total, label="episodes") as bar:
+    bar: Any = None
+    # Nothing is printed before every check has passed (run_benchmark calls start):
+    # a mistake is one line. Ctrl-C, up to the last line, keeps what is done.
+    try:
+        with contextlib.ExitStack() as stack:
 
-        def advance(n: int) -> None:
-            bar.update(n)
+            def start(estimate: RunEstimate) -> None:
+                nonlocal bar
+                click.echo(
+                    f"benchmark: {count(len(request.scenarios), 'scenario')} × "
+                    f"{count(len(request.planners), 'planner')} × "
+                    f"{count(len(request.seeds), 'seed')} = {count(total, 'episode')} -> {out}",
+                    err=True,
+                )
+                if estimate.large:
+                    click.echo(f"estimate: {estimate.describe()}", err=True)
+                bar = stack.enter_context(progressbar(length=total, label="episodes"))
 
-        try:
+            def advance(n: int) -> None:
+                bar.update(n)
+
             summary = run_benchmark(
                 request,
                 out,
                 jobs=jobs,
+                on_start=start,
                 on_progress=advance,
                 figures=not no_figures,
                 writer=writer,
@@ -324,14 +341,19 @@ def benchmark(
                 scheduler=scheduler,
                 scheduler_file=scheduler_file,
             )
-        except KeyboardInterrupt:
-            done = len(list((out / "episodes").rglob("seed-*.json")))
-            click.echo(
-                f"\ninterrupted: {done} finished episodes are kept in {out}; run the same "
-                "command again to resume",
-                err=True,
-            )
-            sys.exit(130)
+        _print_summary(summary, out, jobs, writer is not None)
+    except KeyboardInterrupt:
+        done = len(list((out / "episodes").rglob("seed-*.json")))
+        click.echo(
+            f"\ninterrupted: {done} finished episodes are kept in {out}; run the same "
+            "command again to resume",
+            err=True,
+        )
+        sys.exit(EXIT_INTERRUPTED)
+
+
+def _print_summary(summary: BenchmarkSummary, out: Path, jobs: int | None, logs: bool) -> None:
+    """What a finished benchmark prints: notes, timing, Table 3, the files."""
     if summary.resimulated:
         shown = ", ".join(summary.resimulated[:3])
         more = f" and {len(summary.resimulated) - 3} more" if len(summary.resimulated) > 3 else ""
@@ -355,7 +377,7 @@ def benchmark(
     click.echo(f"results in {out}: " + ", ".join(summary.files))
     if "report.html" in summary.files:
         click.echo(f"results page: {out / 'report.html'} (open it in a browser)")
-    if writer is not None:
+    if logs:
         click.echo(_logs_line(out), err=True)
 
 

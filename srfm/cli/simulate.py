@@ -11,8 +11,7 @@ from typing import Any
 import click
 import numpy as np
 
-from srfm._validate import MAX_SEED
-from srfm.cli._common import UserError, load_params_option, user_errors
+from srfm.cli._common import SEED, UserError, load_params_option, user_errors
 
 __all__ = ["planners", "scenarios", "simulate"]
 
@@ -49,7 +48,7 @@ def planners() -> None:
 )
 @click.option(
     "--seed",
-    type=click.IntRange(min=0, max=MAX_SEED),
+    type=SEED,
     default=0,
     show_default=True,
     help="Episode seed (integer in [0, 2^32 - 1]).",
@@ -78,7 +77,10 @@ def planners() -> None:
     "a Rerun recording (docs/logging.md). OUT must be new, empty or made by srfm.",
 )
 @click.option(
-    "--force", is_flag=True, help="With --out: write into a non-empty folder srfm did not make."
+    "--force",
+    is_flag=True,
+    help="With --out: write into a non-empty folder srfm did not make. Run an episode "
+    "estimated to take longer than the time limit (24 h, or SRFM_TIME_LIMIT).",
 )
 @click.option("--no-mcap", is_flag=True, help="With --out: no MCAP file.")
 @click.option("--no-rrd", is_flag=True, help="With --out: no Rerun recording.")
@@ -107,6 +109,7 @@ def simulate(
     """Run one twin episode and print a short summary (and write its logs with --out)."""
     from srfm._io import claim_output_folder
     from srfm.scenarios import load_scenario
+    from srfm.sim.budget import check_run, estimate_run
     from srfm.sim.episode import build_planner, check_episode_memory, run_episode
 
     if out is not None and no_mcap and no_rrd:
@@ -114,8 +117,16 @@ def simulate(
     scenario = load_scenario(scenario_name)
     planner = build_planner(planner_name)
     params = load_params_option(params_spec)
+    logs = {"mcap": not no_mcap, "rrd": not no_rrd, "forces": forces} if out is not None else {}
+    check_episode_memory(scenario, **logs)
+    estimate = estimate_run([(scenario, 1)], logs=logs)
+    estimate = check_run(
+        estimate,
+        what=f"an episode of scenario {scenario.name!r}",
+        smaller="a shorter simulation.horizon_steps or fewer pedestrians",
+        force=force,
+    )
     if out is not None:
-        check_episode_memory(scenario, mcap=not no_mcap, rrd=not no_rrd, forces=forces)
         claim_output_folder(
             out,
             kind="simulate",
@@ -124,6 +135,8 @@ def simulate(
             legacy_markers=("logs",),
             mark=False,
         )
+    if estimate.large:
+        click.echo(f"estimate: {estimate.describe()}", err=True)
     start = time.perf_counter()
     record = run_episode(scenario, seed, planner, params)
     wall_s = time.perf_counter() - start

@@ -2,15 +2,19 @@
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
 from srfm._text import count
-from srfm.cli._common import progressbar, user_errors
+from srfm.cli._common import EXIT_INTERRUPTED, progressbar, user_errors
+
+if TYPE_CHECKING:
+    from srfm.sim.budget import RunEstimate
 
 __all__ = ["sweep"]
 
@@ -63,7 +67,13 @@ class _Rate:
     required=True,
     help="Results folder (a Parquet dataset in OUT/data); an interrupted sweep there is resumed.",
 )
-@click.option("--force", is_flag=True, help="Write into a non-empty folder srfm did not make.")
+@click.option(
+    "--force",
+    is_flag=True,
+    help="Write into a non-empty folder srfm did not make; run a sweep that is estimated "
+    "to need more memory than this machine has or longer than the time limit (24 h, or "
+    "SRFM_TIME_LIMIT).",
+)
 @click.option(
     "--jobs", "-j", type=click.IntRange(min=1), default=1, show_default=True, help="Workers."
 )
@@ -99,33 +109,46 @@ def run(
     if executor == "process" and remote:
         raise click.UsageError("--scheduler and --scheduler-file need --executor dask")
     spec = load_spec(spec_file)
-    click.echo(
-        f"sweep {spec.name}: {count(len(spec.cells), 'cell')} × "
-        f"{count(len(spec.scenarios), 'scenario')} × {count(len(spec.planners), 'planner')} × "
-        f"{count(len(spec.seeds), 'seed')} = {count(spec.episodes, 'episode')} -> {out}",
-        err=True,
-    )
     rate = _Rate(spec.episodes)
-    with progressbar(
-        length=spec.episodes,
-        label="episodes",
-        show_pos=True,
-        show_eta=False,
-        item_show_func=rate.text,
-    ) as bar:
-        first = True
+    bar: Any = None
+    first = True
+    # Nothing is printed before every check has passed (run_sweep calls start): a
+    # mistake is one line. Ctrl-C, up to the last line, keeps the finished partitions.
+    try:
+        with contextlib.ExitStack() as stack:
 
-        def advance(n: int) -> None:
-            nonlocal first
-            if first:  # the episodes already there: not part of this run's rate
-                first = False
-                rate.start = time.monotonic()
-                rate.present = n
-            else:
-                rate.done += n
-            bar.update(n, None)
+            def start(estimate: RunEstimate) -> None:
+                nonlocal bar
+                click.echo(
+                    f"sweep {spec.name}: {count(len(spec.cells), 'cell')} × "
+                    f"{count(len(spec.scenarios), 'scenario')} × "
+                    f"{count(len(spec.planners), 'planner')} × "
+                    f"{count(len(spec.seeds), 'seed')} = {count(spec.episodes, 'episode')} "
+                    f"-> {out}",
+                    err=True,
+                )
+                if estimate.large:
+                    click.echo(f"estimate: {estimate.describe()}", err=True)
+                bar = stack.enter_context(
+                    progressbar(
+                        length=spec.episodes,
+                        label="episodes",
+                        show_pos=True,
+                        show_eta=False,
+                        item_show_func=rate.text,
+                    )
+                )
 
-        try:
+            def advance(n: int) -> None:
+                nonlocal first
+                if first:  # the episodes already there: not part of this run's rate
+                    first = False
+                    rate.start = time.monotonic()
+                    rate.present = n
+                else:
+                    rate.done += n
+                bar.update(n, None)
+
             summary = run_sweep(
                 spec,
                 out,
@@ -133,22 +156,23 @@ def run(
                 jobs=jobs,
                 scheduler=scheduler,
                 scheduler_file=scheduler_file,
+                on_start=start,
                 on_progress=advance,
                 force=force,
             )
-        except KeyboardInterrupt:
-            click.echo(
-                f"\ninterrupted: finished partitions are kept in {out}; run the same "
-                "command again to resume",
-                err=True,
-            )
-            sys.exit(130)
-    if summary.rewritten:
-        click.echo(f"note: {len(summary.rewritten)} damaged partition(s) run again", err=True)
-    click.echo(
-        f"simulated {summary.simulated} of {summary.episodes} episodes in "
-        f"{summary.wall_time_s:.1f} s; dataset: {out / 'data'} ({summary.partitions} files)"
-    )
+        if summary.rewritten:
+            click.echo(f"note: {len(summary.rewritten)} damaged partition(s) run again", err=True)
+        click.echo(
+            f"simulated {summary.simulated} of {summary.episodes} episodes in "
+            f"{summary.wall_time_s:.1f} s; dataset: {out / 'data'} ({summary.partitions} files)"
+        )
+    except KeyboardInterrupt:
+        click.echo(
+            f"\ninterrupted: finished partitions are kept in {out}; run the same "
+            "command again to resume",
+            err=True,
+        )
+        sys.exit(EXIT_INTERRUPTED)
 
 
 @sweep.command("report")

@@ -9,7 +9,7 @@ from typing import Any
 
 import click
 
-from srfm.cli._common import on_terminal, progressbar, user_errors
+from srfm.cli._common import SEED, on_terminal, progressbar, user_errors
 
 __all__ = ["export_policy", "train"]
 
@@ -116,7 +116,7 @@ def _default(name: str) -> Any:
     show_default=True,
     help="Curriculum: steps over which k2 rises linearly from 0 to --k-div.",
 )
-@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
+@click.option("--seed", type=SEED, default=0, show_default=True)
 @click.option(
     "--steps",
     type=click.IntRange(min=1),

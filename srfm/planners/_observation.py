@@ -46,7 +46,7 @@ from numba import njit
 from numpy.typing import NDArray
 
 from srfm._jit import specialize
-from srfm._validate import non_negative, positive
+from srfm._validate import keyword_options, non_negative, positive
 from srfm.errors import ParameterError
 from srfm.models._primitives import EPS
 from srfm.models._robot_kernels import (
@@ -113,8 +113,8 @@ def _max_peds(inst: Any, attribute: attrs.Attribute[int], value: Any) -> None:
         count = operator.index(value)
     except TypeError:
         count = -1
-    if isinstance(value, bool) or not 0 <= count <= 1000:
-        raise ParameterError(f"env.max_pedestrians must be an integer in [0, 1000], got {value!r}")
+    if isinstance(value, bool) or not 1 <= count <= 1000:  # 0 slots: a robot blind to people
+        raise ParameterError(f"env.max_pedestrians must be an integer in [1, 1000], got {value!r}")
 
 
 MAX_ACTION_REPEAT: Final = 100
@@ -222,6 +222,11 @@ class EnvConfig:
     k_progress: float = attrs.field(default=0.0, validator=_non_negative)
     progress_gamma: float = attrs.field(default=0.99, validator=_unit_interval)
     action_repeat: int = attrs.field(default=1, validator=_action_repeat)
+
+    def __new__(cls, *args: Any, **options: Any) -> EnvConfig:
+        # Before attrs' __init__: an unknown option is a ParameterError naming it.
+        keyword_options(cls, args, options, ParameterError)
+        return super().__new__(cls)
 
     @property
     def collision_penalty(self) -> float:

@@ -28,6 +28,9 @@ __all__ = ["MAX_EPISODE_STEPS", "SocialNavEnv"]
 MAX_DRAWN_SEED: Final = 2**31 - 1
 # The horizon of every built-in scenario (steps): the registered max_episode_steps.
 MAX_EPISODE_STEPS: Final = 750
+# The keys reset(options=...) reads; any other is refused (a misspelt key would
+# otherwise be ignored and the episode drawn instead).
+RESET_OPTIONS: Final = ("episode_seed",)
 _TERMINAL: Final = frozenset(
     {_rk.EVENT_COLLISION, _rk.EVENT_OBSTACLE, _rk.EVENT_OUT_OF_BOUNDS, _rk.EVENT_GOAL}
 )
@@ -131,8 +134,8 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
 
     ``reset(seed=s)`` starts episode ``s``; ``reset()`` draws the next episode seed
     from the environment's generator, itself seeded by the last ``reset(seed=...)``;
-    ``reset(options={"episode_seed": s})`` picks an episode without reseeding.
-    ``info`` holds ``episode_seed``.
+    ``reset(options={"episode_seed": s})`` picks an episode without reseeding; any
+    other option key is a :class:`srfm.ParameterError`. ``info`` holds ``episode_seed``.
 
     ## Arguments
 
@@ -214,6 +217,11 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         """Start an episode; see the class docstring for how the episode is chosen."""
         if options is not None and not isinstance(options, dict):
             raise ParameterError(f"reset options must be a dict or None, got {options!r}")
+        unknown = sorted(map(repr, set(options or ()) - set(RESET_OPTIONS)))
+        if unknown:
+            raise ParameterError(
+                f"unknown reset option {unknown[0]}; known: {', '.join(RESET_OPTIONS)}"
+            )
         super().reset(seed=seed)
         if options and "episode_seed" in options:
             episode = validate_seed(options["episode_seed"])

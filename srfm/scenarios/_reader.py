@@ -180,3 +180,14 @@ class TableReader:
         unknown = sorted(set(self.data) - self.used)
         if unknown:
             raise ScenarioError(f"{self.file}: unknown key {self.key(unknown[0])!r}")
+
+
+def check_wall_length(reader: TableReader, label: str, row: Any) -> None:
+    """Refuse a wall ``[x1, y1, x2, y2, ...]`` whose ends coincide (every version): it
+    has no length to be a wall; a post is a pillar ``[cx, cy, radius]``."""
+    if row[0] == row[2] and row[1] == row[3]:
+        raise reader.fail(
+            label,
+            f"has zero length (both ends at [{float(row[0])!r}, {float(row[1])!r}]); give two "
+            "different ends, or a pillar [cx, cy, radius] for a post",
+        )

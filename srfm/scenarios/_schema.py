@@ -3,7 +3,8 @@
 Version 2 adds pedestrian routes, waits, groups, standing pedestrians, speed noise,
 entering pedestrians (entry times and sources), wall thickness, doors, named regions
 and map points (:mod:`srfm.scenarios._v2`,
-``docs/scenarios.md``); version-1 files load as before and refuse those keys.
+``docs/scenarios.md``); version-1 files load as before and refuse those keys. Both
+versions get the same checks of a scene that can start (:mod:`srfm.scenarios._checks`).
 
 A scenario file is TOML with these tables (every key is checked; unknown keys and
 malformed values raise :class:`srfm.errors.ScenarioError` naming the file and key)::
@@ -41,8 +42,8 @@ malformed values raise :class:`srfm.errors.ScenarioError` naming the file and ke
     starts = [[0.5, 7.4], ...]          # required for kind = "fixed", (N, 2)
     goals = [[8.5, 5.2], ...]           # required for kind = "fixed", (N, 2)
     radius_m = 0.3                      # scalar or one per pedestrian, in [0, 1000]
-    desired_speed_mps = 1.25            # scalar or one per pedestrian, in [0, 1000]
-    max_speed_mps = 1.25                # scalar or one per pedestrian, in [0, 1000]
+    desired_speed_mps = 1.25            # scalar or one per pedestrian, in [0, 12.5]
+    max_speed_mps = 1.25                # scalar or one per pedestrian, in [0, 12.5]
     goal_radius_m = 0.5                 # arrival distance
     noise_m = 0.5                       # kind = "fixed" only: per-seed offset
                                         # u ~ U(-noise, noise)^2, at most the world size
@@ -57,11 +58,14 @@ malformed values raise :class:`srfm.errors.ScenarioError` naming the file and ke
     regoal = true                       # a pedestrian at its goal gets a new one
 
     [obstacles]
-    walls = [[x1, y1, x2, y2], ...]     # segments (m)
+    walls = [[x1, y1, x2, y2], ...]     # segments (m), of non-zero length
     pillars = [[cx, cy, radius], ...]   # circles (m)
 
 Every physical value is bounded by the one rule of :mod:`srfm._validate` (positions
-|x| <= 1e7 m, radii <= 1e3 m, speeds <= 1e3 m/s, ...). A file is read only if it is a
+|x| <= 1e7 m, radii <= 1e3 m, pedestrian speeds <= 12.5 m/s, ...). A fixed scenario,
+of either version, must also describe a scene that can start
+(:mod:`srfm.scenarios._checks`: everyone inside the world, nobody overlapping, no start
+or goal in a wall or pillar, every goal reachable). A file is read only if it is a
 regular file of at most 16 MiB; a UTF-8 byte-order mark is accepted.
 """
 
@@ -77,13 +81,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm._io import MAX_TOML_BYTES, read_input_text
-from srfm._validate import MAX_NAME_LENGTH
+from srfm._validate import MAX_NAME_LENGTH, MAX_PEDESTRIAN_SPEED_MPS
 from srfm.errors import ScenarioError, SrfmError
 from srfm.models.forces import MAX_DT_S
 from srfm.models.robot import KINEMATICS, RobotConfig
-from srfm.models.state import MAX_RADIUS_M, MAX_SPEED_MPS, Obstacles
+from srfm.models.state import MAX_RADIUS_M, Obstacles
 from srfm.scenarios import _v2
-from srfm.scenarios._reader import TableReader
+from srfm.scenarios._checks import check_layout, listed_layout
+from srfm.scenarios._reader import TableReader, check_wall_length
 from srfm.world import WorldBounds
 
 SCHEMA_VERSION: Final = 2
@@ -229,7 +234,8 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     One reader per table, in this order (the first error found is the one raised): the
     top-level keys, ``[simulation]``, ``[world]``, ``[regions]``, ``[robot]``,
     ``[pedestrians]``, ``[random]``, ``[obstacles]``, ``[map]``; then the checks that
-    need the geometry of several tables (:func:`srfm.scenarios._v2.check_layout`).
+    need the geometry of several tables, for every version of a fixed scenario
+    (:func:`srfm.scenarios._checks.check_layout`).
     """
     top = TableReader(data, "", source)
     head = _read_head(top)
@@ -242,9 +248,9 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     obstacles = _read_obstacles(top, head, source)
     map_points = _read_map(top, head)
     top.finish()
+    if head.fixed:
+        _check_layout(source, peds, robot, obstacles, world)
     layout = peds.layout
-    if layout is not None:
-        _check_layout(source, layout, peds, robot, obstacles, world)
     # A Scenario is shared (built-ins are cached): make its arrays read-only.
     ped_values = (peds.radius_m, peds.desired_speed_mps, peds.max_speed_mps)
     for arr in (robot.start, robot.goal, peds.starts, peds.goals, *ped_values, map_points):
@@ -450,8 +456,8 @@ def _read_pedestrians(
     speed_noise = p.number("speed_noise_mps", 0.0, kind="speed")
     enter_noise = p.number("enter_noise_s", 0.0, minimum=0.0, maximum=horizon_s)
     radius = p.per_agent("radius_m", 0.3, n, MAX_RADIUS_M)
-    desired_speed = p.per_agent("desired_speed_mps", 1.25, n, MAX_SPEED_MPS)
-    max_speed = p.per_agent("max_speed_mps", 1.25, n, MAX_SPEED_MPS)
+    desired_speed = p.per_agent("desired_speed_mps", 1.25, n, MAX_PEDESTRIAN_SPEED_MPS)
+    max_speed = p.per_agent("max_speed_mps", 1.25, n, MAX_PEDESTRIAN_SPEED_MPS)
     goal_radius = p.number("goal_radius_m", 0.5, strict=True, kind="radius")
     world_size = min(world.x_max - world.x_min, world.y_max - world.y_min)
     if not head.fixed and p.has("noise_m"):
@@ -547,6 +553,8 @@ def _read_obstacles(top: TableReader, head: _Head, source: str) -> Obstacles:
         if o.has("doors"):
             raise o.fail("doors", "needs schema_version = 2")
         walls = o.bounded_array("walls", 4, required=False, kinds=("coordinate",))
+        for i, row in enumerate(() if walls is None else walls):
+            check_wall_length(o, f"walls[{i}]", row)
     pillars = o.bounded_array(
         "pillars", 3, required=False, kinds=("coordinate", "coordinate", "radius")
     )
@@ -572,18 +580,23 @@ def _read_map(top: TableReader, head: _Head) -> FloatArray | None:
 
 def _check_layout(
     source: str,
-    layout: _v2.PedestrianLayout,
     peds: _Pedestrians,
     robot: _Robot,
     obstacles: Obstacles,
     world: WorldBounds,
 ) -> None:
-    """The checks of a version-2 fixed scenario that need several tables
-    (:func:`srfm.scenarios._v2.check_layout`)."""
+    """The checks of a fixed scenario that need several tables, for every schema
+    version (:func:`srfm.scenarios._checks.check_layout`; a version-1 file is checked
+    as the layout of its listed pedestrians)."""
     assert robot.start is not None
     assert robot.goal is not None
+    layout = peds.layout
+    if layout is None:
+        assert peds.starts is not None
+        assert peds.goals is not None
+        layout = listed_layout(peds.starts, peds.goals)
     radius = np.asarray(peds.radius_m, dtype=np.float64)
-    _v2.check_layout(
+    check_layout(
         source,
         layout,
         np.broadcast_to(radius, (layout.starts.shape[0],)),

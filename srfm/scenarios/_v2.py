@@ -13,8 +13,8 @@ doors (``doors``: openings cut out of the walls they lie on). Named regions
 (``[regions]``) and map points for drawing (``[map] points``).
 
 The checks that need the geometry (walls through a start or goal, overlapping starts,
-unreachable waypoints) are in :func:`check_layout`; every message names the file and
-the key.
+unreachable waypoints) apply to every schema version: :mod:`srfm.scenarios._checks`.
+Every message names the file and the key.
 """
 
 from __future__ import annotations
@@ -29,10 +29,8 @@ import shapely
 from numpy.typing import NDArray
 
 from srfm._validate import BOUNDS
-from srfm.errors import PlannerError, ScenarioError
-from srfm.models.state import Obstacles
-from srfm.scenarios._reader import TableReader
-from srfm.world import Router, WorldBounds
+from srfm.scenarios._reader import TableReader, check_wall_length
+from srfm.world import WorldBounds
 
 FloatArray = NDArray[np.float64]
 
@@ -361,9 +359,9 @@ def read_walls(o: TableReader) -> tuple[FloatArray, list[str]]:
             thick = float(row[4]) if len(row) == 5 else 0.0
             if not 0.0 <= thick <= BOUNDS["length"][1]:
                 raise o.fail(label, f"thickness must be >= 0 m, got {row[4]!r}")
+            check_wall_length(o, label, row)
             a, b = (row[0], row[1]), (row[2], row[3])
-            geom = shapely.Point(a) if a == b else shapely.LineString([a, b])
-            lines.append((geom, thick, o.key(label)))
+            lines.append((shapely.LineString([a, b]), thick, o.key(label)))
     doors: list[tuple[shapely.Geometry, str]] = []
     if o.has("doors"):
         value = o.raw("doors")
@@ -383,8 +381,6 @@ def read_walls(o: TableReader) -> tuple[FloatArray, list[str]]:
     labels: list[str] = []
     for geom, thick, label in lines:
         shape = geom.buffer(thick / 2.0, cap_style="flat") if thick > THIN_WALL_M else geom
-        if isinstance(geom, shapely.Point) and thick > THIN_WALL_M:
-            shape = geom  # a zero-length wall stays a point
         for k, (door, _) in enumerate(doors):
             # the opening: a rectangle across the wall, as long as the door
             cut = door.buffer(max(thick, 0.01), cap_style="flat")
@@ -441,83 +437,6 @@ def read_regions(
         out[name] = (x0, y0, x1, y1)
     r.finish()
     return out
-
-
-def check_layout(
-    source: str,
-    layout: PedestrianLayout,
-    radius: FloatArray,
-    obstacles: Obstacles,
-    world: WorldBounds,
-    robot_start: FloatArray,
-    robot_goal: FloatArray,
-    robot_radius: float,
-) -> None:
-    """Refuse walls through a start, goal or waypoint, overlapping starts (of the robot
-    and the pedestrians there at sample 0; those entering later may come where others
-    stood) and waypoints that no path reaches (the router's free space for a disc of
-    the pedestrian's radius).
-
-    Raises:
-        ScenarioError: naming the file and the key.
-    """
-    there = np.flatnonzero(layout.at_start())
-    starts = np.vstack([robot_start[None], layout.starts[there]])
-    radii = np.concatenate([[robot_radius], radius[there]])
-    names = ["robot.start", *(layout.labels[i] for i in there)]
-    gap = np.linalg.norm(starts[:, None] - starts[None], axis=2) - radii[:, None] - radii[None]
-    np.fill_diagonal(gap, np.inf)
-    if gap.min() < 0.0:
-        a, b = np.unravel_index(int(np.argmin(gap)), gap.shape)
-        i, j = sorted((int(a), int(b)))
-        raise ScenarioError(
-            f"{source}: {names[j]}: overlaps {names[i]} at the start "
-            f"({starts[j].tolist()} and {starts[i].tolist()}, {-gap[i, j]:.3g} m of overlap)"
-        )
-    if obstacles.empty:
-        return
-    shapes = [
-        shapely.LineString([(a, b), (c, d)]) if (a, b) != (c, d) else shapely.Point(a, b)
-        for a, b, c, d in obstacles.segments
-    ] + [shapely.Point(cx, cy).buffer(r) for cx, cy, r in obstacles.circles]
-    walls = shapely.union_all(shapes)
-
-    def clear(point: FloatArray, r: float, label: str) -> None:
-        d = float(shapely.distance(shapely.Point(point), walls))
-        if d < r:
-            raise ScenarioError(
-                f"{source}: {label}: {point.tolist()} is {d:.3g} m from a wall or pillar, "
-                f"less than the radius {r:g} m"
-            )
-
-    clear(robot_start, robot_radius, "robot.start")
-    clear(robot_goal, robot_radius, "robot.goal")
-    for si, src in enumerate(layout.sources):
-        if src.goal_box is None:
-            continue
-        r = float(radius[src.first])
-        d = float(shapely.distance(shapely.box(*src.goal_box), walls))
-        if d < r:
-            raise ScenarioError(
-                f"{source}: pedestrians.sources[{si}].goal_region: region "
-                f"{src.goal_region!r} comes {d:.3g} m from a wall or pillar, less than "
-                f"the radius {r:g} m (every point of it may be drawn as a goal)"
-            )
-    routers: dict[float, Router] = {}
-    for p, label in enumerate(layout.labels):
-        r = float(radius[p])
-        clear(layout.starts[p], r, label)
-        key = label.replace("starts", "goals") if "starts" in label else label
-        clear(layout.goals[p], r, key)
-        if r not in routers:
-            routers[r] = Router(obstacles, world.grown(r), clearance_m=r)
-        points = [layout.starts[p], *layout.routes[p], layout.goals[p]]
-        for k in range(1, len(points)):
-            where = f"pedestrians.routes[{p}][{k - 1}]" if k < len(points) - 1 else key
-            try:
-                routers[r].route(tuple(points[k - 1]), tuple(points[k]))
-            except PlannerError as exc:
-                raise ScenarioError(f"{source}: {where}: unreachable: {exc}") from None
 
 
 MAX_RECORDING_SAMPLES: Final = 1_000_000

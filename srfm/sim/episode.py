@@ -33,7 +33,9 @@ __all__ = [
     "build_planner",
     "check_episode_memory",
     "estimate_episode_memory",
+    "format_bytes",
     "memory_limit",
+    "memory_room",
     "planner_rng",
     "run_episode",
 ]
@@ -122,7 +124,19 @@ def memory_limit() -> tuple[int, str] | None:
     return limit
 
 
-def _gb(n: float) -> str:
+def memory_room() -> tuple[int, str] | None:
+    """The memory episodes may use (bytes): :func:`memory_limit` less the room kept for
+    the process itself (numba, numpy), and where the limit comes from; None where no
+    limit can be read."""
+    found = memory_limit()
+    if found is None:
+        return None
+    limit, source = found
+    return limit - _BASE_BYTES, source
+
+
+def format_bytes(n: float) -> str:
+    """A size for a message: ``1.23 GB`` from 100 MB on, ``12.3 MB`` below."""
     return f"{n / 1e9:.2f} GB" if n >= 1e8 else f"{n / 1e6:.1f} MB"
 
 
@@ -150,18 +164,17 @@ def check_episode_memory(
             the estimate, the limit and what to shorten.
     """
     need = estimate_episode_memory(scenario, mcap=mcap, rrd=rrd, forces=forces)
-    found = memory_limit()
+    found = memory_room()
     if found is None:
         return jobs
-    limit, source = found
-    room = limit - _BASE_BYTES
+    room, source = found
     if need > room:
         raise ResourceError(
             f"scenario {scenario.name!r} ({scenario.source}): an episode of "
             f"{scenario.n_pedestrians} pedestrians x {scenario.horizon_steps + 1} samples "
-            f"needs about {_gb(need)} of memory (record, metrics"
+            f"needs about {format_bytes(need)} of memory (record, metrics"
             + (", logs" if mcap or rrd else "")
-            + f"), more than the {_gb(max(room, 0))} of {source}; shorten "
+            + f"), more than the {format_bytes(max(room, 0))} of {source}; shorten "
             "simulation.horizon_steps or use fewer pedestrians"
         )
     return max(1, min(jobs, room // max(need, 1)))

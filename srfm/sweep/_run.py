@@ -19,10 +19,11 @@ runs of the same spec give the same files whatever the executor and worker count
 
 from __future__ import annotations
 
+import collections
 import io
 import json
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any, Final
 
@@ -41,6 +42,8 @@ from srfm.errors import SweepError
 from srfm.metrics.episode import EPISODE_METRICS
 from srfm.models.params import SRFMParams
 from srfm.scenarios import Scenario
+from srfm.sim.budget import RunEstimate, check_run, estimate_run
+from srfm.sim.episode import check_episode_memory
 from srfm.sweep._spec import Cell, SweepSpec, apply_scenario_factors
 
 __all__ = [
@@ -48,6 +51,7 @@ __all__ = [
     "SWEEP_MANIFEST",
     "SWEEP_SCHEMA",
     "SweepSummary",
+    "estimate_sweep",
     "partition_path",
     "run_sweep",
 ]
@@ -56,6 +60,9 @@ SWEEP_SCHEMA: Final = "srfm.sweep/1"
 SWEEP_MANIFEST: Final = "sweep.json"
 DATA_DIR: Final = "data"
 ID_COLUMNS: Final = ("cell", "scenario", "planner", "seed", "outcome", "end_step")
+# What this process holds per task for the whole run (bytes): the task list, and on
+# Dask the futures and the local scheduler's state as well.
+_HELD_PER_TASK: Final = {"process": 1_000, "dask": 20_000}
 
 
 @attrs.frozen
@@ -186,6 +193,34 @@ def all_tasks(spec: SweepSpec) -> list[_SweepTask]:
     return tasks
 
 
+def _episode_kinds(spec: SweepSpec) -> Iterator[tuple[Scenario, int]]:
+    """Every scenario of the sweep as its episodes run it (a random scenario once per
+    crowd size of the design) and how many episodes run it: without building the tasks."""
+    per_cell = len(spec.planners) * len(spec.seeds)
+    sizes = collections.Counter(
+        int(c.as_dict()["crowd_size"]) for c in spec.cells if "crowd_size" in spec.factors
+    )
+    for scenario in spec.scenarios:
+        if sizes and scenario.random is not None:
+            for size, cells in sorted(sizes.items()):
+                yield apply_scenario_factors(scenario, {"crowd_size": size}), cells * per_cell
+        else:
+            yield scenario, len(spec.cells) * per_cell
+
+
+def estimate_sweep(
+    spec: SweepSpec, *, executor: str = "process", jobs: int = 1, remote: bool = False
+) -> RunEstimate:
+    """The time and memory of ``spec`` on ``jobs`` workers (:mod:`srfm.sim.budget`),
+    from its size alone: every episode, whether or not a folder already holds it."""
+    return estimate_run(
+        _episode_kinds(spec),
+        jobs=jobs,
+        remote=remote,
+        held_per_episode=_HELD_PER_TASK.get(executor, 20_000) / spec.seeds_per_task,
+    )
+
+
 def _manifest(spec: SweepSpec) -> dict[str, Any]:
     from srfm.benchmark._request import package_versions
 
@@ -238,28 +273,52 @@ def run_sweep(
     jobs: int = 1,
     scheduler: str | None = None,
     scheduler_file: str | Path | None = None,
+    on_start: Callable[[RunEstimate], None] | None = None,
     on_progress: Callable[[int], None] | None = None,
     force: bool = False,
 ) -> SweepSummary:
     """Run (or finish) a sweep into ``out``.
+
+    Before anything is written: the executor and the scheduler are checked, and the
+    largest episode's memory and the whole sweep's time and memory are estimated
+    (:func:`estimate_sweep`; a sweep too large for this machine is refused unless
+    ``force``).
 
     Args:
         spec: the sweep.
         out: results folder: new, empty, or a sweep folder of the same spec (resumed).
         executor, jobs, scheduler, scheduler_file: where the tasks run (see
             :func:`srfm.benchmark._runner.map_tasks`).
+        on_start: called once with the sweep's estimate when every check has passed,
+            before the first simulation.
         on_progress: called with the number of episodes finished since the last call
             (first with the number already present).
-        force: write into a non-empty folder srfm did not create.
+        force: write into a non-empty folder srfm did not create, and run a sweep too
+            large for this machine's memory or the time limit
+            (:func:`srfm.sim.budget.check_run`).
 
     Raises:
         SweepError: a folder of another sweep, or a damaged manifest.
+        ResourceError: an episode that cannot fit in memory, or a sweep too large for
+            this machine (without ``force``).
         OutputError, FolderInUseError, WriteError: as for ``srfm benchmark``.
     """
     from srfm.benchmark._runner import check_executor, map_tasks
 
     out = Path(out)
     check_executor(executor, jobs, scheduler, scheduler_file)
+    remote = executor == "dask" and (scheduler is not None or scheduler_file is not None)
+    kinds = list(_episode_kinds(spec))
+    if not remote:
+        for scenario, _ in kinds:
+            check_episode_memory(scenario)  # one episode alone must fit
+    estimate = estimate_sweep(spec, executor=executor, jobs=jobs, remote=remote)
+    estimate = check_run(
+        estimate,
+        what=f"the sweep {spec.name!r}",
+        smaller="fewer cells, scenarios, planners or seeds",
+        force=force,
+    )
     claim_output_folder(out, kind="sweep", force=force)
     with folder_lock(out):
         remove_stale_temporaries(out)
@@ -275,6 +334,8 @@ def run_sweep(
                 pending.append(task)
                 rewritten.append(task.relative_path)
         todo = sum(len(t.seeds) for t in pending)
+        if on_start is not None:
+            on_start(estimate)
         if on_progress is not None:
             on_progress(spec.episodes - todo)
         start = time.perf_counter()

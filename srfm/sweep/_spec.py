@@ -50,7 +50,7 @@ from srfm import _validate
 from srfm._io import MAX_TOML_BYTES, read_input_text
 from srfm.errors import SrfmError, SweepError
 from srfm.models.params import SRFMParams, load_params
-from srfm.models.state import MAX_RADIUS_M, MAX_SPEED_MPS
+from srfm.models.state import MAX_RADIUS_M
 from srfm.scenarios import Scenario, load_scenario
 
 __all__ = [
@@ -176,10 +176,11 @@ def _seeds(where: _Where, value: Any) -> tuple[int, ...]:
     seeds: list[int] = []
     if isinstance(value, str):
         for part in value.split(","):
-            bounds = part.strip().split("-")
-            if len(bounds) > 2 or not all(b.strip().isdigit() for b in bounds):
+            texts = part.strip().split("-")
+            bounds = [n for t in texts if (n := _validate.decimal(t.strip())) is not None]
+            if len(texts) > 2 or len(bounds) != len(texts):  # ASCII digits: not ٣, not 1_000
                 raise where.error("seeds", f"{part.strip()!r} is not a seed or a range like 0-29")
-            a, b = int(bounds[0]), int(bounds[-1])
+            a, b = bounds[0], bounds[-1]
             if b < a or b - a + 1 + len(seeds) > MAX_SEEDS:
                 raise where.error("seeds", f"bad range {part.strip()!r} (at most {MAX_SEEDS})")
             seeds.extend(range(a, b + 1))
@@ -217,8 +218,10 @@ def _check_value(where: _Where, key: str, name: str, value: float, base: SRFMPar
     elif name == "ped_radius_m":
         if not 0.0 < value <= MAX_RADIUS_M:
             raise where.error(key, f"must be in (0, {MAX_RADIUS_M:g}] m, got {value!r}")
-    elif not 0.0 <= value <= MAX_SPEED_MPS:  # ped_speed_mps
-        raise where.error(key, f"must be in [0, {MAX_SPEED_MPS:g}] m/s, got {value!r}")
+    elif not 0.0 <= value <= _validate.MAX_PEDESTRIAN_SPEED_MPS:  # ped_speed_mps: as in a scenario
+        raise where.error(
+            key, f"must be in [0, {_validate.MAX_PEDESTRIAN_SPEED_MPS:g}] m/s, got {value!r}"
+        )
     return value
 
 

@@ -98,7 +98,7 @@ def test_simulate_user_scenario_file(tmp_path: Path) -> None:
             ["simulate", "--scenario", "footpath", "--params", "nobody"],
             "unknown parameter preset 'nobody'",
         ),
-        (["simulate", "--scenario", "footpath", "--seed", "-3"], "-3 is not in the range"),
+        (["simulate", "--scenario", "footpath", "--seed", "-3"], "'-3' is not a seed"),
         (["simulate"], "Missing option '--scenario'"),
         (["fly"], "No such command 'fly'"),
     ],

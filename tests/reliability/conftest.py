@@ -41,6 +41,18 @@ def cli(*args: str) -> Result:
     return CliRunner().invoke(main, list(args))
 
 
+def assert_one_line(result: Result, *fragments: str, code: int = 2) -> None:
+    """``result`` printed exactly one line, ``Error: ...`` holding every fragment (stdout
+    and stderr together, as a terminal shows them), and exited with ``code``."""
+    lines = result.output.splitlines()
+    assert result.exit_code == code, result.output
+    assert len(lines) == 1, result.output
+    assert lines[0].startswith("Error: "), result.output
+    assert "Traceback" not in result.output
+    for fragment in fragments:
+        assert fragment in lines[0], (fragment, result.output)
+
+
 @pytest.fixture
 def tiny(tmp_path: Path) -> Path:
     path = tmp_path / "tiny.toml"

@@ -1,5 +1,6 @@
 """Names that become path components are checked once, at the boundary;
-seeds are bounded; a huge --seeds range is refused at once, without building it."""
+seeds are bounded, and written as plain ASCII decimal digits; a huge --seeds range is
+refused at once, without building it."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ import srfm
 from srfm._validate import MAX_NAME_LENGTH, MAX_SEED, path_name, planner_name
 from srfm.benchmark import BenchmarkRequest, episode_path
 from srfm.scenarios import load_scenario
-from tests.reliability.conftest import TINY, cli
+from tests.reliability.conftest import TINY, assert_one_line, cli
 
 
 class NamedPlanner:
@@ -136,3 +137,37 @@ def test_a_benchmark_planner_named_to_escape_is_refused(tmp_path: Path) -> None:
     assert res.exit_code == 2
     assert "module:attribute" in res.output
     assert not (tmp_path / "o").exists()
+
+
+# Python's int() takes each of these (issue 33: `--seed 1_000` ran seed 1000 and
+# `--seed ٣`, an Arabic-Indic digit, seed 3); a seed is plain ASCII decimal digits.
+NOT_PLAIN = ["1_000", "٣", "１", "+3", "0x10", "3.0", "1e3", "²"]
+
+
+@pytest.mark.parametrize("text", NOT_PLAIN)
+def test_seeds_are_plain_ascii_digits_on_the_command_line(tmp_path: Path, text: str) -> None:
+    taken = tmp_path / "a-file"  # not a run folder: train would refuse it next
+    taken.write_text("x")
+    for args in (
+        ["simulate", "--scenario", "concert", "--seed", text],
+        ["train", "--seed", text, "--run-dir", str(taken)],
+    ):
+        assert_one_line(cli(*args), "Invalid value for '--seed'", f"{text!r} is not a seed")
+    out = str(tmp_path / "out")
+    for option in ("--seeds", "--rrd-seeds"):
+        res = cli("benchmark", "-s", "concert", "-p", "straight", option, text, "--out", out)
+        assert_one_line(res, f"Invalid value for {option}")
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("text", [t for t in NOT_PLAIN if "," not in t and "-" not in t])
+def test_seeds_are_plain_ascii_digits_in_a_sweep_spec(tmp_path: Path, text: str) -> None:
+    spec = tmp_path / "spec.toml"
+    spec.write_text(
+        f'schema_version = 1\nscenarios = ["concert"]\nplanners = ["straight"]\n'
+        f"seeds = {text!r}\n"
+        '[design]\nkind = "grid"\n[design.factors]\na_robot = [1.0]\n',
+        encoding="utf-8",
+    )
+    res = cli("sweep", str(spec), "--out", str(tmp_path / "out"))
+    assert_one_line(res, f"{spec}: seeds: {text.strip()!r} is not a seed or a range like 0-29")

@@ -8,6 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import attrs
 import gymnasium as gym
 import numpy as np
 import pytest
@@ -273,6 +274,9 @@ def test_leaving_the_world_is_penalised_like_a_collision(tmp_path: Path) -> None
 
 
 def test_robot_starting_in_collision_is_refused(tmp_path: Path) -> None:
+    """A scenario file whose robot overlaps a pedestrian is refused when read (issue 33,
+    either version); one built in code (or moved there by a seed's noise) is refused by
+    the environment at reset."""
     path = fixed_scenario(
         tmp_path / "s.toml",
         robot_start=(2.0, 5.0),
@@ -280,8 +284,21 @@ def test_robot_starting_in_collision_is_refused(tmp_path: Path) -> None:
         starts=[(2.2, 5.0)],
         goals=[(2.2, 5.0)],
     )
+    with pytest.raises(ScenarioError, match=r"pedestrians\.starts\[0\]: overlaps robot\.start"):
+        SocialNavEnv(path)
+    free = fixed_scenario(
+        tmp_path / "free.toml",
+        robot_start=(2.0, 5.0),
+        robot_goal=(10.0, 5.0),
+        starts=[(4.0, 5.0)],
+        goals=[(4.0, 5.0)],
+    )
+    scenario = srfm.load_scenario(free)
+    onto_robot = np.array([[2.2, 5.0]])
+    onto_robot.setflags(write=False)
+    scenario = attrs.evolve(scenario, ped_starts=onto_robot, ped_goals=onto_robot)
     with pytest.raises(ScenarioError, match=r"ends at sample 0 \(collision\)"):
-        SocialNavEnv(path).reset(seed=0)
+        SocialNavEnv(scenario).reset(seed=0)
 
 
 def test_r_div_is_exactly_zero_without_robot_force() -> None:

@@ -9,11 +9,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import attrs
 import numpy as np
 import pytest
 from click.testing import CliRunner
 
 from srfm.cli import main
+from srfm.errors import ScenarioError
 from srfm.models.state import Obstacles
 from srfm.scenarios import (
     BUILTIN_SCENARIOS,
@@ -75,10 +77,12 @@ def test_wall_distance() -> None:
 
 
 def test_check_catches_a_trapped_pedestrian(tmp_path: Path) -> None:
-    """A pedestrian whose goal is boxed in by walls never arrives; the check says so."""
-    path = write_scenario(
-        tmp_path / "trap.toml",
-        """schema_version = 1
+    """A pedestrian whose goal is boxed in by walls never arrives; the check says so.
+
+    A scenario file of either version with such a goal is refused when it is read
+    (issue 33: the router finds no path to it), so the walls are added to the loaded
+    scenario, as code building scenarios may do."""
+    head = """schema_version = 1
 name = "trap"
 description = "x"
 [robot]
@@ -88,12 +92,15 @@ goal = [4.0, 1.0]
 noise_m = 0.0
 starts = [[2.0, 12.0]]
 goals = [[12.0, 12.0]]
-[obstacles]
-walls = [[10.0, 10.0, 14.0, 10.0], [14.0, 10.0, 14.0, 14.0], [14.0, 14.0, 10.0, 14.0],
-         [10.0, 14.0, 10.0, 10.0]]
-""",
-    )
-    check = check_scenario(load_scenario(path), range(1), "straight")
+"""
+    box = [[10.0, 10.0, 14.0, 10.0], [14.0, 10.0, 14.0, 14.0], [14.0, 14.0, 10.0, 14.0],
+           [10.0, 14.0, 10.0, 10.0]]  # fmt: skip
+    walls = "[obstacles]\nwalls = " + repr(box) + "\n"
+    with pytest.raises(ScenarioError, match=r"pedestrians\.goals\[0\]: unreachable"):
+        load_scenario(write_scenario(tmp_path / "trap_file.toml", head + walls))
+    free = load_scenario(write_scenario(tmp_path / "trap.toml", head))
+    trapped = attrs.evolve(free, obstacles=Obstacles.create(segments=box))
+    check = check_scenario(trapped, range(1), "straight")
     assert check.ped_arrived == 0
     assert check.ped_total == 1
     assert check.robot_goals == 1

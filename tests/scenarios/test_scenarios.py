@@ -199,7 +199,7 @@ def test_schema_errors_name_file_and_key(tmp_path: Path, extra: str, message: st
         (
             "goals = [[3.0, 0.5], [0.5, 4.0]]",
             "goals = [[3.0, 0.5], [0.5, 4.0]]\ndesired_speed_mps = [1.0, 1e4]",
-            r"pedestrians\.desired_speed_mps\[1\]: must be in \[0, 1000\], got 10000\.0",
+            r"pedestrians\.desired_speed_mps\[1\]: must be in \[0, 12\.5\], got 10000\.0",
         ),
         (
             "goals = [[3.0, 0.5], [0.5, 4.0]]",

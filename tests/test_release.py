@@ -8,6 +8,7 @@ environment's dependencies (as any ``pip install``).
 
 from __future__ import annotations
 
+import os
 import re
 import subprocess
 import sys
@@ -24,8 +25,11 @@ WHEEL_LIMIT_BYTES = 3_000_000  # the package, scenarios and the two NumPy polici
 
 
 def _run(*args: str | Path, cwd: Path | None = None, timeout: float = 900) -> str:
+    # Without PYTHONPATH: a checkout on it would make the fresh environment's pip see
+    # srfm (its egg-info) as installed already.
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     done = subprocess.run(
-        [str(a) for a in args], cwd=cwd, capture_output=True, text=True, timeout=timeout
+        [str(a) for a in args], cwd=cwd, capture_output=True, text=True, timeout=timeout, env=env
     )
     assert done.returncode == 0, f"{args}\n{done.stdout}\n{done.stderr}"
     return done.stdout + done.stderr

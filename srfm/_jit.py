@@ -15,7 +15,7 @@ from typing import Any
 
 import numba
 
-__all__ = ["specialize"]
+__all__ = ["specialize", "specialize_once"]
 
 
 def specialize(kernel: Any, *args: Any) -> Callable[..., Any]:
@@ -38,4 +38,23 @@ def specialize(kernel: Any, *args: Any) -> Callable[..., Any]:
     """
     signature = tuple(numba.typeof(a) for a in args)  # type: ignore[no-untyped-call]
     entry: Callable[..., Any] = kernel.compile(signature)
+    return entry
+
+
+_ONCE: dict[Any, Callable[..., Any]] = {}
+
+
+def specialize_once(kernel: Any, *args: Any) -> Callable[..., Any]:
+    """:func:`specialize` for a kernel whose every call in this process passes
+    arguments of one set of types: resolved at the first call, kept per kernel.
+
+    For callers that build every argument themselves (the episode engine, the
+    environment, :func:`srfm.step_crowd`): float64 or bool arrays, C-contiguous and
+    writable, parameter tuples of fixed classes. Resolving the types costs tens of µs
+    (a NamedTuple's type is worked out in Python), more than a small step.
+    """
+    entry = _ONCE.get(kernel)
+    if entry is None:
+        entry = specialize(kernel, *args)
+        _ONCE[kernel] = entry
     return entry

@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from typing import Final, Literal
 
 import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm._jit import specialize
+from srfm._jit import specialize_once
 from srfm.errors import SimulationError
 from srfm.models import _kernels
 from srfm.models._arrays import ForceContext
@@ -174,7 +173,7 @@ def force_components(
     out = np.zeros((4, crowd.n, 2))
     context = ForceContext(params.for_kernels(), robot_arr, robot_on, obstacles.for_kernels(), cut)
     args = (crowd.for_kernels(), context, out)
-    _entry(_kernels.force_components_kernel, args)(*args)
+    specialize_once(_kernels.force_components_kernel, *args)(*args)
     return ForceComponents(goal=out[0], pedestrians=out[1], robot=out[2], obstacles=out[3])
 
 
@@ -214,21 +213,4 @@ def step_crowd(
         kernel = _kernels.step_serial
     context = ForceContext(params.for_kernels(), robot_arr, robot_on, obstacles.for_kernels(), cut)
     args = (crowd.for_kernels(), context, float(dt), np.empty_like(crowd.pos))
-    _entry(kernel, args)(*args)
-
-
-# The kernels' entry points with their argument types resolved once
-# (srfm._jit.specialize): numba's dispatcher works out the type of a NamedTuple
-# argument in Python at every call (about 2 µs each), more than a step of 10
-# pedestrians. The arguments built here always have the same types: the crowd's arrays
-# are float64, C-contiguous and writable (CrowdState checks it), the obstacles' are the
-# kernels' own copies, the parameters tuples of floats.
-_ENTRIES: dict[object, Callable[..., None]] = {}
-
-
-def _entry(kernel: object, args: tuple[object, ...]) -> Callable[..., None]:
-    entry = _ENTRIES.get(kernel)
-    if entry is None:
-        entry = specialize(kernel, *args)
-        _ENTRIES[kernel] = entry
-    return entry
+    specialize_once(kernel, *args)(*args)

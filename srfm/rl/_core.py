@@ -19,7 +19,7 @@ from typing import Any, Final
 import attrs
 import numpy as np
 
-from srfm._jit import specialize
+from srfm._jit import specialize_once
 from srfm.errors import ScenarioError
 from srfm.models import _robot_kernels as _rk
 from srfm.models.params import SRFMParams
@@ -86,12 +86,6 @@ class EnvCore:
         )
         self.engine: EpisodeEngine | None = None
         self._held = self.arrays
-        self._kernels: tuple[Callable[..., Any], ...] | None = None
-
-    def __getstate__(self) -> dict[str, Any]:
-        state = self.__dict__.copy()
-        state["_kernels"] = None  # compiled functions do not pickle; made again on use
-        return state
 
     @property
     def obs(self) -> np.ndarray:
@@ -135,15 +129,13 @@ class EnvCore:
         self._held = self.arrays._replace(reward=self.arrays.reward._replace(gamma=1.0))
 
     def _specialize(self, engine: EpisodeEngine) -> tuple[Callable[..., Any], ...]:
-        """The kernels, their argument types resolved once (:func:`srfm._jit.specialize`)."""
-        if self._kernels is None:
-            ep, env = engine.arrays, self.arrays
-            self._kernels = (
-                specialize(_k.env_step, ep, env, 0),
-                specialize(_k.reward_and_observation, ep, env, _rk.EVENT_NONE),
-                specialize(_k.observe, ep, env, _rk.EVENT_NONE),
-            )
-        return self._kernels
+        """The kernels, their argument types resolved once (:func:`srfm._jit.specialize_once`)."""
+        ep, env = engine.arrays, self.arrays
+        return (
+            specialize_once(_k.env_step, ep, env, 0),
+            specialize_once(_k.reward_and_observation, ep, env, _rk.EVENT_NONE),
+            specialize_once(_k.observe, ep, env, _rk.EVENT_NONE),
+        )
 
     def reset(self, episode_seed: int) -> None:
         """Start episode ``episode_seed`` (the scenario's set-up for that seed)."""

@@ -36,7 +36,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm._jit import specialize
+from srfm._jit import specialize_once
 from srfm.models import _robot_kernels as _rk
 from srfm.models._arrays import ForceContext
 from srfm.models._primitives import TRUE
@@ -122,11 +122,6 @@ class EpisodeEngine:
         self._parallel = parallel
         self._cutoff: Cutoff = cutoff
         self._counterfactual = counterfactual
-        # The kernels with their argument types resolved (srfm._jit.specialize), kept
-        # over resets: the engine makes every array it hands them itself (float64 or
-        # bool, C-contiguous, writable) and the parameter tuples of fixed classes, so
-        # their types are the same in every episode.
-        self._specialized: dict[Any, Callable[..., Any]] = {}
         self._obstacles_of: Any = None
         self.reset(setup)
 
@@ -204,10 +199,10 @@ class EpisodeEngine:
         # The step kernel is specialised at the first step, so that building an engine
         # and observing compiles neither the crowd step nor the robot's motion (the
         # benchmark's warm-up compiles a planner's kernels that way beside them).
-        self._advance: Callable[..., tuple[int, int, int]] | None = self._specialized.get(
-            self._kernel
-        )
-        self._robot_event = self._specialize(_rk.robot_event, *self._event_args(), 0)
+        self._advance: Callable[..., tuple[int, int, int]] | None = None
+        # The engine makes every array and tuple it hands the kernels itself, so their
+        # types are the same in every episode (srfm._jit.specialize_once).
+        self._robot_event = specialize_once(_rk.robot_event, *self._event_args(), 0)
         code, nearest = self._robot_event(*self._event_args(), 0)
         self.initial_events: list[Event] = self._robot_events(code, nearest)
 
@@ -216,27 +211,19 @@ class EpisodeEngine:
         factual: CrowdState | None = self.__dict__.get("factual")
         return factual is not None and factual.n == n
 
-    def _specialize(self, kernel: Any, *args: Any) -> Callable[..., Any]:
-        entry = self._specialized.get(kernel)
-        if entry is None:
-            entry = specialize(kernel, *args)
-            self._specialized[kernel] = entry
-        return entry
-
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
         # Compiled functions do not pickle, and pickle copies views: the kernels'
         # arguments are made again on unpickling.
         for name in ("_advance", "_robot_event", "arrays"):
             del state[name]
-        state["_specialized"] = {}
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
         self._advance = None
         self._pack(self.n_present)
-        self._robot_event = self._specialize(_rk.robot_event, *self._event_args(), 0)
+        self._robot_event = specialize_once(_rk.robot_event, *self._event_args(), 0)
 
     def crowd(self, twin: int) -> CrowdState:
         """The factual (0) or counterfactual (1) crowd."""
@@ -289,7 +276,7 @@ class EpisodeEngine:
         """One step with the robot's command (c0, c1), already checked (ignored once the
         robot's episode has ended); the events detected at the new sample."""
         if self._advance is None:
-            self._advance = self._specialize(self._kernel, self.arrays, 0.0, 0.0, True, 0)
+            self._advance = specialize_once(self._kernel, self.arrays, 0.0, 0.0, True, 0)
         n_new, code, nearest = self._advance(
             self.arrays, c0, c1, self.robot_active, self.step_index
         )

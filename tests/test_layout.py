@@ -21,7 +21,7 @@ SRFM = Path(srfm.__file__).parent
 # do not import each other. "srfm" is the package's face, srfm/__init__.py.
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("errors", "policies"),  # policies: the shipped policy files, no code
-    ("_deps", "_io", "_jit", "_streams", "_text", "_user_code", "_validate", "_version"),
+    ("_deps", "_io", "_jit", "_lazy", "_streams", "_text", "_user_code", "_validate", "_version"),
     ("models", "datasets"),
     ("world",),
     ("scenarios",),

@@ -27,12 +27,14 @@ import sys
 import traceback
 from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
-from typing import Any, Final, Generic, TypeVar
+from typing import TYPE_CHECKING, Any, Final, Generic, TypeVar
 
 import click
 
 from srfm.errors import FolderInUseError, SrfmError, UserCodeError, WriteError
-from srfm.models.params import SRFMParams
+
+if TYPE_CHECKING:
+    from srfm.models.params import SRFMParams
 
 __all__ = [
     "DEBUG_ENV",
@@ -164,7 +166,7 @@ def load_params_option(value: str | None) -> SRFMParams:
     """The SRFM parameters named by a ``--params PRESET|FILE`` option (default preset)."""
     from srfm._io import MAX_TOML_BYTES, read_input_bytes
     from srfm.errors import ParameterError
-    from srfm.models import load_params
+    from srfm.models.params import SRFMParams, load_params
 
     if value is None:
         return SRFMParams()

@@ -17,7 +17,6 @@ from typing import Any, TypeVar
 
 import click
 
-from srfm._validate import MAX_DURATION_S
 from srfm.cli._common import load_params_option, progressbar, user_errors
 from srfm.errors import DatasetError
 
@@ -41,6 +40,8 @@ def data() -> None:
 
 
 def _parse_dt(values: Sequence[str]) -> tuple[float | None, dict[str, float]]:
+    from srfm._validate import MAX_DURATION_S
+
     default: float | None = None
     per_file: dict[str, float] = {}
     for item in values:

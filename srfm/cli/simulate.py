@@ -9,7 +9,6 @@ from pathlib import Path
 from typing import Any
 
 import click
-import numpy as np
 
 from srfm.cli._common import SEED, UserError, load_params_option, user_errors
 
@@ -166,6 +165,8 @@ def episode_summary(record: Any) -> dict[str, Any]:
     """A small dict of the headline numbers of an episode record."""
     sep = record.twin_separation_m()  # (T + 1, N)
     per_ped_max = sep.max(axis=0)
+    import numpy as np
+
     dist = np.linalg.norm(record.factual_pos - record.robot_pose[:, None, :2], axis=2)
     arrivals: dict[str, int] = {"factual": 0, "counterfactual": 0}
     for twin in arrivals:

@@ -59,6 +59,22 @@ def _default(name: str) -> Any:
     return _DEFAULTS[name]
 
 
+class _ConfigDefault(click.Option):
+    """An option whose default is ``TrainConfig``'s field ``config_field``, read when
+    first needed (parsing, ``srfm train --help``): ``srfm --help`` and the other
+    commands do not import the trainer, and with it numba."""
+
+    def __init__(self, *args: Any, config_field: str, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.config_field = config_field
+
+    def get_default(self, ctx: click.Context, call: bool = True) -> Any:
+        value = _default(self.config_field)
+        if self.config_field == "net_arch":
+            return ",".join(map(str, value))
+        return value
+
+
 @click.command()
 @click.option(
     "--run-dir",
@@ -69,7 +85,8 @@ def _default(name: str) -> Any:
 @click.option(
     "--k-div",
     type=click.FloatRange(min=0.0),
-    default=_default("k_div"),
+    cls=_ConfigDefault,
+    config_field="k_div",
     show_default=True,
     help="k2, weight of the one-step deviation penalty (1/m): > 0 trains the "
     "SRFM-aware policy, 0 the RL_base policy.",
@@ -77,42 +94,48 @@ def _default(name: str) -> Any:
 @click.option(
     "--k-dist",
     type=click.FloatRange(min=0.0),
-    default=_default("k_dist"),
+    cls=_ConfigDefault,
+    config_field="k_dist",
     show_default=True,
     help="k1, weight of the normalised goal distance.",
 )
 @click.option(
     "--k-progress",
     type=click.FloatRange(min=0.0),
-    default=_default("k_progress"),
+    cls=_ConfigDefault,
+    config_field="k_progress",
     show_default=True,
     help="Weight of the potential-based progress term (0: the paper's reward).",
 )
 @click.option(
     "--success-reward",
     type=click.FloatRange(min=0.0),
-    default=_default("success_reward"),
+    cls=_ConfigDefault,
+    config_field="success_reward",
     show_default=True,
     help="Terminal reward on reaching the goal.",
 )
 @click.option(
     "--timeout-penalty",
     type=click.FloatRange(min=0.0),
-    default=_default("timeout_penalty"),
+    cls=_ConfigDefault,
+    config_field="timeout_penalty",
     show_default=True,
     help="Terminal penalty at the horizon; a collision or leaving the world costs twice this.",
 )
 @click.option(
     "--k-div-start",
     type=click.IntRange(min=0),
-    default=_default("k_div_start"),
+    cls=_ConfigDefault,
+    config_field="k_div_start",
     show_default=True,
     help="Curriculum: k2 is 0 until this step, then ramps up to --k-div.",
 )
 @click.option(
     "--k-div-ramp",
     type=click.IntRange(min=0),
-    default=_default("k_div_ramp"),
+    cls=_ConfigDefault,
+    config_field="k_div_ramp",
     show_default=True,
     help="Curriculum: steps over which k2 rises linearly from 0 to --k-div.",
 )
@@ -120,62 +143,84 @@ def _default(name: str) -> Any:
 @click.option(
     "--steps",
     type=click.IntRange(min=1),
-    default=_default("total_steps"),
+    cls=_ConfigDefault,
+    config_field="total_steps",
     show_default=True,
     help="Total environment steps (including those of a resumed run).",
 )
 @click.option(
     "--scenario",
-    default=_default("scenario"),
+    cls=_ConfigDefault,
+    config_field="scenario",
     show_default=True,
     help="Training scenario: a name, a TOML file, or 'mixed' (a new layout per episode).",
 )
-@click.option("--learning-rate", type=float, default=_default("learning_rate"), show_default=True)
+@click.option(
+    "--learning-rate",
+    type=float,
+    cls=_ConfigDefault,
+    config_field="learning_rate",
+    show_default=True,
+)
 @click.option(
     "--action-repeat",
     type=click.IntRange(min=1, max=100),
-    default=_default("action_repeat"),
+    cls=_ConfigDefault,
+    config_field="action_repeat",
     show_default=True,
     help="Simulation steps per action (1: the paper's set-up); the step counts count actions.",
 )
 @click.option(
     "--gamma",
     type=click.FloatRange(min=0.0, max=1.0, min_open=True),
-    default=_default("gamma"),
+    cls=_ConfigDefault,
+    config_field="gamma",
     show_default=True,
     help="Discount factor (also the progress term's γ).",
 )
 @click.option(
-    "--buffer-size", type=click.IntRange(min=1), default=_default("buffer_size"), show_default=True
+    "--buffer-size",
+    type=click.IntRange(min=1),
+    cls=_ConfigDefault,
+    config_field="buffer_size",
+    show_default=True,
 )
 @click.option(
     "--learning-starts",
     type=click.IntRange(min=0),
-    default=_default("learning_starts"),
+    cls=_ConfigDefault,
+    config_field="learning_starts",
     show_default=True,
     help="Random-action warm-up steps.",
 )
 @click.option(
-    "--batch-size", type=click.IntRange(min=1), default=_default("batch_size"), show_default=True
+    "--batch-size",
+    type=click.IntRange(min=1),
+    cls=_ConfigDefault,
+    config_field="batch_size",
+    show_default=True,
 )
 @click.option(
     "--eval-every",
     type=click.IntRange(min=0),
-    default=_default("eval_every"),
+    cls=_ConfigDefault,
+    config_field="eval_every",
     show_default=True,
     help="Steps between evaluations on the five evaluation scenarios (0: never).",
 )
 @click.option(
     "--eval-seeds",
     type=click.IntRange(min=1),
-    default=_default("eval_seeds"),
+    cls=_ConfigDefault,
+    config_field="eval_seeds",
     show_default=True,
     help="Seeds per scenario in an evaluation (10000, 10001, ...).",
 )
 @click.option(
     "--checkpoint-every",
     type=click.IntRange(min=0),
-    default=_default("checkpoint_every"),
+    cls=_ConfigDefault,
+    config_field="checkpoint_every",
     show_default=True,
     help="Steps between checkpoints (0: only at the end).",
 )
@@ -187,13 +232,15 @@ def _default(name: str) -> Any:
 )
 @click.option(
     "--twin/--no-twin",
-    default=_default("counterfactual_twin"),
+    cls=_ConfigDefault,
+    config_field="counterfactual_twin",
     show_default=True,
     help="Also step the full counterfactual crowd (the reward does not need it).",
 )
 @click.option(
     "--save-replay-buffer/--no-save-replay-buffer",
-    default=_default("save_replay_buffer"),
+    cls=_ConfigDefault,
+    config_field="save_replay_buffer",
     show_default=True,
     help="Keep the replay buffer beside latest.zip, for --resume.",
 )
@@ -208,7 +255,8 @@ def _default(name: str) -> Any:
 @click.option(
     "--backend",
     type=click.Choice(["sb3", "sbx"]),
-    default=_default("backend"),
+    cls=_ConfigDefault,
+    config_field="backend",
     show_default=True,
     help="sb3: stable-baselines3 + torch (the paper's reference); sbx: SBX, the same "
     "TD3 in JAX (needs the sbx extra).",
@@ -216,7 +264,8 @@ def _default(name: str) -> Any:
 @click.option(
     "--net-arch",
     callback=_net_arch,
-    default=",".join(map(str, _default("net_arch"))),
+    cls=_ConfigDefault,
+    config_field="net_arch",
     show_default=True,
     help="Hidden layer sizes of actor and critics, comma-separated.",
 )
@@ -233,21 +282,24 @@ def _default(name: str) -> Any:
 @click.option(
     "--train-freq",
     type=click.IntRange(min=1),
-    default=_default("train_freq"),
+    cls=_ConfigDefault,
+    config_field="train_freq",
     show_default=True,
     help="(Vectorised) environment steps between updates.",
 )
 @click.option(
     "--gradient-steps",
     type=click.IntRange(min=1),
-    default=_default("gradient_steps"),
+    cls=_ConfigDefault,
+    config_field="gradient_steps",
     show_default=True,
     help="Gradient steps per update (update-to-data ratio: gradient steps / (train freq x envs)).",
 )
 @click.option(
     "--n-envs",
     type=click.IntRange(min=1),
-    default=_default("n_envs"),
+    cls=_ConfigDefault,
+    config_field="n_envs",
     show_default=True,
     help="Environments stepped together (seeds seed, seed + 1, ...).",
 )

@@ -15,6 +15,8 @@ read (:mod:`srfm.scenarios._schema`, :mod:`srfm.scenarios._reader`).
 
 from __future__ import annotations
 
+from typing import Final
+
 import numpy as np
 import shapely
 from numpy.typing import NDArray
@@ -77,20 +79,29 @@ def _check_inside(source: str, layout: PedestrianLayout, world: WorldBounds) -> 
             )
 
 
+_ALL_PAIRS: Final = 256  # discs up to which _worst_overlap measures every pair
+
+
 def _worst_overlap(points: FloatArray, radii: FloatArray) -> tuple[int, int, float] | None:
     """The pair i < j of discs overlapping most (gap = distance − r_i − r_j < 0; the
     first such pair in (i, j) order among equal gaps), or None. Only pairs closer than
     twice the largest radius are measured (a k-d tree), so 100,000 starts are checked
-    in a second instead of a matrix of 10^10 distances."""
-    from scipy.spatial import cKDTree
+    in a second instead of a matrix of 10^10 distances; up to ``_ALL_PAIRS`` discs,
+    every pair (the same answer: a pair further apart does not overlap), without
+    importing scipy."""
+    n = points.shape[0]
+    if n < 2 or float(radii.max()) <= 0.0:
+        return None
+    if n <= _ALL_PAIRS:
+        i, j = np.triu_indices(n, 1)
+    else:
+        from scipy.spatial import cKDTree
 
-    if points.shape[0] < 2 or float(radii.max()) <= 0.0:
-        return None
-    pairs = cKDTree(points).query_pairs(2.0 * float(radii.max()), output_type="ndarray")
-    if pairs.shape[0] == 0:
-        return None
-    pairs = np.sort(pairs, axis=1)
-    i, j = pairs[:, 0], pairs[:, 1]
+        pairs = cKDTree(points).query_pairs(2.0 * float(radii.max()), output_type="ndarray")
+        if pairs.shape[0] == 0:
+            return None
+        pairs = np.sort(pairs, axis=1)
+        i, j = pairs[:, 0], pairs[:, 1]
     gap = np.linalg.norm(points[i] - points[j], axis=1) - radii[i] - radii[j]
     order = np.lexsort((j, i, gap))  # the smallest gap first, then (i, j)
     k = int(order[0])

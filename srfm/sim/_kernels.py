@@ -30,6 +30,7 @@ import numpy as np
 from numba import njit, types
 from numba.experimental import structref
 
+from srfm._jit import specialize_once
 from srfm.models._arrays import CrowdArrays, ForceContext
 from srfm.models._kernels import mark_arrivals, step_exact, step_parallel, step_serial
 from srfm.models._primitives import FALSE
@@ -154,8 +155,9 @@ class EpisodeArrays(structref.StructRefProxy):
         task: RobotTask,
         options: StepOptions,
     ) -> EpisodeArrays:
-        proxy: EpisodeArrays = structref.StructRefProxy.__new__(  # type: ignore[no-untyped-call]
-            cls,
+        # numba's own constructor of a proxy (StructRefProxy.__new__) is compiled
+        # anew in every process, 1.4 s; this one is in numba's cache.
+        args = (
             factual,
             counterfactual,
             factual_arrivals,
@@ -167,10 +169,39 @@ class EpisodeArrays(structref.StructRefProxy):
             task,
             options,
         )
+        proxy: EpisodeArrays = specialize_once(_new_episode_arrays, *args)(*args)
         return proxy
 
 
 structref.define_proxy(EpisodeArrays, EpisodeArraysType, list(_EPISODE_FIELDS))  # type: ignore[no-untyped-call]
+
+
+@njit(cache=True)
+def _new_episode_arrays(
+    factual: CrowdArrays,
+    counterfactual: CrowdArrays,
+    factual_arrivals: ArrivalFlags,
+    counterfactual_arrivals: ArrivalFlags,
+    robot: np.ndarray,
+    felt: ForceContext,
+    force_buf: np.ndarray,
+    limits: RobotLimits,
+    task: RobotTask,
+    options: StepOptions,
+) -> EpisodeArrays:
+    """An :class:`EpisodeArrays` (its constructor, compiled once and cached)."""
+    return EpisodeArrays(
+        factual,
+        counterfactual,
+        factual_arrivals,
+        counterfactual_arrivals,
+        robot,
+        felt,
+        force_buf,
+        limits,
+        task,
+        options,
+    )
 
 
 @njit(cache=True, inline="always")

@@ -21,8 +21,6 @@ from typing import Final
 import numpy as np
 import shapely
 from numpy.typing import NDArray
-from scipy.sparse import csr_array
-from scipy.sparse.csgraph import dijkstra
 
 from srfm.errors import PlannerError
 from srfm.models.state import Obstacles
@@ -100,6 +98,9 @@ class Router:
         vis[:, n:] = ends.T
         np.fill_diagonal(vis, False)
         length = np.linalg.norm(pts[:, None, :] - pts[None, :, :], axis=2)
+        from scipy.sparse import csr_array  # here: a scene without walls needs no scipy
+        from scipy.sparse.csgraph import dijkstra
+
         graph = csr_array(np.where(vis, np.maximum(length, 1e-12), 0.0))
         dist, pred = dijkstra(graph, directed=False, indices=n, return_predecessors=True)
         if not np.isfinite(dist[n + 1]):

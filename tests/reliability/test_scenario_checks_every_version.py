@@ -164,3 +164,25 @@ def test_the_overlap_check_of_100000_pedestrians_takes_a_second() -> None:
     points[99_999] = points[12_345] + [0.1, 0.0]
     assert _worst_overlap(points, radii) == (12_345, 99_999, pytest.approx(-0.5))
     assert time.perf_counter() - start < 10.0
+
+
+def test_the_overlap_check_of_a_small_scene_gives_the_k_d_trees_answer(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Up to _ALL_PAIRS discs every pair is measured (no scipy): the same pair and gap
+    as the k-d tree's, ties included."""
+    from srfm.scenarios import _checks
+
+    rng = np.random.default_rng(3)
+    cases = [rng.uniform(0.0, 4.0, (n, 2)) for n in (2, 5, 40, 200)]
+    cases.append(np.array([[0.0, 0.0], [0.5, 0.0], [3.0, 0.0], [3.5, 0.0]]))  # a tie
+    answers = []
+    for points in cases:
+        radii = rng.uniform(0.1, 0.3, points.shape[0]) if len(points) != 4 else np.full(4, 0.3)
+        small = _checks._worst_overlap(points, radii)
+        with monkeypatch.context() as patch:
+            patch.setattr(_checks, "_ALL_PAIRS", 0)
+            assert _checks._worst_overlap(points, radii) == small
+        answers.append(small)
+    assert answers[-1] == (0, 1, pytest.approx(-0.1))
+    assert sum(a is not None for a in answers) >= 3

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import io
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -22,6 +22,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from srfm.models.state import Obstacles
+    from srfm.scenarios import Scenario
 
 __all__ = [
     "FigureEpisode",
@@ -30,6 +31,8 @@ __all__ = [
     "load_figure_episode",
     "metric_bars_figure",
     "paths_figure",
+    "paths_figure_name",
+    "render_paths_figure",
     "save_figure_episode",
     "write_figures",
 ]
@@ -240,28 +243,45 @@ def write_figures(
     return list(files)
 
 
+def paths_figure_name(scenario: str) -> str:
+    """The path of a scenario's path figure, relative to the results folder."""
+    return f"figures/paths_{scenario}.png"
+
+
+def render_paths_figure(out: Path, request: BenchmarkRequest, scenario: Scenario) -> bytes:
+    """The PNG bytes of ``scenario``'s path figure: the drawn seed's episode of every
+    planner, as the workers saved it (simulated again where it is missing)."""
+    seed = request.drawn_seed
+    records = []
+    for p in request.planners:
+        saved = load_figure_episode(out, scenario.name, p, seed)
+        if saved is None:  # a folder from before figures were kept: simulate again
+            record = run_episode(scenario, seed, build_planner(p), request.params, parallel=False)
+            saved = _figure_episode(record)
+        records.append(saved)
+    w = scenario.world
+    return _png(paths_figure(records, (w.x_min, w.x_max, w.y_min, w.y_max), scenario.obstacles))
+
+
 def render_figures(
     out: Path,
     request: BenchmarkRequest,
     table: BenchmarkTable,
     extended: BenchmarkTable | None = None,
+    *,
+    drawn: Mapping[str, bytes] | None = None,
 ) -> dict[str, bytes]:
-    """The PNG bytes of every figure by path relative to ``out`` (nothing written)."""
-    seed = request.drawn_seed
+    """The PNG bytes of every figure by path relative to ``out`` (nothing written).
+
+    ``drawn``: path figures already rendered (:func:`render_paths_figure`, by
+    :func:`paths_figure_name`), e.g. while the other episodes ran; the rest are drawn
+    here. The same bytes either way."""
+    drawn = drawn or {}
     written: dict[str, bytes] = {}
     for scenario in request.scenarios:
-        records = []
-        for p in request.planners:
-            saved = load_figure_episode(out, scenario.name, p, seed)
-            if saved is None:  # a folder from before figures were kept: simulate again
-                record = run_episode(
-                    scenario, seed, build_planner(p), request.params, parallel=False
-                )
-                saved = _figure_episode(record)
-            records.append(saved)
-        w = scenario.world
-        fig = paths_figure(records, (w.x_min, w.x_max, w.y_min, w.y_max), scenario.obstacles)
-        written[f"figures/paths_{scenario.name}.png"] = _png(fig)
+        name = paths_figure_name(scenario.name)
+        png = drawn.get(name)
+        written[name] = render_paths_figure(out, request, scenario) if png is None else png
     written["figures/deviation.png"] = _png(deviation_figure(table))
     if extended is not None:
         written["figures/social_work.png"] = _png(

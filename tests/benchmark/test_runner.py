@@ -11,6 +11,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -311,6 +312,26 @@ def test_path_figures_come_from_the_workers_episodes(
         assert (out / "figures" / name).read_bytes() == (
             reference_run / "figures" / name
         ).read_bytes()
+
+
+def test_a_path_figure_is_drawn_once_its_episodes_are_done(
+    short_scenario: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """While the episodes run: a scenario's figure right after its last figure episode
+    (here one task per scenario and planner, run in order), before the next scenario's
+    episodes; the report phase draws none again."""
+    from srfm.benchmark import _runner
+
+    drawn: list[tuple[str, int]] = []
+    draw = _runner.render_paths_figure
+
+    def spy(out: Path, request: BenchmarkRequest, scenario: Any) -> bytes:
+        drawn.append((scenario.name, len(list((out / "episodes").rglob("*.json")))))
+        return draw(out, request, scenario)
+
+    monkeypatch.setattr(_runner, "render_paths_figure", spy)
+    run_benchmark(_request(short_scenario, range(1)), tmp_path / "run", jobs=1)
+    assert drawn == [("short", 2), ("concert", 4)]
 
 
 _THREADS_SCRIPT = """

@@ -267,3 +267,29 @@ def test_nothing_is_bold_when_every_planner_ties() -> None:
     )
     best = {p for p in ("a", "b", "c") if table.cells[("s", p)]["robot_success"].best}
     assert best == {"a", "b"}  # a tie at the top is still bold when someone is worse
+
+
+def test_the_t_tests_give_scipys_bits() -> None:
+    """compare's two t-tests are scipy.stats.ttest_ind(equal_var=False) and ttest_rel
+    written out: the same p-values to the bit on random samples (sizes 2-60, rounded
+    values with ties, tiny spreads, one sample a copy of the other)."""
+    from scipy import stats
+
+    from srfm.metrics.stats import _paired_p, _welch_p
+
+    rng = np.random.default_rng(7)
+    for trial in range(400):
+        n, m = (int(k) for k in rng.integers(2, 60, size=2))
+        a = rng.normal(rng.uniform(-5, 5), rng.uniform(1e-3, 3), n)
+        b = rng.normal(rng.uniform(-5, 5), rng.uniform(1e-3, 3), m)
+        if trial % 4 == 1:
+            a, b = np.round(a, 1), np.round(b, 1)
+        elif trial % 4 == 2:
+            a = np.abs(a) * 1e-7
+        elif trial % 4 == 3:
+            b = a[: min(n, m)] + rng.normal(0, 1e-9, min(n, m))
+        welch = float(stats.ttest_ind(a, b, equal_var=False).pvalue)
+        assert _welch_p(a, b) == welch or (np.isnan(welch) and np.isnan(_welch_p(a, b)))
+        k = min(a.size, b.size)
+        paired = float(stats.ttest_rel(a[:k], b[:k]).pvalue)
+        assert _paired_p(a[:k], b[:k]) == paired

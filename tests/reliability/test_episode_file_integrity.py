@@ -49,6 +49,12 @@ DAMAGE: dict[str, tuple[Callable[[Path], None], str]] = {
         _edit_json(lambda d: d["metrics"].__setitem__("frechet_m", 0.5), keep_checksum=True),
         "checksum mismatch",
     ),
+    # One digit changed in place: the layout as written, so the checksum is checked on
+    # the file's text (the fast path of read_episode) rather than on a re-print.
+    "edited-digit": (
+        lambda p: p.write_text(p.read_text().replace('"end_step": ', '"end_step": 1', 1)),
+        "checksum mismatch",
+    ),
     "truncated": (lambda p: p.write_bytes(p.read_bytes()[:100]), "damaged episode metrics file"),
     "empty": (lambda p: p.write_bytes(b""), "damaged episode metrics file"),
     "other-episode": (
@@ -118,3 +124,23 @@ def test_a_damaged_figure_episode_is_simulated_again(
     assert (out / "figures" / "paths_tiny.png").read_bytes() == (
         reference / "figures" / "paths_tiny.png"
     ).read_bytes()
+
+
+def test_an_episode_file_is_printed_once_and_read_without_a_reprint(
+    clean: tuple[Path, Path],
+) -> None:
+    """episode_json appends the checksum to the text instead of printing the document
+    twice: the same bytes as the two prints; read_episode accepts it by its text."""
+    import zlib
+
+    from srfm.benchmark._results import EPISODE_SCHEMA, _checksum_matches, _text, episode_json
+
+    _, out = clean
+    path = episode_path(out, "tiny", "straight", 1)
+    metrics = read_episode(path)
+    doc = {"schema": EPISODE_SCHEMA, **metrics.to_document()}
+    crc = zlib.crc32(_text(doc).encode("utf-8"))
+    twice = _text({**doc, "crc32": f"{crc:08x}"}) + "\n"
+    assert episode_json(metrics) == twice == path.read_text()
+    assert _checksum_matches(twice, json.loads(twice))
+    assert not _checksum_matches(twice.replace('"seed": 1', '"seed": 2'), json.loads(twice))

@@ -126,10 +126,10 @@ def test_training_pool_runs_library_scenarios_by_seed() -> None:
     env = SocialNavEnv("mixed", config, library=LIBRARY_TRAINING, library_share=0.5)
     names = []
     for seed in range(40):
-        obs, _ = env.reset(seed=seed)
+        env.reset(seed=seed)
         names.append(env.layout.name)
         for _ in range(3):
-            obs, *_ = env.step(np.array([1.0, 0.0], dtype=np.float32))
+            env.step(np.array([1.0, 0.0], dtype=np.float32))
     library = [n for n in names if n in LIBRARY_TRAINING]
     assert 8 <= len(library) <= 32
     assert all(n in LIBRARY_TRAINING or n.startswith("mixed/") for n in names)

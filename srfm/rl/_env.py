@@ -83,9 +83,9 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
 
     ## Observation space
 
-    ``Box(-1, 1, (9 + 6K,), float32)``, K = ``config.max_pedestrians`` (10 by default:
-    69 entries). Robot frame (x forward along the heading, y to the left), every entry
-    normalised:
+    ``Box(-1, 1, (9 + 6K + B,), float32)``, K = ``config.max_pedestrians`` (10 by
+    default), B = ``config.range_beams`` (0 by default: 69 entries). Robot frame (x
+    forward along the heading, y to the left), every entry normalised:
 
     | index | entry |
     |---|---|
@@ -105,12 +105,16 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
     | 13 + 6m | slot m: relative velocity x (pedestrian − robot) / velocity scale |
     | 14 + 6m | slot m: relative velocity y (pedestrian − robot) / velocity scale |
 
+    | 9 + 6K + j | beam j: wall or pillar distance at heading + 2πj/B / range_max_m, ≤ 1 |
+
     for slots m = 0 … K − 1 (with K = 10: slot 0 is entries 9–14, slot 1 15–20, …,
-    slot 9 63–68). The slots hold the pedestrians whose centre is closer than the
-    social zone (3 m) to the robot centre, nearest first (ties by index); empty slots
-    are all zeros. Velocities are divided by ``config.velocity_scale_mps`` (2 m/s)
-    and clipped to [−1, 1]. Entry 8 is 1 at every ending, the horizon (a truncation)
-    included.
+    slot 9 63–68) and beams j = 0 … B − 1 (B = 0 by default, the paper's observation;
+    the walls-aware recipe uses B = 24 beams of 4 m: entries 69–92). The slots hold
+    the pedestrians whose centre is closer than the social zone (3 m) to the robot
+    centre, nearest first (ties by index); empty slots are all zeros. The beams see
+    walls and pillars, not pedestrians and not the world's bounds. Velocities are
+    divided by ``config.velocity_scale_mps`` (2 m/s) and clipped to [−1, 1]. Entry 8
+    is 1 at every ending, the horizon (a truncation) included.
 
     ## Rewards
 

@@ -10,7 +10,7 @@ the arms differ only in k2 (``--k-div``). A run is named ``k<k2>-seed<seed>``.
     python tools/rl/study.py status                                  # what is done
     python tools/rl/study.py collect                                 # artefacts into git's tree
 
-``run`` starts at most ``--jobs`` training processes at a time (``nice -n 19``); a run
+``run`` starts at most ``--jobs`` training processes at a time (``nice -n 10``); a run
 whose ``state.json`` has reached the step count is done, one with a ``latest.zip``
 resumes from it (with its replay buffer when one lies beside it), one with a committed
 checkpoint in ``tools/rl/study/checkpoints/`` resumes from that (a new machine: the
@@ -174,7 +174,7 @@ def run(args: argparse.Namespace) -> None:
                 continue
             path.mkdir(exist_ok=True)
             log = (runs / f"{name}.log").open("ab")
-            words = ["nice", "-n", "19", *command(path, k2, seed)]
+            words = ["nice", "-n", str(args.nice), *command(path, k2, seed)]
             active[name] = subprocess.Popen(words, stdout=log, stderr=subprocess.STDOUT, env=env)
             print(f"{name}: started", flush=True)
         if time.monotonic() - last_collect > args.collect_every:
@@ -199,6 +199,7 @@ def main() -> None:
     p.add_argument("--arms", default="0,2", help="k2 values, comma-separated")
     p.add_argument("--seeds", default="1-10", help="training seeds, e.g. 1-10 or 1,3")
     p.add_argument("--jobs", type=int, default=2)
+    p.add_argument("--nice", type=int, default=10, help="niceness of the training processes")
     p.add_argument("--collect-every", type=float, default=1800.0, help="seconds")
     p.add_argument("--commit", action="store_true", help="git-commit tools/rl/study/")
     sub.add_parser("status")

@@ -15,7 +15,8 @@ metric it does not charge a pedestrian for being late, only for being elsewhere.
 
 Rows are updated in place and limited to the band |j − t| ≤ ``band`` (a pedestrian
 more than ``band`` samples ahead of or behind its twin is matched no further); cells
-never reached hold +inf, so a new table is filled with +inf.
+never reached hold +inf, so a new table is filled with +inf (row 0 must be computed on
+such a table).
 """
 
 from __future__ import annotations
@@ -51,17 +52,14 @@ def extend_prefix_frechet(
         path = c_path[i]
         row = table[i]
         left = math.inf
-        diag = row[lo - 1] if lo > 0 else math.inf
+        # D[-1, -1] = 0: row 0 (on a table of +inf) is the running max from j = 0.
+        diag = row[lo - 1] if lo > 0 else (0.0 if t == 0 else math.inf)
         for j in range(lo, hi + 1):
             dx = fx - path[j, 0]
             dy = fy - path[j, 1]
             d = math.sqrt(dx * dx + dy * dy)
             up = row[j]
-            if t == 0:
-                best = 0.0 if j == 0 else left
-            else:
-                best = min(up, min(diag, left))
-            value = max(d, best)
+            value = max(d, min(up, min(diag, left)))
             diag = up
             row[j] = value
             left = value

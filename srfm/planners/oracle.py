@@ -1,35 +1,38 @@
-"""The ``oracle`` reference: model-predictive control over the twin simulator itself.
+"""The ``oracle`` reference: sampling-based optimal control over the twin simulator itself.
 
 A privileged planner, **not** a navigation policy a robot could run: it reads the
 episode's own engine (:class:`srfm.sim.engine.EpisodeEngine`), so it knows the crowd
 model and its parameters, every pedestrian's position, velocity, goal and route, and
 the counterfactual crowd's whole future. It is there to say how little a robot that
 still reaches its goal could disturb the crowd of a scenario: the benchmark's
-*headroom* (``deviation(straight) − deviation(oracle)``, see
-:mod:`srfm.metrics.headroom` and docs/benchmark.md).
+*headroom*, ``deviation(straight) − deviation(oracle)`` (:mod:`srfm.metrics.headroom`,
+docs/benchmark.md).
 
-Every ``replan_steps`` steps it copies the running episode into a look-ahead engine
-(:meth:`EpisodeEngine.look_ahead`, the factual crowd only) and rolls out each candidate
-for ``horizon_steps`` steps. A candidate is a steering rule held for the whole
-look-ahead: head at ``offset`` from the bearing of the current route waypoint at a
-``speed`` fraction of the top speed (offsets × speeds of :class:`OracleConfig`), or
-stand still. Its cost is
+**How it plans.** At the first step it copies the episode into a look-ahead engine of
+its own (:meth:`EpisodeEngine.look_ahead`, the factual crowd only; the counterfactual
+crowd's path does not depend on the robot and is simulated once) and simulates every
+plan of a small family to the episode's horizon:
 
-    predicted deviation + progress_weight · route length left (m),
+1. *step aside* to a point ``aside_m`` from the start, at ``aside_deg`` from the bearing
+   of the route's first waypoint (or stay at the start);
+2. *wait* there, standing, until ``wait_s`` seconds into the episode;
+3. *go* to the goal the way ``straight`` does (full speed at the route's waypoints).
 
-where the predicted deviation is the mean over pedestrians of the prefix Fréchet
-deviation at the end of the look-ahead (:mod:`srfm.planners._oracle_kernels`: the
-Fréchet distance between each pedestrian's factual path so far, predicted, and the
-best-matching beginning of its counterfactual path; a surrogate of the episode's
-``frechet_m`` that, like it, does not charge a pedestrian for being late). A candidate
-whose rollout collides (pedestrian, wall) or leaves the world is ruled out; one that
-would no longer reach the goal in time (route length left / top speed +
-``deadline_margin_s`` beyond the horizon) is ruled out while any candidate can. The
-chosen candidate's first ``replan_steps`` commands are then played.
+The plan with no step aside and no wait **is** ``straight``. Plans whose robot collides,
+leaves the world or misses its goal are ruled out. Each remaining plan is scored by
+the pedestrians' mean Fréchet deviation at the horizon, computed on the way with the
+dynamic programme of :mod:`srfm.planners._oracle_kernels` (factual positions every
+``score_every`` samples, a band of ``band_s``); a plan is dropped as soon as its running
+lower bound exceeds the best score so far. The ``exact_top`` best plans and
+``straight`` are then simulated again and scored with the episode's own metric
+(:func:`srfm.metrics.frechet.frechet_distances`); the best of them is played, command
+by command. The episode the benchmark records is that simulation: the oracle reaches
+its goal whenever one plan of the family does, and its deviation is never above
+``straight``'s in the same episode.
 
-When the candidate "head for the waypoint at top speed" changes the predicted deviation
-by less than ``shortcut_m``, it is taken without rolling out the others (nobody is near
-enough to gain from anything else), which keeps an episode under a second of CPU.
+Every ``replan_s`` seconds, while the robot has not started its last leg, it plans
+again from where the episode is (receding horizon), keeping the remainder of its
+current plan as a candidate, so a new plan is taken only when it scores better.
 
 The oracle draws no randomness and steps only its own engine: an episode with it is
 bit-identical for a given seed, in any process. It runs only inside
@@ -40,12 +43,13 @@ through :meth:`OraclePlanner.attach_episode`.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import attrs
 import numpy as np
 
 from srfm.errors import ParameterError, PlannerError
+from srfm.metrics.frechet import frechet_distances
 from srfm.models import _robot_kernels as _rk
 from srfm.planners._base import FloatArray, Observation, PlannerContext
 from srfm.planners._oracle_kernels import extend_prefix_frechet, prefix_frechet_mean
@@ -55,8 +59,7 @@ if TYPE_CHECKING:
 
 __all__ = ["OracleConfig", "OraclePlanner"]
 
-_RULED_OUT = 1e6  # cost of a rollout that collides or leaves the world
-_LATE = 1e3  # cost added to a rollout that can no longer reach the goal in time
+Command = tuple[float, float]
 
 
 def _positive_int(inst: object, attribute: attrs.Attribute[int], value: int) -> None:
@@ -64,79 +67,85 @@ def _positive_int(inst: object, attribute: attrs.Attribute[int], value: int) -> 
         raise ParameterError(f"oracle {attribute.name} must be an integer >= 1, got {value!r}")
 
 
-def _non_negative(inst: object, attribute: attrs.Attribute[float], value: float) -> None:
-    if isinstance(value, bool) or not isinstance(value, float | int) or not value >= 0.0:
-        raise ParameterError(f"oracle {attribute.name} must be a number >= 0, got {value!r}")
+def _positive(inst: object, attribute: attrs.Attribute[float], value: float) -> None:
+    if isinstance(value, bool) or not isinstance(value, float | int) or not value > 0.0:
+        raise ParameterError(f"oracle {attribute.name} must be a number > 0, got {value!r}")
 
 
-def _speeds(inst: object, attribute: attrs.Attribute[tuple[float, ...]], value: object) -> None:
-    items = tuple(value) if isinstance(value, tuple | list) else ()
-    if not items or not all(isinstance(s, float | int) and 0.0 < s <= 1.0 for s in items):
-        raise ParameterError(f"oracle speeds must be fractions in (0, 1], got {value!r}")
+def _numbers(low: float, high: float) -> Any:
+    def check(inst: object, attribute: attrs.Attribute[tuple[float, ...]], value: Any) -> None:
+        ok = isinstance(value, tuple) and all(
+            isinstance(x, float | int) and not isinstance(x, bool) and low <= x <= high
+            for x in value
+        )
+        if not ok:
+            raise ParameterError(
+                f"oracle {attribute.name} must be numbers in [{low}, {high}], got {value!r}"
+            )
 
-
-def _offsets(inst: object, attribute: attrs.Attribute[tuple[float, ...]], value: object) -> None:
-    items = tuple(value) if isinstance(value, tuple | list) else ()
-    if not items or not all(isinstance(a, float | int) and abs(a) <= 180.0 for a in items):
-        raise ParameterError(f"oracle offsets_deg must be angles in [-180, 180], got {value!r}")
+    return check
 
 
 @attrs.frozen(kw_only=True)
 class OracleConfig:
-    """The oracle's look-ahead (defaults: measured on the paper suite, docs/benchmark.md).
+    """The oracle's family of plans and its scoring (see the module doc).
 
     Attributes:
-        horizon_steps: samples each candidate is rolled out for (45: 3 s at 15 Hz).
-        replan_steps: samples between two plans (5: 1/3 s at 15 Hz).
-        offsets_deg: heading offsets from the waypoint's bearing (degrees).
-        speeds: speed fractions of the robot's top speed, each paired with each offset.
-        band_s: how far (s) a pedestrian's factual and counterfactual samples may be
-            matched apart in the prefix Fréchet deviation.
-        progress_weight: cost per metre of route left (m of mean deviation per m).
-        deadline_margin_s: a candidate must leave this much time (s) beyond the route
-            left at top speed before the horizon.
-        shortcut_m: take "straight to the waypoint" without comparing when it adds less
-            than this to the predicted mean deviation (m).
-        turn_gain: ω = clip(turn_gain · heading error, ±ω_max).
-        score_every: a rollout's factual positions enter the prefix Fréchet deviation
-            every this many samples (and at its last), a coarser path for a third of
-            the cost.
+        aside_m: distances (m) of the points it may step aside to.
+        aside_deg: their directions, degrees from the bearing of the first waypoint.
+        waits_s: the times (s from the episode's start) it may wait until.
+        aside_timeout_s: longest time (s) spent stepping aside.
+        arrive_m: a point to step aside to is reached closer than this (m).
+        band_s: the largest time shift (s) between matched factual and counterfactual
+            samples in the plans' Fréchet score.
+        score_every: a plan's factual positions enter its score every this many samples.
+        exact_top: the best plans scored again with the exact metric.
+        replan_s: time (s) between two plans while the robot has not started to go.
     """
 
-    horizon_steps: int = attrs.field(default=45, validator=_positive_int)
-    replan_steps: int = attrs.field(default=5, validator=_positive_int)
-    offsets_deg: tuple[float, ...] = attrs.field(
-        default=(0.0, 30.0, -30.0, 60.0, -60.0, 90.0, -90.0, 180.0),
-        converter=tuple,
-        validator=_offsets,
+    aside_m: tuple[float, ...] = attrs.field(
+        default=(1.0, 2.5), converter=tuple, validator=_numbers(0.0, 100.0)
     )
-    speeds: tuple[float, ...] = attrs.field(default=(1.0, 0.5), converter=tuple, validator=_speeds)
-    band_s: float = attrs.field(default=10.0, validator=_non_negative)
-    progress_weight: float = attrs.field(default=0.005, validator=_non_negative)
-    deadline_margin_s: float = attrs.field(default=4.0, validator=_non_negative)
-    shortcut_m: float = attrs.field(default=2e-4, validator=_non_negative)
+    aside_deg: tuple[float, ...] = attrs.field(
+        default=(90.0, -90.0, 180.0, 45.0, -45.0, 135.0, -135.0),
+        converter=tuple,
+        validator=_numbers(-180.0, 180.0),
+    )
+    waits_s: tuple[float, ...] = attrs.field(
+        default=(0.0, 2.0, 4.0, 7.0, 10.0, 14.0, 18.0, 23.0, 28.0),
+        converter=tuple,
+        validator=_numbers(0.0, 1e6),
+    )
+    aside_timeout_s: float = attrs.field(default=8.0, validator=_positive)
+    arrive_m: float = attrs.field(default=0.2, validator=_positive)
+    band_s: float = attrs.field(default=10.0, validator=_positive)
     score_every: int = attrs.field(default=3, validator=_positive_int)
-    turn_gain: float = attrs.field(default=2.0, validator=_non_negative)
+    exact_top: int = attrs.field(default=3, validator=_positive_int)
+    replan_s: float = attrs.field(default=6.0, validator=_positive)
 
-    def candidates(self) -> tuple[tuple[float, float], ...]:
-        """(offset rad, speed fraction) of every candidate, "straight to the waypoint
-        at top speed" first, standing still (speed 0) last."""
-        top = max(self.speeds)
-        pairs = [(0.0, top)]
-        for speed in self.speeds:
-            for deg in self.offsets_deg:
-                pair = (math.radians(deg), float(speed))
-                if pair not in pairs:
-                    pairs.append(pair)
-        pairs.append((0.0, 0.0))
-        return tuple(pairs)
+
+@attrs.frozen
+class _Plan:
+    """Step aside to ``via`` (None: stay), wait until sample ``go_at``, then go."""
+
+    via: tuple[float, float] | None
+    go_at: int
+
+
+@attrs.frozen
+class _Replay:
+    """The rest of the current plan: its commands, and the sample its last leg starts."""
+
+    commands: list[Command]
+    go_at: int
 
 
 class OraclePlanner:
-    """Sampling-based MPC over the episode's own twin simulator (see the module doc).
+    """Optimal control over the episode's own twin simulator (see the module doc).
 
     Args:
-        config: the look-ahead; :class:`OracleConfig`'s defaults when omitted.
+        config: the plans and their scoring; :class:`OracleConfig`'s defaults when
+            omitted.
     """
 
     name = "oracle"
@@ -144,14 +153,15 @@ class OraclePlanner:
 
     def __init__(self, config: OracleConfig | None = None) -> None:
         self.config = config if config is not None else OracleConfig()
-        self._candidates = self.config.candidates()
         self._engine: EpisodeEngine | None = None
         self._context: PlannerContext | None = None
+        self._commands: list[Command] = []
 
     def reset(self, context: PlannerContext, rng: np.random.Generator) -> None:
         """Forget the last episode; the engine comes with :meth:`attach_episode`."""
         self._context = context
         self._engine = None
+        self._commands = []
 
     def attach_episode(self, engine: EpisodeEngine) -> None:
         """Take the running episode's engine (read only; called by
@@ -167,17 +177,21 @@ class OraclePlanner:
         while not twin.done:
             twin.advance(0.0, 0.0)
             path[twin.step_index] = twin.counterfactual.pos
+        self._c_time_major = path
         self._c_path = np.ascontiguousarray(path.transpose(1, 0, 2))
         self._scratch = engine.look_ahead()
-        dt = engine.scenario.dt_s
-        self._band = max(1, round(self.config.band_s / dt))
+        self._band = max(1, round(self.config.band_s / engine.scenario.dt_s))
         self._table = np.full((engine.factual.n, horizon + 1), np.inf)
-        self._work = np.empty_like(self._table)
-        self._row = -1  # the sample the table holds
-        self._queue: list[tuple[float, float]] = []
+        self._row = -1  # the last sample act() saw
+        self._history = np.empty((horizon + 1, engine.factual.n, 2))  # the factual path
+        self._commands = []
+        self._next_plan = 0
+        self._go_at = horizon + 1  # the sample the current plan's last leg starts
+        self._scored = -1  # the last sample in the table
 
     def act(self, observation: Observation) -> FloatArray:
-        """The next command of the current plan; a new plan every ``replan_steps``."""
+        """The next command of the current plan; a new plan at the start and every
+        ``replan_s`` seconds until the robot goes."""
         engine = self._engine
         if engine is None:
             raise PlannerError(
@@ -185,80 +199,148 @@ class OraclePlanner:
                 "(srfm benchmark, srfm simulate), not step by step"
             )
         k = engine.step_index
-        if k != self._row + 1 and not (k == 0 and self._row == -1):
+        if k != self._row + 1:
             raise PlannerError(f"oracle: asked at sample {k} after sample {self._row}")
-        extend_prefix_frechet(self._table, engine.factual.pos, self._c_path, k, self._band)
+        self._history[k] = engine.factual.pos
+        if k % self.config.score_every == 0:
+            extend_prefix_frechet(self._table, engine.factual.pos, self._c_path, k, self._band)
+            self._scored = k
         self._row = k
-        if not self._queue:
-            self._queue = self._plan(engine)
-        c0, c1 = self._queue.pop(0)
-        return np.array([c0, c1])
+        if k >= self._next_plan and k < self._go_at:
+            self._plan(engine)
+            self._next_plan = k + max(1, round(self.config.replan_s / engine.scenario.dt_s))
+        if not self._commands:  # the plan ran out (it cannot in the episode it was made for)
+            return np.array(self._steer(engine, 1.0))
+        return np.array(self._commands.pop(0))
 
-    def _plan(self, engine: EpisodeEngine) -> list[tuple[float, float]]:
-        """The first ``replan_steps`` commands of the cheapest candidate."""
-        now = prefix_frechet_mean(self._table, engine.step_index, self._band)
-        best_cost = math.inf
-        best: list[tuple[float, float]] = []
-        for index, candidate in enumerate(self._candidates):
-            cost, deviation, commands = self._rollout(engine, candidate)
-            if cost < best_cost:
-                best_cost, best = cost, commands
-            if index == 0 and cost < _LATE and deviation - now < self.config.shortcut_m:
-                break
-        if not best:  # cannot happen while the robot is active: one step at least
-            best = [(0.0, 0.0)]
-        return best[: self.config.replan_steps]
+    # ----- planning -------------------------------------------------------------------
+
+    def _plans(self, engine: EpisodeEngine) -> list[_Plan]:
+        """The family from the current sample: go now (``straight``) first."""
+        cfg = self.config
+        dt = engine.scenario.dt_s
+        k = engine.step_index
+        x, y = float(engine.robot[_rk.X]), float(engine.robot[_rk.Y])
+        tx, ty = self._waypoint(engine)
+        bearing = math.atan2(ty - y, tx - x)
+        vias: list[tuple[float, float] | None] = [None]
+        for r in cfg.aside_m:
+            for deg in cfg.aside_deg:
+                if r > 0.0:
+                    a = bearing + math.radians(deg)
+                    vias.append((x + r * math.cos(a), y + r * math.sin(a)))
+        go_ats = sorted({max(k, round(w / dt)) for w in cfg.waits_s})
+        return [_Plan(via, go_at) for via in vias for go_at in go_ats]
+
+    def _plan(self, engine: EpisodeEngine) -> None:
+        """Score the family (and the rest of the current plan) and keep the best."""
+        scored: list[tuple[float, int, list[Command], int]] = []
+        best = math.inf
+        if self._commands:
+            incumbent = _Replay(list(self._commands), self._go_at)
+            score, commands, go_at = self._rollout(engine, incumbent, best)
+            if score < math.inf:
+                scored.append((score, -1, commands, go_at))
+                best = score
+        for index, plan in enumerate(self._plans(engine)):
+            score, commands, go_at = self._rollout(engine, plan, best)
+            if score < math.inf:
+                scored.append((score, index, commands, go_at))
+                best = min(best, score)
+        if not scored:  # every plan collides or misses the goal: go as straight does
+            self._commands = []
+            self._go_at = engine.step_index
+            return
+        scored.sort(key=lambda item: (item[0], item[1]))
+        top = self.config.exact_top
+        finalists = scored[:top] + [s for s in scored[top:] if s[1] in (-1, 0)]
+        exact = [(self._exact(engine, c), i, c, g) for _, i, c, g in finalists]
+        exact.sort(key=lambda item: (item[0], item[1]))
+        _, _, self._commands, self._go_at = exact[0]
 
     def _rollout(
-        self, engine: EpisodeEngine, candidate: tuple[float, float]
-    ) -> tuple[float, float, list[tuple[float, float]]]:
-        """(cost, predicted mean deviation, commands) of holding ``candidate``."""
+        self, engine: EpisodeEngine, plan: _Plan | _Replay, bound: float
+    ) -> tuple[float, list[Command], int]:
+        """Simulate ``plan`` from now to the horizon: its score (inf when ruled out or
+        worse than ``bound``), its commands and the sample its last leg starts at."""
         sim = self._scratch
         sim.copy_from(engine)
-        table = self._work
-        table[:] = self._table
-        robot = sim.robot
-        limits = engine.scenario.robot
-        vmax = limits.max_speed_mps
-        wmax = limits.max_angular_speed_radps
-        gain = self.config.turn_gain
-        offset, speed = candidate
-        every = self.config.score_every
-        last = every - 1
+        table = self._table.copy()
+        c_path = self._c_path
         band = self._band
-        scored = sim.step_index
-        commands: list[tuple[float, float]] = []
-        for h in range(self.config.horizon_steps):
-            if sim.done:
-                break
+        every = self.config.score_every
+        dt = engine.scenario.dt_s
+        start = engine.step_index
+        played: list[Command] = []
+        if isinstance(plan, _Replay):
+            phase, go_at = -1, plan.go_at
+        else:
+            phase, go_at = (0 if plan.via is not None else 1), engine.scenario.horizon_steps + 1
+        aside_until = start + round(self.config.aside_timeout_s / dt)
+        arrive2 = self.config.arrive_m**2
+        scored = self._scored
+        while not sim.done:
+            k = sim.step_index
             if sim.robot_active:
-                if speed == 0.0:
-                    c0 = c1 = 0.0
+                if isinstance(plan, _Replay):
+                    i = k - start
+                    command = plan.commands[i] if i < len(plan.commands) else self._steer(sim, 1.0)
                 else:
-                    tx, ty = self._waypoint(sim)
-                    bearing = math.atan2(ty - robot[_rk.Y], tx - robot[_rk.X]) + offset
-                    error = math.remainder(bearing - robot[_rk.THETA], 2.0 * math.pi)
-                    c1 = max(-wmax, min(wmax, gain * error))
-                    c0 = speed * vmax * max(math.cos(error), 0.0)
-                commands.append((c0, c1))
-                sim.advance(c0, c1)
-                if sim.outcome in ("collision", "out_of_bounds"):
-                    return _RULED_OUT - h, math.inf, commands
+                    if phase == 0:
+                        assert plan.via is not None
+                        dx = plan.via[0] - sim.robot[_rk.X]
+                        dy = plan.via[1] - sim.robot[_rk.Y]
+                        if dx * dx + dy * dy < arrive2 or k >= aside_until:
+                            phase = 1
+                    if phase == 1 and k >= plan.go_at:
+                        phase, go_at = 2, k
+                    if phase == 0:
+                        assert plan.via is not None
+                        command = self._steer_to(sim, plan.via[0], plan.via[1], 1.0)
+                    elif phase == 1:
+                        command = (0.0, 0.0)
+                    else:
+                        command = self._steer(sim, 1.0)
+                played.append(command)
+                sim.advance(command[0], command[1])
+                if sim.outcome in ("collision", "out_of_bounds", "timeout"):
+                    return math.inf, played, go_at
             else:
                 sim.advance()
-            if h % every == last:
-                scored = sim.step_index
-                extend_prefix_frechet(table, sim.factual.pos, self._c_path, scored, band)
-        if sim.step_index != scored:  # the last sample counts
-            extend_prefix_frechet(table, sim.factual.pos, self._c_path, sim.step_index, band)
-        deviation = prefix_frechet_mean(table, sim.step_index, band)
-        left = self._route_left(sim)
-        cost = deviation + self.config.progress_weight * left
-        if sim.robot_active:
-            need_s = left / vmax + self.config.deadline_margin_s
-            if need_s > (sim.scenario.horizon_steps - sim.step_index) * sim.scenario.dt_s:
-                cost += _LATE + left
-        return cost, deviation, commands
+            t = sim.step_index
+            if t % every == 0 or t == sim.scenario.horizon_steps:
+                extend_prefix_frechet(table, sim.factual.pos, c_path, t, band)
+                scored = t
+                if prefix_frechet_mean(table, t, band) > bound:
+                    return math.inf, played, go_at
+        if sim.outcome != "goal_reached":
+            return math.inf, played, go_at
+        last = sim.scenario.horizon_steps
+        if scored != last:
+            return math.inf, played, go_at
+        return (float(table[:, last].mean()) if table.shape[0] else 0.0), played, go_at
+
+    def _exact(self, engine: EpisodeEngine, commands: list[Command]) -> float:
+        """The episode's mean Fréchet deviation when ``commands`` are played from now."""
+        sim = self._scratch
+        sim.copy_from(engine)
+        start = engine.step_index
+        f_path = self._history.copy()
+        while not sim.done:
+            k = sim.step_index
+            if sim.robot_active:
+                command = commands[k - start] if k - start < len(commands) else None
+                if command is None:
+                    command = self._steer(sim, 1.0)
+                sim.advance(command[0], command[1])
+            else:
+                sim.advance()
+            f_path[sim.step_index] = sim.factual.pos
+        if not f_path.shape[1]:
+            return 0.0
+        return float(frechet_distances(f_path, self._c_time_major).mean())
+
+    # ----- steering ---------------------------------------------------------------------
 
     @staticmethod
     def _waypoint(sim: EpisodeEngine) -> tuple[float, float]:
@@ -269,19 +351,27 @@ class OraclePlanner:
         point = route.waypoints[route.index]
         return float(point[0]), float(point[1])
 
+    def _steer(self, sim: EpisodeEngine, speed: float) -> Command:
+        """``straight``'s command toward the route's current waypoint."""
+        tx, ty = self._waypoint(sim)
+        return self._steer_to(sim, tx, ty, speed)
+
     @staticmethod
-    def _route_left(sim: EpisodeEngine) -> float:
-        """The length (m) of the robot's route from where it is to its goal (0 once the
-        goal is reached)."""
-        if sim.outcome == "goal_reached":
-            return 0.0
-        x, y = float(sim.robot[_rk.X]), float(sim.robot[_rk.Y])
-        route = sim.robot_route
-        if route is None:
-            goal = sim.setup.robot_goal
-            return math.hypot(float(goal[0]) - x, float(goal[1]) - y)
-        points = route.waypoints[route.index :]
-        length = math.hypot(float(points[0, 0]) - x, float(points[0, 1]) - y)
-        if len(points) > 1:
-            length += float(np.hypot(*np.diff(points, axis=0).T).sum())
-        return length
+    def _steer_to(sim: EpisodeEngine, tx: float, ty: float, speed: float) -> Command:
+        """Toward (tx, ty) by the ``straight`` planner's law
+        (:class:`srfm.planners.StraightPlanner`) at ``speed`` · v_max."""
+        robot = sim.robot
+        limits = sim.scenario.robot
+        if limits.kinematics == "holonomic":
+            dx, dy = tx - robot[_rk.X], ty - robot[_rk.Y]
+            dist = math.hypot(dx, dy)
+            if dist < 1e-12:
+                return 0.0, 0.0
+            vmax = speed * limits.max_speed_mps
+            return vmax * dx / dist, vmax * dy / dist
+        error = math.remainder(
+            math.atan2(ty - robot[_rk.Y], tx - robot[_rk.X]) - robot[_rk.THETA], 2.0 * math.pi
+        )
+        wmax = limits.max_angular_speed_radps
+        omega = max(-wmax, min(wmax, 2.0 * error))
+        return speed * limits.max_speed_mps * max(math.cos(error), 0.0), omega

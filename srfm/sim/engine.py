@@ -37,13 +37,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm._jit import specialize_once
+from srfm.errors import SimulationError
 from srfm.models import _robot_kernels as _rk
 from srfm.models._arrays import ForceContext
 from srfm.models._primitives import TRUE
 from srfm.models.forces import Cutoff, kernel_cutoffs
 from srfm.models.params import SRFMParams
 from srfm.models.robot import RobotState
-from srfm.errors import SimulationError
 from srfm.models.state import CrowdState
 from srfm.scenarios import EpisodeSetup, next_goal
 from srfm.sim import _kernels as _k

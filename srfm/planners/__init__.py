@@ -81,23 +81,9 @@ register_planner(
 )
 
 
-def _oracle() -> Planner:
-    from srfm.planners.oracle import OraclePlanner  # lazy: it imports the episode engine
-
-    return OraclePlanner()
-
-
 register_planner(
     "stay",
     StayPlanner,
     "reference: a robot that never moves (a standing obstacle); not in the default benchmark",
-    default=False,
-)
-register_planner(
-    "oracle",
-    _oracle,
-    "privileged reference: MPC over the twin simulator itself (knows the crowd model, "
-    "every goal and the counterfactual), least predicted deviation that still reaches "
-    "the goal; not deployable, not in the default benchmark",
     default=False,
 )

@@ -21,11 +21,12 @@ plan of a small family to the episode's horizon:
 The plan with no step aside and no wait **is** ``straight``. Plans whose robot collides,
 leaves the world or misses its goal are ruled out. Each remaining plan is scored by
 the pedestrians' mean Fréchet deviation at the horizon, computed on the way with the
-dynamic programme of :mod:`srfm.planners._oracle_kernels` (factual positions every
+dynamic programme of :mod:`srfm.sim._oracle_kernels` (factual positions every
 ``score_every`` samples, a band of ``band_s``); a plan is dropped as soon as its running
 lower bound exceeds the best score so far. The ``exact_top`` best plans and
-``straight`` are then simulated again and scored with the episode's own metric
-(:func:`srfm.metrics.frechet.frechet_distances`); the best of them is played, command
+``straight`` are then simulated again and scored with the episode's own metric, the
+exact discrete Fréchet distance (the same programme with every sample and no band,
+equal to :func:`srfm.metrics.frechet.frechet_distances`); the best of them is played, command
 by command. The episode the benchmark records is that simulation: the oracle reaches
 its goal whenever one plan of the family does, and its deviation is never above
 ``straight``'s in the same episode.
@@ -43,19 +44,16 @@ through :meth:`OraclePlanner.attach_episode`.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import attrs
 import numpy as np
 
 from srfm.errors import ParameterError, PlannerError
-from srfm.metrics.frechet import frechet_distances
 from srfm.models import _robot_kernels as _rk
 from srfm.planners._base import FloatArray, Observation, PlannerContext
-from srfm.planners._oracle_kernels import extend_prefix_frechet, prefix_frechet_mean
-
-if TYPE_CHECKING:
-    from srfm.sim.engine import EpisodeEngine
+from srfm.sim._oracle_kernels import extend_prefix_frechet, prefix_frechet_mean
+from srfm.sim.engine import EpisodeEngine
 
 __all__ = ["OracleConfig", "OraclePlanner"]
 
@@ -177,10 +175,10 @@ class OraclePlanner:
         while not twin.done:
             twin.advance(0.0, 0.0)
             path[twin.step_index] = twin.counterfactual.pos
-        self._c_time_major = path
         self._c_path = np.ascontiguousarray(path.transpose(1, 0, 2))
         self._scratch = engine.look_ahead()
         self._band = max(1, round(self.config.band_s / engine.scenario.dt_s))
+        self._full = horizon  # no band: the exact metric
         self._table = np.full((engine.factual.n, horizon + 1), np.inf)
         self._row = -1  # the last sample act() saw
         self._history = np.empty((horizon + 1, engine.factual.n, 2))  # the factual path
@@ -321,24 +319,24 @@ class OraclePlanner:
         return (float(table[:, last].mean()) if table.shape[0] else 0.0), played, go_at
 
     def _exact(self, engine: EpisodeEngine, commands: list[Command]) -> float:
-        """The episode's mean Fréchet deviation when ``commands`` are played from now."""
+        """The episode's mean Fréchet deviation when ``commands`` are played from now
+        (every sample, no band: the metric ``frechet_m`` itself)."""
         sim = self._scratch
         sim.copy_from(engine)
         start = engine.step_index
-        f_path = self._history.copy()
+        table = np.full_like(self._table, np.inf)
+        for k in range(start + 1):  # the episode so far
+            extend_prefix_frechet(table, self._history[k], self._c_path, k, self._full)
         while not sim.done:
             k = sim.step_index
             if sim.robot_active:
-                command = commands[k - start] if k - start < len(commands) else None
-                if command is None:
-                    command = self._steer(sim, 1.0)
+                i = k - start
+                command = commands[i] if i < len(commands) else self._steer(sim, 1.0)
                 sim.advance(command[0], command[1])
             else:
                 sim.advance()
-            f_path[sim.step_index] = sim.factual.pos
-        if not f_path.shape[1]:
-            return 0.0
-        return float(frechet_distances(f_path, self._c_time_major).mean())
+            extend_prefix_frechet(table, sim.factual.pos, self._c_path, sim.step_index, self._full)
+        return float(table[:, -1].mean()) if table.shape[0] else 0.0
 
     # ----- steering ---------------------------------------------------------------------
 

@@ -12,7 +12,13 @@ if TYPE_CHECKING:
         force_components,
         step_crowd,
     )
-    from srfm.models.params import PRESETS, SRFMParams, load_params, save_params
+    from srfm.models.params import (
+        PRESETS,
+        ROBOT_FORMS,
+        SRFMParams,
+        load_params,
+        save_params,
+    )
 
 _LAZY: dict[str, str] = {
     "ForceComponents": "srfm.models.forces",
@@ -20,6 +26,7 @@ _LAZY: dict[str, str] = {
     "force_components": "srfm.models.forces",
     "step_crowd": "srfm.models.forces",
     "PRESETS": "srfm.models.params",
+    "ROBOT_FORMS": "srfm.models.params",
     "SRFMParams": "srfm.models.params",
     "load_params": "srfm.models.params",
     "save_params": "srfm.models.params",
@@ -27,6 +34,7 @@ _LAZY: dict[str, str] = {
 
 __all__ = [
     "PRESETS",
+    "ROBOT_FORMS",
     "ForceComponents",
     "RobotBody",
     "SRFMParams",

@@ -25,6 +25,7 @@ from srfm.benchmark._results import episode_path, read_episode
 from srfm.errors import BenchmarkError, SrfmError
 from srfm.metrics.episode import EPISODE_METRICS, METRIC_GROUPS
 from srfm.metrics.report import MANIFEST, SUMMARY_SCHEMA, render_tables
+from srfm.metrics.tables import GIVEN_SUCCESS, base_metric, outcome_shares, share_text
 from srfm.models.params import SRFMParams
 from srfm.sim.record import ROBOT_OUTCOMES
 
@@ -79,6 +80,8 @@ th { background: #f3f6fa; }
 td.name, th.name { text-align: left; }
 tr.group td { background: #f9fafc; font-style: italic; text-align: left; }
 td.best { font-weight: 700; background: #e8f3e8; }
+th.cond, td.cond { border-left: 2px solid #9db3cf; }
+td.shares { color: #444; font-size: .88em; }
 .n { color: #8a5a00; font-size: .85em; }
 .mark { color: #a00; font-weight: 700; }
 .legend { font-size: .88em; color: #444; max-width: 70em; }
@@ -158,22 +161,42 @@ def _number(x: float | None) -> str:
     return "–" if x is None else f"{x:.2f}"
 
 
-def _cell(entry: Mapping[str, Any], n_seeds: int) -> str:
+def _cell(entry: Mapping[str, Any], n_seeds: int, *, conditioned: bool = False) -> str:
+    """One cell; a column conditioned on success (``conditioned``) always shows its n
+    and is shaded as such."""
     marks = str(entry.get("marks", ""))
     body = f"{_number(entry.get('mean'))} ± {_number(entry.get('std'))}"
     mark = f'<span class="mark">{_esc(marks)}</span>' if marks else ""
     n = int(entry.get("n", 0))
-    note = f' <span class="n">(n={n})</span>' if n < n_seeds else ""
-    cls = ' class="best"' if entry.get("best") else ""
+    note = f' <span class="n">(n={n})</span>' if n < n_seeds or conditioned else ""
+    classes = [c for c, on in (("best", entry.get("best")), ("cond", conditioned)) if on]
+    cls = f' class="{" ".join(classes)}"' if classes else ""
     return f"<td{cls}>{mark}{_esc(body)}{note}</td>"
 
 
+def _info(column: str) -> Any:
+    return _INFO.get(base_metric(column))
+
+
+def _arrow(column: str) -> str:
+    info = _info(column)
+    return _ARROWS[info.better] if info is not None else ""
+
+
+def _shares(summary: Mapping[str, Any], scenario: str, planner: str) -> str:
+    counts = (summary.get("outcomes") or {}).get(scenario, {}).get(planner)
+    return f'<td class="name shares">{_esc(outcome_shares(counts))}</td>' if counts else "<td></td>"
+
+
 def _wide_table(summary: Mapping[str, Any]) -> str:
-    """A (scenario, planner) × column table of a ``summary.json`` table entry."""
+    """A (scenario, planner) × column table of a ``summary.json`` table entry, with
+    each row's outcome shares last."""
     columns = [(str(n), str(h)) for n, h in summary["columns"]]
     n_seeds = int(summary["n_seeds"])
     head = "".join(
-        f"<th>{_esc(h)} {_ARROWS[_INFO[n].better] if n in _INFO else ''}</th>" for n, h in columns
+        ('<th class="cond">' if n.endswith(GIVEN_SUCCESS) else "<th>")
+        + f"{_esc(h)} {_arrow(n)}</th>"
+        for n, h in columns
     )
     rows = []
     for scenario, planners in summary["scenarios"].items():
@@ -183,11 +206,14 @@ def _wide_table(summary: Mapping[str, Any]) -> str:
                 if k == 0
                 else ""
             )
-            tds = "".join(_cell(cells[n], n_seeds) for n, _ in columns)
+            tds = "".join(
+                _cell(cells[n], n_seeds, conditioned=n.endswith(GIVEN_SUCCESS)) for n, _ in columns
+            )
+            tds += _shares(summary, scenario, planner)
             rows.append(f'<tr>{first}<td class="name">{_esc(planner)}</td>{tds}</tr>')
     return (
         '<div class="scroll"><table><thead><tr><th class="name">Scenario</th>'
-        f'<th class="name">Planner</th>{head}</tr></thead><tbody>'
+        f'<th class="name">Planner</th>{head}<th class="name">Outcomes</th></tr></thead><tbody>'
         + "".join(rows)
         + f'</tbody></table></div><p class="legend">{_esc(summary["legend"])}</p>'
     )
@@ -200,20 +226,29 @@ def _extended_tables(summary: Mapping[str, Any]) -> str:
     out = [f'<p class="legend">{_esc(summary["legend"])}</p>']
     for k, (scenario, planners) in enumerate(summary["scenarios"].items()):
         head = "".join(f"<th>{_esc(p)}</th>" for p in planners)
-        rows = []
+        shares = "".join(_shares(summary, scenario, p) for p in planners)
+        rows = [f'<tr class="outcomes"><td class="name">Outcomes</td><td></td>{shares}</tr>']
         for group, title in METRIC_GROUPS.items():
-            in_group = [n for n in names if n in _INFO and _INFO[n].group == group]
+            in_group = [n for n in names if _info(n) is not None and _info(n).group == group]
             if not in_group:
                 continue
             rows.append(
                 f'<tr class="group"><td colspan="{len(planners) + 2}">{_esc(title)}</td></tr>'
             )
             for name in in_group:
-                info = _INFO[name]
-                tds = "".join(_cell(cells[name], n_seeds) for cells in planners.values())
+                info = _info(name)
+                conditioned = name.endswith(GIVEN_SUCCESS)
+                tds = "".join(
+                    _cell(cells[name], n_seeds, conditioned=conditioned)
+                    for cells in planners.values()
+                )
+                label = f"<code>{_esc(info.name)}</code>" + (" | success" if conditioned else "")
+                title_text = info.definition + (
+                    " Over the seeds in which the robot reached its goal." if conditioned else ""
+                )
                 rows.append(
-                    f'<tr><td class="name" title="{_esc(info.definition)}"><code>{_esc(name)}'
-                    f"</code> {_ARROWS[info.better]}</td><td>{_esc(info.unit)}</td>{tds}</tr>"
+                    f'<tr><td class="name" title="{_esc(title_text)}">{label} '
+                    f"{_ARROWS[info.better]}</td><td>{_esc(info.unit)}</td>{tds}</tr>"
                 )
         opened = " open" if k == 0 else ""
         out.append(
@@ -262,7 +297,7 @@ def _outcomes(
             tds.append(f'<td class="{kind}">{reached} / {n}{note}</td>')
         trs.append(f'<tr><td class="name">{_esc(planner)}</td>{"".join(tds)}</tr>')
         total = sum(totals.values())
-        share = _percent(totals["goal_reached"], total)
+        share = share_text(totals["goal_reached"], total)
         others = ", ".join(
             f"{totals[o]} {_OUTCOME_TITLES[o]}" for o in ROBOT_OUTCOMES[1:] if totals[o]
         )
@@ -278,20 +313,6 @@ def _outcomes(
         '<div class="scroll"><table><thead><tr><th class="name">Planner</th>'
         f"{head}</tr></thead><tbody>" + "".join(trs) + "</tbody></table></div>"
     )
-
-
-def _percent(k: int, n: int) -> str:
-    """k of n as a percentage that never reads 0 % or 100 % unless it is exactly that:
-    499 of 500 is 99.8 %, not 100 %."""
-    if n == 0:
-        return "–"
-    share = 100.0 * k / n
-    for digits in (0, 1):
-        text = f"{share:.{digits}f}"
-        if 0 < k < n and float(text) in (0.0, 100.0):
-            continue
-        return f"{text} %"
-    return "< 0.1 %" if share < 50 else "> 99.9 %"
 
 
 def _log_links(

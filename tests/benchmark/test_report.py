@@ -292,16 +292,16 @@ def test_the_page_loads_cleanly_in_chromium(results: Path, tmp_path: Path) -> No
 
 
 def test_outcome_shares_never_round_to_all_or_nothing() -> None:
-    from srfm.benchmark._html import _percent
+    from srfm.metrics.tables import share_text
 
-    assert [_percent(k, 500) for k in (500, 499, 481, 1, 0)] == [
+    assert [share_text(k, 500) for k in (500, 499, 481, 1, 0)] == [
         "100 %",
         "99.8 %",
         "96 %",
         "0.2 %",
         "0 %",
     ]
-    assert (_percent(99_999, 100_000), _percent(1, 100_000), _percent(0, 0)) == (
+    assert (share_text(99_999, 100_000), share_text(1, 100_000), share_text(0, 0)) == (
         "> 99.9 %",
         "< 0.1 %",
         "–",

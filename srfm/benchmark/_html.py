@@ -53,6 +53,9 @@ _DATA_FILES: Final = (
     ("pedestrians.csv", "one row per episode and pedestrian"),
     ("pedestrians.parquet", "the same as Parquet"),
     ("summary.json", "every cell: n, undefined, mean, std, p-values"),
+    ("rankings.md", "rank probabilities under the parameter draws (Markdown)"),
+    ("rankings.json", "the same with every draw's means"),
+    ("param_draws.json", "the parameter draws"),
     (MANIFEST, "versions, parameters, request and command"),
 )
 
@@ -96,6 +99,7 @@ dl.kv { display: grid; grid-template-columns: max-content auto; gap: .1em 1em; }
 dl.kv dt { font-weight: 600; }
 dl.kv dd { margin: 0; }
 .missing { color: #a00; }
+td.prob { color: #000; min-width: 2.6em; }
 """
 
 
@@ -113,6 +117,10 @@ def _read_bytes(out: Path, name: str, files: Mapping[str, bytes]) -> bytes | Non
     return read_input_bytes(
         path, max_bytes=MAX_DOCUMENT_BYTES * 4, error=BenchmarkError, what="results file"
     )
+
+
+def _has(out: Path, name: str, files: Mapping[str, bytes]) -> bool:
+    return name in files or (out / name).is_file()
 
 
 def _json_file(out: Path, name: str, files: Mapping[str, bytes]) -> Any:
@@ -257,6 +265,36 @@ def _extended_tables(summary: Mapping[str, Any]) -> str:
             f"{head}</tr></thead><tbody>" + "".join(rows) + "</tbody></table></div></details>"
         )
     return "".join(out)
+
+
+def _rankings(doc: Mapping[str, Any]) -> str:
+    """The rank probabilities under the parameter draws: a planner × rank table per
+    scenario (the cell shaded by its probability) with the interval of the planner's
+    mean deviation over the draws."""
+    planners = [str(p) for p in doc["planners"]]
+    ranks = "".join(f"<th>{r + 1}</th>" for r in range(len(planners)))
+    parts = [f'<p class="legend">{_esc(doc["legend"])}</p>']
+    for scenario, rows in doc["scenarios"].items():
+        trs = []
+        for planner in planners:
+            entry = rows[planner]
+            tds = "".join(
+                f'<td class="prob" style="background: rgba(31, 58, 95, {0.6 * float(v):.3f})">'
+                f"{float(v):.2f}</td>"
+                for v in entry["rank_probabilities"]
+            )
+            low, mid, high = (float(v) for v in entry["interval"])
+            trs.append(
+                f'<tr><td class="name">{_esc(planner)}</td>{tds}'
+                f"<td>{low:.3f} · {mid:.3f} · {high:.3f}</td></tr>"
+            )
+        parts.append(
+            f'<h3>{_esc(scenario)}</h3><div class="scroll"><table class="ranks"><thead><tr>'
+            f'<th class="name" rowspan="2">Planner</th><th colspan="{len(planners)}">P(rank)'
+            '</th><th rowspan="2">Fréchet dev. (m): 2.5 % · median · 97.5 %</th></tr>'
+            f"<tr>{ranks}</tr></thead><tbody>" + "".join(trs) + "</tbody></table></div>"
+        )
+    return "".join(parts)
 
 
 def _episodes(out: Path, files: Mapping[str, bytes]) -> list[dict[str, str]]:
@@ -485,12 +523,16 @@ def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
         f"{count(len(seeds), 'seed')} = {count(len(rows), 'twin episode')}. Reference planner "
         f"for the significance tests: {reference or 'none'}."
     )
+    rankings = (
+        _json_file(out, "rankings.json", files) if _has(out, "rankings.json", files) else None
+    )
     nav = "".join(
         f'<a href="#{k}">{_esc(v)}</a>'
         for k, v in (
             ("table", "Table 3 layout"),
             ("outcomes", "Robot outcomes"),
             ("extended", "Every metric"),
+            *((("rankings", "Rankings under parameter draws"),) if rankings else ()),
             ("figures", "Figures"),
             ("planners", "Per planner"),
             ("logs", "Episode logs"),
@@ -510,6 +552,14 @@ def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
         '<h2 id="extended">Every metric</h2>',
         "<p>One table per scenario; hover over a metric for its definition.</p>",
         _extended_tables(summary["extended"]),
+        *(
+            (
+                '<h2 id="rankings">Rankings under the model\'s uncertainty</h2>',
+                _rankings(rankings),
+            )
+            if rankings
+            else ()
+        ),
         '<h2 id="figures">Figures</h2>',
         _figures(out, files, scenarios, figure_seed),
         '<h2 id="planners">Per planner: how the robot\'s episodes ended</h2>',

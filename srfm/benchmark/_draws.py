@@ -41,6 +41,7 @@ from typing import Any, Final
 
 import attrs
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from srfm._io import MAX_DOCUMENT_BYTES, atomic_write_text, read_input_bytes
 from srfm.errors import BenchmarkError, ParameterError, SrfmError
@@ -256,7 +257,7 @@ def _read_json(path: Path) -> Any:
         raise BenchmarkError(f"{path}: damaged ({exc})") from None
 
 
-def rank_probabilities(means: Sequence[Sequence[float]]) -> np.ndarray:
+def rank_probabilities(means: ArrayLike) -> NDArray[np.float64]:
     """P(planner p ranks r) from the planners' means in each draw.
 
     Args:
@@ -280,7 +281,8 @@ def rank_probabilities(means: Sequence[Sequence[float]]) -> np.ndarray:
             below = int(np.count_nonzero(row < row[j]))
             tied = int(np.count_nonzero(row == row[j]))
             probs[j, below : below + tied] += 1.0 / tied
-    return probs / k
+    out: NDArray[np.float64] = probs / k
+    return out
 
 
 @attrs.frozen(kw_only=True)

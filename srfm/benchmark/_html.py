@@ -545,7 +545,9 @@ def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
         '<h2 id="table">The paper\'s Table 3 layout</h2>',
         "<p>Fréchet deviation of the pedestrians, minimum robot distance, trajectory length "
         "of the pedestrians, and the duration of the robot's run (what the paper's Time "
-        "column measured). Definitions: docs/metrics.md.</p>",
+        "column measured); beside each pedestrian and social column the same over the "
+        "episodes in which the robot reached its goal ('| success', with their number n), "
+        "and last how the episodes ended. Definitions: docs/metrics.md.</p>",
         _wide_table(summary["table"]),
         '<h2 id="outcomes">Robot outcomes</h2>',
         _wide_table(summary["outcomes"]),

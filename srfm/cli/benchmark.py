@@ -356,7 +356,11 @@ def benchmark(
                     f"benchmark: {count(len(request.scenarios), 'scenario')} × "
                     f"{count(len(request.planners), 'planner')} × "
                     f"{count(len(request.seeds), 'seed')} = {count(cells, 'episode')}"
-                    + (f", again under {count(len(draws.params), 'parameter draw')}" if draws else "")
+                    + (
+                        f", again under {count(len(draws.params), 'parameter draw')}"
+                        if draws
+                        else ""
+                    )
                     + f" -> {out}",
                     err=True,
                 )

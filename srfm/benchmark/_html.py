@@ -196,11 +196,54 @@ def _shares(summary: Mapping[str, Any], scenario: str, planner: str) -> str:
     return f'<td class="name shares">{_esc(outcome_shares(counts))}</td>' if counts else "<td></td>"
 
 
+def _interval(entry: Mapping[str, Any], digits: int) -> str:
+    est, low, high = (entry.get(k) for k in ("estimate", "low", "high"))
+    if est is None:
+        return "–"
+    if low is None or high is None:
+        return f"{est:.{digits}f}"
+    return f"{est:.{digits}f} [{low:.{digits}f}, {high:.{digits}f}]"
+
+
+def _references(summary: Mapping[str, Any]) -> str:
+    """The reference points of every scenario (headroom, SE, seeds needed, whether it
+    discriminates), when the run has ``straight`` and ``oracle``."""
+    refs = summary.get("references")
+    if not refs:
+        return ""
+    rows = []
+    for scenario, ref in refs.items():
+        flag = (
+            '<td class="ok">yes</td>'
+            if ref["discriminates"]
+            else '<td class="bad nodisc">does not discriminate</td>'
+        )
+        se = ref.get("standard_error")
+        rows.append(
+            f'<tr><td class="name">{_esc(scenario)}</td>'
+            f"<td>{_esc(_interval(ref['headroom'], 3))}</td>"
+            f"<td>{'–' if se is None else f'{se:.3f}'}</td>"
+            f"<td>{_esc(ref.get('seeds_needed') or '–')}</td>{flag}</tr>"
+        )
+    return (
+        '<h3 id="references">Reference points: headroom and power</h3>'
+        '<div class="scroll"><table class="references"><thead><tr><th class="name">Scenario'
+        "</th><th>Headroom (m) [95 % CI]</th><th>SE (m)</th><th>Seeds for 0.05 m</th>"
+        '<th class="name">Discriminates</th></tr></thead><tbody>'
+        + "".join(rows)
+        + '</tbody></table></div><p class="legend">'
+        + _esc(summary.get("references_legend", ""))
+        + "</p>"
+    )
+
+
 def _wide_table(summary: Mapping[str, Any]) -> str:
     """A (scenario, planner) × column table of a ``summary.json`` table entry, with
+    each planner's normalised score (when the run has the reference planners) and
     each row's outcome shares last."""
     columns = [(str(n), str(h)) for n, h in summary["columns"]]
     n_seeds = int(summary["n_seeds"])
+    refs = summary.get("references") or {}
     head = "".join(
         ('<th class="cond">' if n.endswith(GIVEN_SUCCESS) else "<th>")
         + f"{_esc(h)} {_arrow(n)}</th>"
@@ -217,13 +260,19 @@ def _wide_table(summary: Mapping[str, Any]) -> str:
             tds = "".join(
                 _cell(cells[n], n_seeds, conditioned=n.endswith(GIVEN_SUCCESS)) for n, _ in columns
             )
+            if refs:
+                score = refs[scenario]["scores"][planner]
+                tds += f'<td class="score">{_esc(_interval(score, 2))}</td>'
             tds += _shares(summary, scenario, planner)
             rows.append(f'<tr>{first}<td class="name">{_esc(planner)}</td>{tds}</tr>')
+    score_head = "<th>Norm. score ↑</th>" if refs else ""
     return (
         '<div class="scroll"><table><thead><tr><th class="name">Scenario</th>'
-        f'<th class="name">Planner</th>{head}<th class="name">Outcomes</th></tr></thead><tbody>'
+        f'<th class="name">Planner</th>{head}{score_head}<th class="name">Outcomes</th></tr>'
+        "</thead><tbody>"
         + "".join(rows)
         + f'</tbody></table></div><p class="legend">{_esc(summary["legend"])}</p>'
+        + _references(summary)
     )
 
 

@@ -223,6 +223,7 @@ def render_tables(
             reference=reference,
             columns=columns,
             correction=CORRECTION_OF[key],
+            with_references=key == "table",
         )
         for key, columns in (
             ("table", TABLE_COLUMNS),

@@ -41,6 +41,15 @@ import numpy as np
 
 from srfm.errors import MetricError
 from srfm.metrics.episode import EPISODE_METRICS, METRIC_GROUPS, EpisodeMetrics, MetricInfo
+from srfm.metrics.headroom import (
+    DETECT_M,
+    MIN_HEADROOM_M,
+    MIN_STANDARD_ERRORS,
+    POWER,
+    Interval,
+    ScenarioReferences,
+    scenario_references,
+)
 from srfm.metrics.stats import (
     ALPHA,
     CORRECTIONS,
@@ -61,10 +70,12 @@ __all__ = [
     "Cell",
     "base_metric",
     "benchmark_table",
+    "discrimination_text",
     "given_success",
     "legend",
     "min_n_for_best",
     "outcome_shares",
+    "references_markdown",
     "share_text",
     "summary_dict",
     "to_latex",
@@ -134,6 +145,10 @@ EXTENDED_COLUMNS: Final[tuple[tuple[str, str], ...]] = tuple(
 """Every episode metric, grouped (pedestrian side, social, robot), for the extended
 table; each pedestrian and social metric followed by the same conditioned on success."""
 
+REFERENCE_PAIR: Final = ("straight", "oracle")
+"""The planners whose presence adds the reference points (headroom, normalised scores)
+to a table with a Fréchet column."""
+
 DEFAULT_CORRECTION: Final = "holm"
 """The correction of a table's family of tests unless it names another."""
 
@@ -177,6 +192,11 @@ class BenchmarkTable:
             the correction was taken over.
         outcomes: ``outcomes[(scenario, planner)][outcome]``: how many of the seeds
             ended in each of :data:`srfm.sim.record.ROBOT_OUTCOMES`.
+        references: per scenario, the Fréchet deviation's reference points (headroom,
+            normalised scores, standard error, seeds needed, whether it
+            discriminates; :mod:`srfm.metrics.headroom`) when the table has a
+            ``frechet_m`` column and both the ``straight`` and ``oracle`` planners;
+            empty otherwise.
     """
 
     columns: tuple[tuple[str, str], ...]
@@ -189,6 +209,7 @@ class BenchmarkTable:
     correction: str = DEFAULT_CORRECTION
     family: Mapping[str, int] = attrs.field(factory=dict)
     outcomes: Mapping[tuple[str, str], Mapping[str, int]] = attrs.field(factory=dict)
+    references: Mapping[str, ScenarioReferences] = attrs.field(factory=dict)
 
     @property
     def min_n(self) -> int:
@@ -225,6 +246,7 @@ def benchmark_table(
     reference: str | None,
     columns: Sequence[tuple[str, str]] = TABLE_COLUMNS,
     correction: str = DEFAULT_CORRECTION,
+    with_references: bool = True,
 ) -> BenchmarkTable:
     """Summaries, best marks and significance for every (scenario, planner, column).
 
@@ -240,6 +262,8 @@ def benchmark_table(
         correction: the multiple-comparison correction over the table's family of tests
             (each kind of test its own family), one of
             :data:`srfm.metrics.stats.CORRECTIONS`.
+        with_references: add the reference points (``references``) when the run has
+            ``straight`` and ``oracle`` and the table a ``frechet_m`` column.
     """
     if reference is not None and reference not in planners:
         raise MetricError(f"reference planner {reference!r} is not among {list(planners)}")
@@ -267,6 +291,24 @@ def benchmark_table(
                 if reference is not None and p != reference:
                     raw.setdefault((scenario, p), {})[name] = compare(values[reference], values[p])
     comps, family = _adjusted(raw, correction)
+    references: dict[str, ScenarioReferences] = {}
+    if (
+        with_references
+        and all(p in planners for p in REFERENCE_PAIR)
+        and any(n == "frechet_m" for n, _ in columns)
+    ):
+        for scenario in scenarios:
+            references[scenario] = scenario_references(
+                {
+                    p: np.array(
+                        [
+                            _column_value(r, "frechet_m")
+                            for r in _by_seed(results, scenario, p, seeds)
+                        ]
+                    )
+                    for p in planners
+                }
+            )
     cells: dict[tuple[str, str], dict[str, Cell]] = {}
     for scenario in scenarios:
         for name, _ in columns:
@@ -289,6 +331,7 @@ def benchmark_table(
         correction=correction,
         family=family,
         outcomes=outcomes,
+        references=references,
     )
 
 
@@ -455,17 +498,78 @@ def to_markdown(table: BenchmarkTable) -> str:
     (:func:`legend`) underneath."""
     headers = ["Scenario", "Planner"]
     headers += [f"{h}{_arrow(n)}".replace("|", "\\|") for n, h in table.columns]
+    scored = bool(table.references)
+    if scored:
+        headers.append("Norm. score ↑")
     headers.append("Outcomes")
     lines = [
         "| " + " | ".join(headers) + " |",
-        "|" + "|".join(["---"] * 2 + ["--:"] * len(table.columns) + ["---"]) + "|",
+        "|" + "|".join(["---"] * 2 + ["--:"] * (len(table.columns) + scored) + ["---"]) + "|",
     ]
     for scenario in table.scenarios:
         for planner in table.planners:
             texts = [_text(table, scenario, planner, n, latex=False) for n, _ in table.columns]
+            if scored:
+                texts.append(_interval_text(table.references[scenario].scores[planner], ".2f"))
             shares = outcome_shares(table.outcomes[(scenario, planner)])
             lines.append("| " + " | ".join([scenario, planner, *texts, shares]) + " |")
-    return "\n".join(lines) + "\n\n" + legend(table) + "\n"
+    text = "\n".join(lines) + "\n\n" + legend(table) + "\n"
+    if scored:
+        text += "\n" + references_markdown(table)
+    return text
+
+
+def _interval_text(x: Interval, spec: str) -> str:
+    if math.isnan(x.estimate):
+        return "–"
+    if math.isnan(x.low):
+        return format(x.estimate, spec)
+    return f"{x.estimate:{spec}} [{x.low:{spec}}, {x.high:{spec}}]"
+
+
+def discrimination_text(ref: ScenarioReferences) -> str:
+    """``yes`` or ``does not discriminate`` with the reason."""
+    if ref.discriminates:
+        return "yes"
+    room = ref.headroom.estimate
+    why = []
+    if not room >= MIN_HEADROOM_M:
+        why.append(f"headroom < {MIN_HEADROOM_M:g} m")
+    if not room >= MIN_STANDARD_ERRORS * ref.standard_error:
+        why.append(f"headroom < {MIN_STANDARD_ERRORS:g} SE")
+    return "**does not discriminate**" + (f" ({', '.join(why)})" if why else "")
+
+
+def references_legend() -> str:
+    """What the reference points are, in one paragraph."""
+    return (
+        "Reference points of the Fréchet deviation (docs/benchmark.md): headroom = "
+        "straight − oracle, mean over the seeds with its paired 95 % t-interval; SE: the "
+        "seed-to-seed standard error of straight's mean; seeds needed to detect a "
+        f"{DETECT_M:g} m difference between two planners (paired t-test, α = {ALPHA}, "
+        f"power {POWER:g}); a scenario whose headroom is below {MIN_HEADROOM_M:g} m or "
+        f"below {MIN_STANDARD_ERRORS:g} SE does not discriminate. Norm. score = "
+        "(straight − planner) / (straight − oracle) of the means (0: straight, 1: the "
+        "oracle), with the 95 % percentile interval of a paired bootstrap over seeds."
+    )
+
+
+def references_markdown(table: BenchmarkTable) -> str:
+    """The reference points of every scenario as a Markdown table with its legend."""
+    lines = [
+        "| Scenario | Headroom (m) [95 % CI] | SE (m) | Seeds for "
+        f"{DETECT_M:g} m | Discriminates |",
+        "|---|--:|--:|--:|---|",
+    ]
+    for scenario in table.scenarios:
+        ref = table.references[scenario]
+        needed = "–" if ref.seeds_needed is None else str(ref.seeds_needed)
+        se = "–" if math.isnan(ref.standard_error) else f"{ref.standard_error:.3f}"
+        lines.append(
+            f"| {scenario} | {_interval_text(ref.headroom, '.3f')} | {se} | {needed} | "
+            f"{discrimination_text(ref)} |"
+        )
+    return "\n".join(lines) + "\n\n" + references_legend() + "\n"
 
 
 def _row_label(name: str) -> str:
@@ -532,10 +636,13 @@ def to_latex(table: BenchmarkTable) -> str:
         f"\\textbf{{{_tex_escape(h)}}} {_TEX_ARROWS[_INFO[base_metric(n)].better]}".rstrip()
         for n, h in table.columns
     ]
+    scored = bool(table.references)
+    if scored:
+        heads.append("\\textbf{Norm. score} $\\uparrow$")
     heads.append("\\textbf{Outcomes}")
     lines = [
         _tex_comment(legend(table, markdown=False)),
-        "\\begin{tabular}{ll" + "c" * len(table.columns) + "l}",
+        "\\begin{tabular}{ll" + "c" * (len(table.columns) + scored) + "l}",
         "\\hline",
         " & \\textbf{Planner} & " + " & ".join(heads) + " \\\\",
         "\\hline",
@@ -548,6 +655,9 @@ def to_latex(table: BenchmarkTable) -> str:
                 else ""
             )
             texts = [_text(table, scenario, planner, n, latex=True) for n, _ in table.columns]
+            if scored:
+                score = table.references[scenario].scores[planner]
+                texts.append(_interval_text(score, ".2f").replace("–", "--"))
             shares = _tex_escape(outcome_shares(table.outcomes[(scenario, planner)]))
             lines.append(" & ".join([first, _tex_escape(planner), *texts, shares]) + " \\\\")
         lines.append("\\hline")
@@ -618,6 +728,11 @@ def summary_dict(table: BenchmarkTable) -> dict[str, Any]:
         },
         "scenarios": {},
     }
+    if table.references:
+        out["references"] = {
+            scenario: _references_dict(table.references[scenario]) for scenario in table.scenarios
+        }
+        out["references_legend"] = references_legend()
     for scenario in table.scenarios:
         per_planner: dict[str, Any] = {}
         for planner in table.planners:
@@ -644,3 +759,25 @@ def summary_dict(table: BenchmarkTable) -> dict[str, Any]:
             per_planner[planner] = metrics
         out["scenarios"][scenario] = per_planner
     return out
+
+
+def _interval_dict(x: Interval) -> dict[str, Any]:
+    return {
+        "estimate": _json_number(x.estimate),
+        "low": _json_number(x.low),
+        "high": _json_number(x.high),
+        "n": x.n,
+        "level": x.level,
+    }
+
+
+def _references_dict(ref: ScenarioReferences) -> dict[str, Any]:
+    return {
+        "n": ref.n,
+        "headroom": _interval_dict(ref.headroom),
+        "standard_error": _json_number(ref.standard_error),
+        "sd_diff": _json_number(ref.sd_diff),
+        "seeds_needed": ref.seeds_needed,
+        "discriminates": ref.discriminates,
+        "scores": {p: _interval_dict(x) for p, x in ref.scores.items()},
+    }

@@ -414,3 +414,82 @@ def test_marks_follow_the_adjusted_p_values_of_the_table_family() -> None:
     assert summary_dict(holm)["correction"] == "holm"
     with pytest.raises(MetricError, match="unknown correction 'sidak'"):
         benchmark_table(results, correction="sidak", **kwargs)  # type: ignore[arg-type]
+
+
+def test_reference_points_when_the_run_has_straight_and_oracle() -> None:
+    from srfm.benchmark._html import _wide_table
+    from srfm.metrics.headroom import headroom
+
+    # "wide": straight 1.0 + noise, oracle 0.6, "half" halfway; "flat": everyone at 1.0
+    # but the oracle 0.98 (headroom 0.02 m < 0.1 m: does not discriminate).
+    rng = np.random.default_rng(3)
+    results = []
+    for seed in range(10):
+        noise = rng.normal(0.0, 0.05)
+        for scenario, values in (
+            ("wide", {"straight": 1.0, "oracle": 0.6, "half": 0.8}),
+            ("flat", {"straight": 1.0, "oracle": 0.98, "half": 1.0}),
+        ):
+            for planner, value in values.items():
+                results.append(
+                    EpisodeMetrics(
+                        scenario=scenario,
+                        planner=planner,
+                        seed=seed,
+                        outcome="goal_reached",
+                        end_step=10,
+                        values={"frechet_m": value + noise + 0.01 * rng.normal()},
+                        pedestrians={},
+                    )
+                )
+    table = benchmark_table(
+        results,
+        scenarios=["wide", "flat"],
+        planners=["straight", "oracle", "half"],
+        seeds=range(10),
+        reference=None,
+        columns=[("frechet_m", "F")],
+    )
+    wide = table.references["wide"]
+    values = {
+        p: [r.values["frechet_m"] for r in results if r.scenario == "wide" and r.planner == p]
+        for p in ("straight", "oracle", "half")
+    }
+    assert wide.headroom == headroom(values["straight"], values["oracle"])
+    assert wide.headroom.estimate == pytest.approx(0.4, abs=0.02)
+    assert wide.scores["half"].estimate == pytest.approx(0.5, abs=0.05)
+    assert wide.scores["straight"].estimate == 0.0
+    assert wide.discriminates
+    assert not table.references["flat"].discriminates
+    md = to_markdown(table)
+    assert "Norm. score ↑" in md.splitlines()[0]
+    flat = table.references["flat"].headroom
+    assert f"| flat | {flat.estimate:.3f} [{flat.low:.3f}, {flat.high:.3f}] |" in md
+    assert flat.estimate == pytest.approx(0.02, abs=0.01)
+    assert "**does not discriminate** (headroom < 0.1 m" in md
+    summary = summary_dict(table)
+    assert summary["references"]["flat"]["discriminates"] is False
+    assert summary["references"]["wide"]["scores"]["oracle"]["estimate"] == 1.0
+    page = _wide_table(summary)
+    assert "<th>Norm. score ↑</th>" in page
+    assert '<td class="bad nodisc">does not discriminate</td>' in page
+    # Without the oracle, or without asking, there are no reference points.
+    assert not benchmark_table(
+        results,
+        scenarios=["wide"],
+        planners=["straight", "half"],
+        seeds=range(10),
+        reference=None,
+        columns=[("frechet_m", "F")],
+    ).references
+    assert "Norm. score" not in to_markdown(
+        benchmark_table(
+            results,
+            scenarios=["wide"],
+            planners=["straight", "oracle"],
+            seeds=range(10),
+            reference=None,
+            columns=[("frechet_m", "F")],
+            with_references=False,
+        )
+    )

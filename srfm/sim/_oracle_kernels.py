@@ -80,4 +80,4 @@ def prefix_frechet_mean(table: np.ndarray, t: int, band: int) -> float:
         for j in range(lo, hi + 1):
             best = min(best, table[i, j])
         total += best
-    return total / n
+    return float(total / n)

@@ -40,7 +40,6 @@ library's order. The report runs them on seeds 0-99, which the selection never s
 from __future__ import annotations
 
 import argparse
-import csv
 import json
 import math
 import subprocess
@@ -80,20 +79,21 @@ SELECTION = ROOT / "docs" / "discrimination" / "selection.json"
 
 def _read(out: Path) -> tuple[list[str], dict[tuple[str, str], dict[int, dict[str, float]]]]:
     """Scenarios in order, and per (scenario, planner) per seed its frechet_m and
-    success."""
+    success, from the run's per-episode files (so a run still going can be read: a
+    scenario counts once every planner of ``PLANNERS`` has all its seeds)."""
     cells: dict[tuple[str, str], dict[int, dict[str, float]]] = defaultdict(dict)
-    scenarios: list[str] = []
-    with (out / "episodes.csv").open() as fh:
-        for row in csv.DictReader(fh):
-            s = row["scenario"]
-            if s not in scenarios:
-                scenarios.append(s)
-            value = row["frechet_m"]
-            cells[s, row["planner"]][int(row["seed"])] = {
-                "frechet_m": float(value) if value not in ("", "nan") else math.nan,
-                "success": float(row["robot_success"]),
-            }
-    return scenarios, cells
+    manifest = json.loads((out / "manifest.json").read_text(encoding="utf-8"))
+    order = list(manifest["request"]["scenarios"])
+    n_seeds = len(manifest["request"]["seeds"])
+    for path in sorted((out / "episodes").glob("*/*/seed-*.json")):
+        doc = json.loads(path.read_text(encoding="utf-8"))
+        value = doc["metrics"]["frechet_m"]
+        cells[doc["scenario"], doc["planner"]][int(doc["seed"])] = {
+            "frechet_m": math.nan if value is None else float(value),
+            "success": float(doc["outcome"] == "goal_reached"),
+        }
+    done = [s for s in order if all(len(cells.get((s, p), {})) == n_seeds for p in PLANNERS)]
+    return done, cells
 
 
 def _measure(out: Path) -> list[dict[str, Any]]:

@@ -35,7 +35,7 @@ import hashlib
 import io
 import json
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, Final
 
@@ -466,15 +466,3 @@ def render_rankings(
         RANKINGS_MD: rankings_markdown(table).encode("utf-8"),
         RANKINGS_JSON: (json.dumps(rankings_document(table), indent=1) + "\n").encode("utf-8"),
     }
-
-
-def run_param_draws(
-    run: Callable[[SRFMParams, Path, int], object],
-    out: Path,
-    draws: ParamDraws,
-) -> None:
-    """Run the benchmark once per draw: ``run(params, folder, k)`` into
-    :func:`draw_folder` (``out/draws/draw-NNN``) after :func:`check_param_draws`."""
-    check_param_draws(out, draws)
-    for k, params in enumerate(draws.params):
-        run(params, draw_folder(out, k), k)

@@ -214,9 +214,9 @@ def _references(summary: Mapping[str, Any]) -> str:
     rows = []
     for scenario, ref in refs.items():
         flag = (
-            '<td class="ok">yes</td>'
+            '<td class="name ok">yes</td>'
             if ref["discriminates"]
-            else '<td class="bad nodisc">does not discriminate</td>'
+            else '<td class="name bad nodisc">does not discriminate</td>'
         )
         se = ref.get("standard_error")
         rows.append(

@@ -472,7 +472,7 @@ def test_reference_points_when_the_run_has_straight_and_oracle() -> None:
     assert summary["references"]["wide"]["scores"]["oracle"]["estimate"] == 1.0
     page = _wide_table(summary)
     assert "<th>Norm. score ↑</th>" in page
-    assert '<td class="bad nodisc">does not discriminate</td>' in page
+    assert '<td class="name bad nodisc">does not discriminate</td>' in page
     # Without the oracle, or without asking, there are no reference points.
     assert not benchmark_table(
         results,

@@ -464,9 +464,9 @@ def run_benchmark(
         recover_file_set(out)  # a report set cut short by a kill: finish it first
         remove_stale_temporaries(out)
         manifest = check_manifest(out, request, command)
-        atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
-        if param_draws is not None:
+        if param_draws is not None:  # other draws are refused before anything is written
             check_param_draws(out, param_draws)
+        atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
         damaged: list[str] = []
         tasks = _pending_tasks(out, request, writer, figures, damaged)
         cells = len(request.scenarios) * len(request.planners) * len(request.seeds)

@@ -136,8 +136,10 @@ def test_a_benchmark_under_parameter_draws(tmp_path: Path) -> None:
     again = run_benchmark(request, out, jobs=1, figures=False, param_draws=draws)
     assert again.simulated == 0
     assert (out / "rankings.json").read_bytes() == before
-    # Other draws in the same folder are refused before anything runs.
+    # Other draws in the same folder are refused before anything is written.
+    files = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
     with pytest.raises(BenchmarkError, match=r"other parameter draws \(seed differs\)"):
         run_benchmark(
             request, out, jobs=1, figures=False, param_draws=draw_params(request.params, 2)
         )
+    assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == files

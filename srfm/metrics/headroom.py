@@ -38,7 +38,6 @@ from typing import Final
 import attrs
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import stats
 
 from srfm.errors import MetricError
 from srfm.metrics.stats import ALPHA
@@ -128,6 +127,8 @@ def headroom(straight: ArrayLike, oracle: ArrayLike, *, level: float = 0.95) -> 
     mean = float(d.mean())
     if n < 2:
         return Interval(mean, math.nan, math.nan, n, _level(level))
+    from scipy import stats  # here: the benchmark's tables import this module, not scipy.stats
+
     half = (
         float(stats.t.ppf(0.5 + _level(level) / 2.0, n - 1)) * float(d.std(ddof=1)) / math.sqrt(n)
     )
@@ -200,6 +201,8 @@ def seeds_needed(
         MetricError: a non-finite or negative SD, a non-positive delta, alpha or power
             outside (0, 1), or more than ``most`` seeds needed.
     """
+    from scipy import stats
+
     if not (math.isfinite(sd_diff) and sd_diff >= 0.0):
         raise MetricError(f"sd_diff must be a finite number >= 0, got {sd_diff!r}")
     if not (math.isfinite(delta) and delta > 0.0):

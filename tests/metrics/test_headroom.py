@@ -30,7 +30,8 @@ def test_headroom_is_the_paired_t_interval() -> None:
     assert room.estimate == pytest.approx(0.2)
     assert (room.low, room.high) == pytest.approx((0.2 - half, 0.2 + half))
     assert not room.excludes_zero()  # three seeds are too few to tell
-    assert headroom([*straight[:3], 0.0, 0.01, 0.02], oracle[:3] - 1.0).excludes_zero()
+    # six seeds, differences 0.1, 0.3, 0.2, 0.2, 0.2, 0.2: the interval excludes zero
+    assert headroom([*straight[:3], 1.0, 1.1, 1.2], [*oracle[:3], 0.8, 0.9, 1.0]).excludes_zero()
     one = headroom([1.0], [0.5])
     assert one.estimate == 0.5
     assert math.isnan(one.low)

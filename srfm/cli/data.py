@@ -334,6 +334,41 @@ def _add_window_options(func: F, stride_s: float) -> F:
             help="Start windows only where the initial speed is at least this (m/s); "
             "the NavWareSet protocol uses 0.3 (docs/fitting.md).",
         ),
+        click.option(
+            "--align",
+            type=click.Choice(["stride", "encounter"]),
+            default="stride",
+            show_default=True,
+            help="Where windows start: every --stride along each track, or once per "
+            "encounter with the robot, --lead before the closest approach "
+            "(docs/real_encounters.md).",
+        ),
+        click.option(
+            "--lead",
+            "lead_s",
+            type=float,
+            default=3.0,
+            show_default=True,
+            help="With --align encounter: time from the window start to the closest "
+            "approach (s); shorter than --horizon.",
+        ),
+        click.option(
+            "--goal",
+            type=click.Choice(["track_end", "heading"]),
+            default="track_end",
+            show_default=True,
+            help="The pedestrian's goal: the track's last position, or a point "
+            "--goal-distance straight ahead along the initial velocity (uses nothing "
+            "observed after the window start).",
+        ),
+        click.option(
+            "--goal-distance",
+            "goal_distance_m",
+            type=float,
+            default=10.0,
+            show_default=True,
+            help="With --goal heading: distance of the goal ahead (m).",
+        ),
     ]
     for option in reversed(options):
         func = option(func)
@@ -403,7 +438,7 @@ def fit(
     max_nfev: int,
     fit_lambda_robot: bool,
     as_json: bool,
-    **window: float,
+    **window: Any,
 ) -> None:
     """Learn SRFM parameters from dataset MCAP FILES by nonlinear least squares.
 
@@ -437,7 +472,7 @@ def fit(
         "created_by": f"srfm fit (srfm {__version__})",
         "data": ", ".join(f.name for f in files),
         "start": start_spec or "agrawal2024",
-        **{k: float(v) for k, v in window.items()},
+        **{k: v if isinstance(v, str) else float(v) for k, v in window.items()},
         "fit_time_s": round(elapsed, 1),
         "fit_lambda_robot": fit_lambda_robot,
     }
@@ -509,7 +544,7 @@ def _stage_dict(s: Any) -> dict[str, Any]:
 @_window_options(stride_s=0.4)
 @click.option("--json", "as_json", is_flag=True, help="Print the table as JSON.")
 @user_errors
-def ade(files: Sequence[Path], params_spec: str | None, as_json: bool, **window: float) -> None:
+def ade(files: Sequence[Path], params_spec: str | None, as_json: bool, **window: Any) -> None:
     """ADE/FDE of the paper's models and a constant-velocity baseline on dataset FILES.
 
     Rows: CV and SFM on non-interaction windows; CV, SFM (robot ignored), SFM (robot as
@@ -521,6 +556,13 @@ def ade(files: Sequence[Path], params_spec: str | None, as_json: bool, **window:
     params = load_params_option(params_spec)
     windows = _load_windows(files, **window)
     if windows.n_windows == 0:
+        if window["align"] == "encounter":
+            raise DatasetError(
+                "no prediction windows: no track comes within the interaction radius "
+                f"({window['interaction_radius_m']:g} m) of the robot with "
+                f"{window['lead_s']:g} s before and "
+                f"{window['horizon_s'] - window['lead_s']:g} s after its closest approach"
+            )
         raise DatasetError(
             "no prediction windows: every pedestrian track is shorter than the horizon "
             f"({window['horizon_s']:g} s) plus the initial-velocity span (0.4 s)"

@@ -70,13 +70,16 @@ def replay_windows(
         e_a, e_b: (E, 2) entry position at its frame and at the next frame (the same
             if the pedestrian is not observed there).
         rb_on: (G,) the robot is observed at this frame.
-        rb_a, rb_b: (G, 2) robot position at the frame and at the next frame.
+        rb_a, rb_b: (G, 2) robot position at the frame and at the next frame (the
+            robot's velocity over the interval, (rb_b − rb_a) / dt, is what the
+            anticipatory robot forms read).
         dt: (G,) time from each frame to the next (s); 0 after a scene's last frame.
         ped_radius, robot_radius: body radii (m).
         max_substep: longest integration step (s); each frame interval is split into
             ceil(dt / max_substep − 1e-6) equal substeps (the tolerance keeps a 15 Hz
             interval rounded to whole nanoseconds at one substep of 1/15 s).
-        params: the SRFM parameters (``SRFMParams.for_kernels``).
+        params: the SRFM parameters (``SRFMParams.for_kernels``), with the robot force in
+            its form (``robot_form``).
         use_robot: apply the robot force (SRFM); False ignores the robot (SFM).
         out: (S, 2) predicted positions (m), written for the selected windows only.
     """
@@ -92,7 +95,7 @@ def replay_windows(
     vmax = np.zeros(1)
     force = np.zeros((1, 2))
     cut, ped = exact_cut()
-    robot = np.zeros(3)
+    robot = np.zeros(5)  # x, y, radius, vx, vy
     robot[2] = robot_radius
     obstacles = ObstacleArrays(np.zeros((0, 4)), np.zeros((0, 3)), np.zeros((0, 2)), np.zeros(0))
     for q in range(sel.shape[0]):
@@ -123,6 +126,9 @@ def replay_windows(
                 if robot_on:
                     robot[0] = rb_a[g, 0] + alpha * (rb_b[g, 0] - rb_a[g, 0])
                     robot[1] = rb_a[g, 1] + alpha * (rb_b[g, 1] - rb_a[g, 1])
+                    # the observed robot's velocity over the frame interval
+                    robot[3] = (rb_b[g, 0] - rb_a[g, 0]) / dt[g] if dt[g] > 0.0 else 0.0
+                    robot[4] = (rb_b[g, 1] - rb_a[g, 1]) / dt[g] if dt[g] > 0.0 else 0.0
                 crowd = CrowdArrays(pos[:n], vel[:n], goal[:n], radius[:n], v0[:n], vmax)
                 context = ForceContext(params, robot, robot_on, obstacles, cut)
                 g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(0, crowd, context, ped)

@@ -254,12 +254,12 @@ def _forces(record: EpisodeRecord, scenario: Scenario) -> dict[str, FloatArray]:
             vmax=crowd0.vmax[:m],
         )
         x, y = record.robot_pose[k, :2]
-        fc = force_components(
-            crowd,
-            record.params,
-            RobotBody(x=float(x), y=float(y), radius=record.robot_radius),
-            scenario.obstacles,
+        # the robot's velocity as the crowd felt it (0 once its episode has ended)
+        vx, vy = record.robot_vel[k] if record.robot_active[k] else (0.0, 0.0)
+        body = RobotBody(
+            x=float(x), y=float(y), radius=record.robot_radius, vx=float(vx), vy=float(vy)
         )
+        fc = force_components(crowd, record.params, body, scenario.obstacles)
         out["goal"][k, :m] = fc.goal
         out["pedestrians"][k, :m] = fc.pedestrians
         out["robot"][k, :m] = fc.robot

@@ -18,7 +18,9 @@ import math
 import numpy as np
 from numba import njit
 
-from srfm.models._primitives import EPS, disc_repulsion
+from srfm.models._primitives import EPS
+from srfm.models._robot_forces import robot_force, robot_strength
+from srfm.models.params import SRFMKernelParams
 
 __all__ = ["force_exposure", "min_time_to_collision", "near_miss_entries", "stopped_samples"]
 
@@ -122,9 +124,8 @@ def force_exposure(
     radius: np.ndarray,
     robot_xy: np.ndarray,
     robot_radius: float,
-    a_r: float,
-    b_r: float,
-    lambda_r: float,
+    robot_moving: np.ndarray,
+    params: SRFMKernelParams,
     dt: float,
     enter: np.ndarray,
     magnitude: np.ndarray,
@@ -133,31 +134,42 @@ def force_exposure(
     """The magnitude of the SRFM robot term on each factual pedestrian at every step.
 
     For every sample k = 0..T − 1 (the state a step starts from) and pedestrian i:
-    |f_robot| = A_r exp((r_i + r_r − d) / B_r) ψ(φ; λ_r) (docs/model.md, the model's own
-    primitive :func:`srfm.models._primitives.disc_repulsion`), with the heading the
-    direction of the step velocity, else of the goal, else none (ψ = 1); into
+    |f_robot|, the model's own robot force in the parameter set's form
+    (:func:`srfm.models._robot_forces.robot_force`; the paper's A_r exp((r_i + r_r − d)
+    / B_r) ψ(φ; λ_r) by default), with the pedestrian's velocity its step velocity, the
+    heading the direction of that velocity, else of the goal, else none (ψ = 1), and
+    the robot's velocity its step velocity while ``robot_moving[k]`` (the robot's
+    episode goes on at k), else 0 (it stands where its episode ended); into
     ``magnitude[k, i]`` ((T, N)). ``work[i]`` gets Σ_k |f_k| |x_(k+1) − x_k|, the force
     integrated along the pedestrian's path (m²/s², J per kg). Before its entry sample a
     pedestrian gets 0.
     """
     steps = pos.shape[0] - 1
     n = pos.shape[1]
+    body = np.zeros(5)
+    body[2] = robot_radius
+    on = robot_strength(params) != 0.0
     for i in range(n):
         work[i] = 0.0
     for k in range(steps):
-        sx = robot_xy[k, 0]
-        sy = robot_xy[k, 1]
+        body[0] = robot_xy[k, 0]
+        body[1] = robot_xy[k, 1]
+        body[3] = 0.0
+        body[4] = 0.0
+        if k > 0 and robot_moving[k]:
+            body[3] = (robot_xy[k, 0] - robot_xy[k - 1, 0]) / dt
+            body[4] = (robot_xy[k, 1] - robot_xy[k - 1, 1]) / dt
         for i in range(n):
             px = pos[k, i, 0]
             py = pos[k, i, 1]
             mag = 0.0
-            if a_r != 0.0 and k >= enter[i]:
-                hx, hy = _step_velocity(pos, k, i, dt)
-                speed = math.sqrt(hx * hx + hy * hy)
+            if on and k >= enter[i]:
+                vx, vy = _step_velocity(pos, k, i, dt)
+                speed = math.sqrt(vx * vx + vy * vy)
                 has_h = True
                 if speed > EPS:
-                    hx /= speed
-                    hy /= speed
+                    hx = vx / speed
+                    hy = vy / speed
                 else:
                     hx = goal[k, i, 0] - px
                     hy = goal[k, i, 1] - py
@@ -167,9 +179,7 @@ def force_exposure(
                         hy /= gd
                     else:
                         has_h = False
-                fx, fy = disc_repulsion(
-                    px, py, sx, sy, radius[i] + robot_radius, a_r, b_r, hx, hy, has_h, lambda_r
-                )
+                fx, fy = robot_force(px, py, vx, vy, radius[i], hx, hy, has_h, body, params)
                 mag = math.sqrt(fx * fx + fy * fy)
             magnitude[k, i] = mag
             dx = pos[k + 1, i, 0] - px

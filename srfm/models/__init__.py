@@ -6,10 +6,17 @@ from srfm.models.forces import (
     force_components,
     step_crowd,
 )
-from srfm.models.params import PRESETS, SRFMParams, load_params, save_params
+from srfm.models.params import (
+    PRESETS,
+    ROBOT_FORMS,
+    SRFMParams,
+    load_params,
+    save_params,
+)
 
 __all__ = [
     "PRESETS",
+    "ROBOT_FORMS",
     "ForceComponents",
     "RobotBody",
     "SRFMParams",

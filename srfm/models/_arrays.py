@@ -61,7 +61,8 @@ class ForceContext(NamedTuple):
 
     Attributes:
         params: SRFM parameters (:meth:`srfm.SRFMParams.for_kernels`).
-        robot: (3,) the robot's body as the crowd perceives it: x, y, radius (m).
+        robot: (5,) the robot's body as the crowd perceives it: x, y, radius (m) and
+            velocity vx, vy (m/s) (the anticipatory forms of the robot force read it).
         robot_on: the crowd feels the robot (False: the counterfactual twin, or no
             robot).
         obstacles: walls and pillars.

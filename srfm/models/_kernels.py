@@ -4,12 +4,13 @@ Plain module-level functions over C-contiguous float64 arrays: no objects, no
 allocation inside loops, no I/O, no raising, no random draws. Shapes: ``pos``, ``vel``,
 ``goal`` (N, 2); ``radius``, ``v0``, ``vmax`` (N,); ``params`` the
 :class:`~srfm.models.params.SRFMKernelParams` of :meth:`srfm.SRFMParams.for_kernels`;
-``robot`` (3,) = (x, y, radius); ``segments`` (M, 4) = (x1, y1, x2, y2); ``circles``
+``robot`` (5,) = (x, y, radius, vx, vy); ``segments`` (M, 4) = (x1, y1, x2, y2); ``circles``
 (K, 3) = (cx, cy, radius). All forces are accelerations (m/s², unit mass).
 
 The force primitives (desired velocity, capped exponential, anisotropy ψ, push of a
 disc, closest point of a wall) live in :mod:`srfm.models._primitives`, shared with the
-social-force planner. Exponents are
+social-force planner; the robot's force, in the form the parameters name, in
+:mod:`srfm.models._robot_forces`. Exponents are
 capped at ``EXP_ARG_MAX`` (e^60 ≈ 1e26), far beyond any force that changes a step (the
 speed cap clips it), so that extreme but valid inputs (tiny B, deep overlap with a
 large pillar) give huge finite forces instead of inf and NaN.
@@ -43,6 +44,7 @@ from srfm.models._primitives import (
     desired_velocity,
     disc_repulsion,
 )
+from srfm.models._robot_forces import robot_force
 from srfm.models.params import SRFMKernelParams
 
 if TYPE_CHECKING:
@@ -113,16 +115,12 @@ def _agent_forces(
         pfx = ped[i, 0]
         pfy = ped[i, 1]
 
-    # Robot repulsion (absent in the counterfactual twin, or when A_r = 0).
+    # Robot repulsion in the parameter set's form (absent in the counterfactual twin, or
+    # when the form's strength is 0).
     rfx = 0.0
     rfy = 0.0
-    a_r = params.a_robot
-    if context.robot_on and a_r != 0.0:
-        b_r = params.b_robot
-        lam_r = params.lambda_robot
-        rfx, rfy = disc_repulsion(
-            px, py, robot[0], robot[1], ri + robot[2], a_r, b_r, hx, hy, has_h, lam_r
-        )
+    if context.robot_on:
+        rfx, rfy = robot_force(px, py, vx, vy, ri, hx, hy, has_h, robot, params)
 
     # Obstacle repulsion from the closest point of every wall segment and pillar.
     ofx = 0.0

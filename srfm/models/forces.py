@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm._jit import specialize_once
+from srfm._validate import MAX_SPEED_MPS
 from srfm.errors import SimulationError
 from srfm.models import _kernels
 from srfm.models._arrays import ForceContext
@@ -54,20 +55,24 @@ MAX_DT_S: Final = 1.0
 
 _NO_OBSTACLES: Final = Obstacles()
 # The kernels' robot argument when there is no robot (never read then, never written).
-_NO_ROBOT: Final = np.zeros(3)
+_NO_ROBOT: Final = np.zeros(5)
 
 
 @attrs.frozen(kw_only=True)
 class RobotBody:
-    """What the pedestrians perceive of the robot: a disc at ``(x, y)`` of ``radius`` (m)."""
+    """What the pedestrians perceive of the robot: a disc at ``(x, y)`` of ``radius`` (m)
+    moving with velocity ``(vx, vy)`` (m/s; the paper's exponential force ignores it, the
+    anticipatory forms of ``SRFMParams.robot_form`` read it)."""
 
     x: float
     y: float
     radius: float = 0.2
+    vx: float = 0.0
+    vy: float = 0.0
 
     def as_array(self) -> NDArray[np.float64]:
-        """(3,) = (x, y, radius), the kernels' layout."""
-        return np.array([self.x, self.y, self.radius], dtype=np.float64)
+        """(5,) = (x, y, radius, vx, vy), the kernels' layout."""
+        return np.array([self.x, self.y, self.radius, self.vx, self.vy], dtype=np.float64)
 
 
 @attrs.frozen(kw_only=True, eq=False)
@@ -89,8 +94,11 @@ def _robot_args(robot: RobotBody | None) -> tuple[NDArray[np.float64], bool]:
     if robot is None:
         return _NO_ROBOT, False
     arr = robot.as_array()
-    if not np.all(np.isfinite(arr)) or arr[2] < 0.0:
-        raise SimulationError(f"robot body must be finite with radius >= 0, got {robot!r}")
+    if not np.all(np.isfinite(arr)) or arr[2] < 0.0 or math.hypot(arr[3], arr[4]) > MAX_SPEED_MPS:
+        raise SimulationError(
+            f"robot body must be finite with radius >= 0 and speed <= {MAX_SPEED_MPS:g} m/s, "
+            f"got {robot!r}"
+        )
     return arr, True
 
 

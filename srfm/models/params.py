@@ -11,6 +11,12 @@ with the acceleration (unit mass, so forces are accelerations, m/s²)
     f_obs      = A_o exp((r_i − d_io) / B_o) n_oi
     ψ(φ; λ)    = λ + (1 − λ) (1 + cos φ) / 2                      (Eq. 5)
 
+The robot term f_robot has four forms (``robot_form``; docs/model.md): the paper's
+exponential force above (the default), the time-to-collision force of Karamouzas,
+Skinner and Guy (2014), the collision-prediction force of Zanlungo, Ikeda and Kanda
+(2011) and the elliptical force of Johansson, Helbing and Shukla (2007); each reads
+only its own parameters (:data:`FORM_FIELDS`).
+
 Model-level parameters live here; per-agent values (radius, desired and maximum speed)
 are arrays in :class:`srfm.CrowdState`.
 """
@@ -31,9 +37,43 @@ from srfm._io import MAX_TOML_BYTES, atomic_write_text, read_input_text, toml_sc
 from srfm._validate import finite_float, non_negative, positive, unit_interval
 from srfm.errors import ParameterError
 
-__all__ = ["PRESETS", "SRFMKernelParams", "SRFMParams", "load_params", "save_params"]
+__all__ = [
+    "FORM_FIELDS",
+    "PRESETS",
+    "ROBOT_FORMS",
+    "SRFMKernelParams",
+    "SRFMParams",
+    "load_params",
+    "save_params",
+]
 
 PARAMS_SCHEMA_VERSION: Final = 1
+
+ROBOT_FORMS: Final = ("exponential", "ttc", "collision_prediction", "elliptical")
+"""The forms of the robot force (``SRFMParams.robot_form``), in the order of their kernel
+codes (``SRFMKernelParams.robot_form``, ``srfm.models._robot_forces.FORM_*``)."""
+
+FORM_FIELDS: Final[dict[str, tuple[str, ...]]] = {
+    "exponential": ("a_robot", "b_robot", "lambda_robot"),
+    "ttc": ("ttc_k", "ttc_tau0", "robot_force_cap"),
+    "collision_prediction": ("cp_a", "cp_b", "cp_t_min", "cp_t_max", "robot_force_cap"),
+    "elliptical": ("ell_a", "ell_b", "ell_dt", "lambda_robot", "robot_force_cap"),
+}
+"""The parameters each robot form reads (its strength first)."""
+
+# The fields of the paper's model: a parameter set of the exponential form is written
+# (as_dict, save_params, manifests, logs) with these alone, as before the other forms.
+_PAPER_FIELDS: Final = (
+    "a_ped",
+    "b_ped",
+    "lambda_ped",
+    "tau",
+    "a_robot",
+    "b_robot",
+    "lambda_robot",
+    "a_obs",
+    "b_obs",
+)
 
 
 class SRFMKernelParams(NamedTuple):
@@ -41,7 +81,7 @@ class SRFMKernelParams(NamedTuple):
 
     The one definition of the parameter layout: :meth:`SRFMParams.for_kernels` builds
     it, and :meth:`SRFMParams.as_array` orders its vector by ``_fields``. numba types it
-    as a tuple of nine float64 and reads the fields by name.
+    as a tuple (the form code an int64, the rest float64) and reads the fields by name.
 
     Attributes:
         a_ped: A_p, pedestrian repulsion strength (m/s²).
@@ -53,6 +93,19 @@ class SRFMKernelParams(NamedTuple):
         lambda_robot: λ_r, anisotropy of the robot force.
         a_obs: A_o, obstacle repulsion strength (m/s²).
         b_obs: B_o, obstacle repulsion range (m).
+        robot_form: the robot force's form, the index of ``SRFMParams.robot_form`` in
+            :data:`ROBOT_FORMS`.
+        ttc_k: k, strength of the time-to-collision force (m²).
+        ttc_tau0: τ0, its cut-off time (s).
+        cp_a: A, strength of the collision-prediction force (dimensionless).
+        cp_b: B, its range (m).
+        cp_t_min: shortest time in its 1/t factor (s).
+        cp_t_max: its longest prediction time (s).
+        ell_a: A_e, strength of the elliptical force (m/s²).
+        ell_b: B_e, its range (m).
+        ell_dt: Δt, its prediction time (s).
+        robot_force_cap: the largest robot force of the ttc, collision_prediction and
+            elliptical forms (m/s²).
     """
 
     a_ped: float
@@ -64,6 +117,17 @@ class SRFMKernelParams(NamedTuple):
     lambda_robot: float
     a_obs: float
     b_obs: float
+    robot_form: int
+    ttc_k: float
+    ttc_tau0: float
+    cp_a: float
+    cp_b: float
+    cp_t_min: float
+    cp_t_max: float
+    ell_a: float
+    ell_b: float
+    ell_dt: float
+    robot_force_cap: float
 
 
 def _check_positive(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
@@ -92,6 +156,38 @@ def _check_unit(inst: Any, attribute: attrs.Attribute[float], value: Any) -> Non
     unit_interval(value, attribute.name, ParameterError)
 
 
+# Bounds of the anticipatory forms' times (s): within them, and the strength and state
+# bounds, every robot force is finite before its cap (srfm.models._robot_forces).
+MIN_TIME_S: Final = 1e-3
+MAX_TIME_S: Final = 1e3
+
+
+def _check_time(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    out = positive(value, attribute.name, ParameterError)
+    if not MIN_TIME_S <= out <= MAX_TIME_S:
+        raise ParameterError(
+            f"{attribute.name} must be in [{MIN_TIME_S:g}, {MAX_TIME_S:g}] s, got {value!r}"
+        )
+
+
+def _check_duration(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    out = non_negative(value, attribute.name, ParameterError)
+    if out > MAX_TIME_S:
+        raise ParameterError(f"{attribute.name} must be <= {MAX_TIME_S:g} s, got {value!r}")
+
+
+def _check_cap(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    out = positive(value, attribute.name, ParameterError)
+    if out > MAX_STRENGTH:
+        raise ParameterError(f"{attribute.name} must be <= {MAX_STRENGTH:g}, got {value!r}")
+
+
+def _check_form(inst: Any, attribute: attrs.Attribute[str], value: Any) -> None:
+    if not isinstance(value, str) or value not in ROBOT_FORMS:
+        known = ", ".join(ROBOT_FORMS)
+        raise ParameterError(f"unknown robot_form {value!r}; known: {known}")
+
+
 def _to_float(value: Any) -> Any:
     # Keep non-numbers as they are so the validator can name them in its message.
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
@@ -118,6 +214,35 @@ class SRFMParams:
             the default is Helbing, Farkas and Vicsek (Nature 2000): A = 2000 N for an
             80 kg pedestrian, i.e. 25 m/s².
         b_obs: B_o, obstacle repulsion range (m), > 0; Helbing et al. 2000: 0.08 m.
+        robot_form: the form of the robot force, one of :data:`ROBOT_FORMS`:
+            ``"exponential"`` (the paper's; A_r, B_r, λ_r), ``"ttc"`` (Karamouzas,
+            Skinner, Guy 2014; k, τ0), ``"collision_prediction"`` (Zanlungo, Ikeda,
+            Kanda 2011; A, B, t_min, t_max) or ``"elliptical"`` (Johansson, Helbing,
+            Shukla 2007; A_e, B_e, Δt, λ_r). Each form reads only its own fields
+            (:data:`FORM_FIELDS`); docs/model.md gives the equations.
+        ttc_k: k, strength of the time-to-collision energy E = k τ⁻² e^(−τ/τ0) (m²
+            per unit mass), in [0, 1e6]; 0 switches the robot off.
+        ttc_tau0: τ0, its exponential cut-off (s), in [1e-3, 1e3]; Karamouzas et al.:
+            3 s.
+        cp_a: A, strength of the collision-prediction force (dimensionless: the force
+            is A |v_i| / t · e^(−d'/B)), in [0, 1e6]; 0 switches the robot off.
+        cp_b: B, its range (m), > 0.
+        cp_t_min: the shortest time in its 1/t factor (s), in [1e-3, 1e3] (the
+            singularity at a closest approach now).
+        cp_t_max: the longest prediction time (s), in [1e-3, 1e3], >= ``cp_t_min``.
+        ell_a: A_e, strength of the elliptical force (m/s²), in [0, 1e6]; 0 switches
+            the robot off.
+        ell_b: B_e, its range (m), > 0.
+        ell_dt: Δt, its prediction time (s), in [0, 1e3]; 0 is the paper's circular
+            force.
+        robot_force_cap: the largest robot force (m/s²) of the ttc,
+            collision_prediction and elliptical forms, in (0, 1e6] (their
+            singularities: a collision or closest approach now, a grazing course).
+
+    The defaults of the other forms are starting values, not fits (issue 28 fits them
+    on NavWareSet): τ0 = 3 s is Karamouzas et al.'s cut-off; the elliptical A_e, B_e
+    are the paper's A_r, B_r, so that at equal velocities (or Δt = 0) it is the paper's
+    force.
     """
 
     a_ped: float = attrs.field(default=2.0, converter=_to_float, validator=_check_strength)
@@ -129,6 +254,23 @@ class SRFMParams:
     lambda_robot: float = attrs.field(default=1.0, converter=_to_float, validator=_check_unit)
     a_obs: float = attrs.field(default=25.0, converter=_to_float, validator=_check_strength)
     b_obs: float = attrs.field(default=0.08, converter=_to_float, validator=_check_positive)
+    robot_form: str = attrs.field(default="exponential", validator=_check_form)
+    ttc_k: float = attrs.field(default=1.5, converter=_to_float, validator=_check_strength)
+    ttc_tau0: float = attrs.field(default=3.0, converter=_to_float, validator=_check_time)
+    cp_a: float = attrs.field(default=1.0, converter=_to_float, validator=_check_strength)
+    cp_b: float = attrs.field(default=0.5, converter=_to_float, validator=_check_positive)
+    cp_t_min: float = attrs.field(default=0.1, converter=_to_float, validator=_check_time)
+    cp_t_max: float = attrs.field(default=4.0, converter=_to_float, validator=_check_time)
+    ell_a: float = attrs.field(default=7.93, converter=_to_float, validator=_check_strength)
+    ell_b: float = attrs.field(default=0.99, converter=_to_float, validator=_check_positive)
+    ell_dt: float = attrs.field(default=1.0, converter=_to_float, validator=_check_duration)
+    robot_force_cap: float = attrs.field(default=20.0, converter=_to_float, validator=_check_cap)
+
+    def __attrs_post_init__(self) -> None:
+        if self.cp_t_max < self.cp_t_min:
+            raise ParameterError(
+                f"cp_t_max must be >= cp_t_min ({self.cp_t_min!r} s), got {self.cp_t_max!r}"
+            )
 
     @classmethod
     def preset(cls, name: str) -> SRFMParams:
@@ -139,7 +281,7 @@ class SRFMParams:
             known = ", ".join(sorted(PRESETS))
             raise ParameterError(f"unknown parameter preset {name!r}; known: {known}") from None
 
-    def replace(self, **changes: float) -> SRFMParams:
+    def replace(self, **changes: Any) -> SRFMParams:
         """A copy with some fields changed (validated again)."""
         unknown = sorted(set(changes) - set(attrs.fields_dict(SRFMParams)))
         if unknown:
@@ -152,16 +294,29 @@ class SRFMParams:
 
     @functools.cached_property
     def _kernel_params(self) -> SRFMKernelParams:
-        return SRFMKernelParams._make(getattr(self, name) for name in SRFMKernelParams._fields)
+        values = {name: getattr(self, name) for name in SRFMKernelParams._fields}
+        values["robot_form"] = ROBOT_FORMS.index(self.robot_form)
+        return SRFMKernelParams(**values)
 
     def as_array(self) -> NDArray[np.float64]:
-        """The parameters as a (9,) float64 vector, in the order of
-        ``SRFMKernelParams._fields``."""
+        """The kernel parameters as a float64 vector, in the order of
+        ``SRFMKernelParams._fields`` (the form as its code)."""
         return np.array(self.for_kernels(), dtype=np.float64)
 
-    def as_dict(self) -> dict[str, float]:
-        """Field name -> value."""
-        return attrs.asdict(self)
+    def as_dict(self) -> dict[str, float | str]:
+        """Field name -> value of the fields that define the model: the paper's nine
+        (``a_ped`` … ``b_obs``) and, for a robot form other than the paper's
+        exponential one, ``robot_form`` and that form's own fields (:data:`FORM_FIELDS`).
+
+        A parameter set of the paper's model is therefore written (parameter files,
+        benchmark manifests, logs) as before the other forms existed, and
+        ``SRFMParams(**p.as_dict())`` is a model that moves every pedestrian as ``p``.
+        """
+        names = list(_PAPER_FIELDS)
+        if self.robot_form != "exponential":
+            names.append("robot_form")
+            names += [f for f in FORM_FIELDS[self.robot_form] if f not in names]
+        return {name: getattr(self, name) for name in names}
 
 
 PRESETS: Final[dict[str, SRFMParams]] = {
@@ -202,7 +357,8 @@ def load_params(path: str | Path) -> SRFMParams:
     """Read a parameter file written by :func:`save_params` (or by hand).
 
     The file is TOML: ``schema_version = 1``, an optional ``preset = "name"`` to start
-    from, and a ``[params]`` table with any subset of the :class:`SRFMParams` fields.
+    from, and a ``[params]`` table with any subset of the :class:`SRFMParams` fields
+    (the robot force's form as ``robot_form = "ttc"``, with that form's fields).
     Unknown keys and malformed values raise :class:`ParameterError` naming the file.
     """
     path = Path(path)
@@ -253,7 +409,7 @@ def save_params(params: SRFMParams, path: str | Path, meta: dict[str, Any] | Non
         lines.append("")
     lines.append("[params]")
     for key, value in params.as_dict().items():
-        lines.append(f"{key} = {value!r}")
+        lines.append(f"{key} = {json.dumps(value) if isinstance(value, str) else repr(value)}")
     text = "\n".join(lines) + "\n"
     if tomllib.loads(text).get("meta", {}) != (meta or {}):  # e.g. non-string keys
         raise ParameterError(f"{path}: meta does not round-trip through TOML: {meta!r}")

@@ -76,7 +76,7 @@ class EnvCore:
             action=np.zeros(2),
             obs=np.zeros(obs_size(config.max_pedestrians), dtype=np.float32),
             out=np.zeros(_k.OUT_SIZE),  # one simulation step's results (the kernel's)
-            zone_body=np.array([0.0, 0.0, scenario.robot.radius_m]),
+            zone_body=np.array([0.0, 0.0, scenario.robot.radius_m, 0.0, 0.0]),
             dist_buf=np.zeros(max(n, 1)),
             idx_buf=np.zeros(max(n, 1), dtype=np.int64),
             steer=_rk.robot_task(np.zeros(2), scenario.world, scenario.horizon_steps),

@@ -30,6 +30,8 @@ from srfm.models._robot_kernels import (
     EVENT_NONE,
     EVENT_TIMEOUT,
     THETA,
+    VX,
+    VY,
     RobotTask,
     X,
     Y,
@@ -81,7 +83,8 @@ class EnvArrays(NamedTuple):
             observation's last action).
         obs: (9 + 6K,) float32, the observation (:mod:`srfm.planners._observation`).
         out: (``OUT_SIZE``,) float64, the step's reward terms (``OUT_*``).
-        zone_body: (3,) the robot's body at its new position (the r_div input).
+        zone_body: (5,) the robot's body (x, y, radius, vx, vy) at its new state (the
+            r_div input).
         dist_buf: (≥ N,) float64 scratch of the observation.
         idx_buf: (≥ N,) int64 scratch of the observation.
         steer: the point the observation's goal entries describe (the goal, or the
@@ -108,11 +111,11 @@ class EnvArrays(NamedTuple):
 def one_step_deviation(crowd: CrowdArrays, felt: ForceContext, dt: float, zone: float) -> float:
     """r_div: the one-step counterfactual deviation summed over the social zone (m).
 
-    From the current factual state and the robot ``felt.robot`` (3,) = (x, y, radius), each
-    pedestrian i closer than ``zone`` to the robot centre is stepped twice, with and
+    From the current factual state and the robot ``felt.robot`` (5,) = (x, y, radius, vx,
+    vy), each pedestrian i closer than ``zone`` to the robot centre is stepped twice, with and
     without the robot force (all other forces from the same snapshot, the crowd step's
     own velocity update :func:`~srfm.models._kernels.euler_velocity`); r_div = Σ_i
-    |x̂_i(with robot) − x̂_i(without robot)|. Exactly 0 when A_r = 0.
+    |x̂_i(with robot) − x̂_i(without robot)|. Exactly 0 when the robot form's strength is 0.
     """
     pos = crowd.pos
     vel = crowd.vel
@@ -162,6 +165,8 @@ def reward_and_observation(ep: EpisodeArrays, env: EnvArrays, event: int) -> Non
     body = env.zone_body
     body[0] = robot[X]
     body[1] = robot[Y]
+    body[3] = robot[VX]
+    body[4] = robot[VY]
     gdx = task.goal_x - robot[X]
     gdy = task.goal_y - robot[Y]
     r_dist = min(1.0, math.sqrt(gdx * gdx + gdy * gdy) / reward.goal_distance_m)

@@ -4,9 +4,10 @@ The step of an episode, from sample k to k + 1, as the engine
 (:class:`srfm.sim.engine.EpisodeEngine`) runs it for the simulator and the gymnasium
 environment alike:
 
-1. the robot's body (x, y, radius), as the factual crowd feels it, is set to the robot
-   at sample k; the robot moves under the command (:func:`move_robot`), or, once its
-   episode has ended, stays where it is at rest;
+1. the robot's body (x, y, radius, vx, vy), as the factual crowd feels it, is set to
+   the robot at sample k (its velocity the one it reached k with; 0 once its episode
+   has ended, when it stays where it is at rest); the robot moves under the command
+   (:func:`move_robot`);
 2. the factual crowd takes one SRFM step feeling that body, and, unless the
    counterfactual twin is switched off, the counterfactual crowd one step without it;
 3. pedestrians within the goal radius of their goal are flagged as new arrivals
@@ -36,6 +37,7 @@ from srfm.models._primitives import FALSE
 from srfm.models._robot_kernels import (
     EVENT_NONE,
     VX,
+    VY,
     RobotLimits,
     RobotTask,
     X,
@@ -119,7 +121,7 @@ class EpisodeArrays(structref.StructRefProxy):
         counterfactual_arrivals: the counterfactual crowd's.
         robot: (7,) the robot state (:mod:`srfm.models._robot_kernels` layout).
         felt: what the factual crowd feels: the parameters, the robot's body
-            (``felt.robot`` (3,): x, y at the current sample, radius), the obstacles
+            (``felt.robot`` (5,): x, y at the current sample, radius, vx, vy), the obstacles
             and the cut-offs (the counterfactual crowd feels the same with the robot
             switched off).
         force_buf: (N, 2) scratch for the forces.
@@ -181,14 +183,16 @@ def _advance(
     :func:`step_exact`, :func:`step_serial`, :func:`step_parallel`, a compile-time
     constant of each variant)."""
     robot = ep.robot
+    o = ep.options
+    if not active:
+        robot[VX:] = 0.0  # at rest where its episode ended
     body = ep.felt.robot
     body[0] = robot[X]
     body[1] = robot[Y]
-    o = ep.options
+    body[3] = robot[VX]
+    body[4] = robot[VY]
     if active:
         move_robot(robot, c0, c1, ep.limits, o.dt_s)
-    else:
-        robot[VX:] = 0.0  # at rest where its episode ended
     felt = ep.felt
     crowd_step(ep.factual, felt, o.dt_s, ep.force_buf)
     if o.counterfactual:

@@ -176,7 +176,8 @@ class EpisodeEngine:
         self._enter_step = setup.ped_enter_step
         self.n_present = setup.n_present(0)
         # The kernels' arguments: the same arrays (updated in place) at every step.
-        self._body = np.array([self.robot[_rk.X], self.robot[_rk.Y], scenario.robot.radius_m])
+        r = self.robot
+        self._body = np.array([r[_rk.X], r[_rk.Y], scenario.robot.radius_m, r[_rk.VX], r[_rk.VY]])
         if obstacles is not self._obstacles_of:
             self._obstacles = obstacles.for_kernels()
             self._obstacles_of = obstacles

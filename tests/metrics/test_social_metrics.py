@@ -401,7 +401,9 @@ def test_kernels_equal_their_python_versions(episode: EpisodeRecord) -> None:
     t = episode.horizon_steps
     mag_jit, mag_py = np.empty((t, n)), np.empty((t, n))
     work_jit, work_py = np.empty(n), np.empty(n)
-    args = (a["pos"], episode.factual_goal, a["radius"], a["robot_xy"], 0.2, 7.93, 0.99, 0.4)
+    params = SRFMParams(lambda_robot=0.4).for_kernels()
+    moving = np.ascontiguousarray(episode.robot_active)
+    args = (a["pos"], episode.factual_goal, a["radius"], a["robot_xy"], 0.2, moving, params)
     kernels.force_exposure(*args, episode.dt_s, enter, mag_jit, work_jit)
     kernels.force_exposure.py_func(*args, episode.dt_s, enter, mag_py, work_py)
     np.testing.assert_array_equal(mag_jit, mag_py)

@@ -124,7 +124,7 @@ def test_known_value_of_the_goal_force() -> None:
 
 
 def _kernel_args(scene: ref.Scene) -> tuple:
-    robot = scene.robot.as_array() if scene.robot is not None else np.zeros(3)
+    robot = scene.robot.as_array() if scene.robot is not None else np.zeros(5)
     c = scene.crowd
     return (
         c.for_kernels(),

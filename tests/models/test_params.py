@@ -150,14 +150,19 @@ def test_as_array_follows_the_kernel_layout() -> None:
 
 def test_kernel_tuple_array_and_attributes_share_one_layout() -> None:
     # Distinct values, so that any two fields swapped would show.
-    p = srfm.SRFMParams(**{name: 0.1 * (k + 1) for k, name in enumerate(FIELDS)})
+    floats = [n for n in attrs.fields_dict(srfm.SRFMParams) if n != "robot_form"]
+    values = {name: 0.1 * (k + 1) for k, name in enumerate(floats)}
+    values["cp_t_max"] = 10.0  # >= cp_t_min
+    p = srfm.SRFMParams(robot_form="elliptical", **values)
     kp = p.for_kernels()
     assert isinstance(kp, params_module.SRFMKernelParams)
-    assert kp._fields == FIELDS
-    assert tuple(attrs.fields_dict(srfm.SRFMParams)) == FIELDS
-    assert kp == tuple(getattr(p, name) for name in FIELDS)
-    assert all(type(v) is float for v in kp)
-    np.testing.assert_array_equal(p.as_array(), np.array([getattr(p, n) for n in FIELDS]))
+    assert kp._fields[: len(FIELDS)] == FIELDS  # the paper's nine first
+    assert kp._fields == tuple(attrs.fields_dict(srfm.SRFMParams))
+    code = params_module.ROBOT_FORMS.index("elliptical")
+    assert kp == tuple(code if n == "robot_form" else getattr(p, n) for n in kp._fields)
+    assert all(type(v) is float for n, v in zip(kp._fields, kp, strict=True) if n != "robot_form")
+    assert type(kp.robot_form) is int
+    np.testing.assert_array_equal(p.as_array(), np.array(kp, dtype=np.float64))
     assert p.for_kernels() is kp  # built once per instance
     assert p.replace(tau=2.0).for_kernels().tau == 2.0
 
@@ -172,7 +177,7 @@ def test_kernel_reads_the_tuple_by_name_like_its_python_body() -> None:
     goal = np.array([[5.0, 0.0], [0.0, 5.0], [-5.0, 0.0]])
     radius = np.full(3, 0.25)
     v0 = np.full(3, 1.2)
-    robot = np.array([0.3, -0.4, 0.3])
+    robot = np.array([0.3, -0.4, 0.3, 0.2, -0.1])
     segments = np.array([[-2.0, -0.8, 2.0, -0.8]])
     circles = np.array([[0.5, 0.6, 0.1]])
     crowd = CrowdArrays(pos, vel, goal, radius, v0, v0.copy())

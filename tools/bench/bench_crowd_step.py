@@ -53,6 +53,12 @@ Usage::
     .venv/bin/python tools/bench/bench_crowd_step.py --sizes 10 100 1000 --seconds 2
     .venv/bin/python tools/bench/bench_crowd_step.py --sizes 50 100 200 400 --no-pysocialforce
     .venv/bin/python tools/bench/bench_crowd_step.py --busy --no-pysocialforce --no-jupedsim
+    .venv/bin/python tools/bench/bench_crowd_step.py --robot-forms --sizes 10 1000 --cpu-time
+
+``--robot-forms`` times srfm's default step (``parallel=False``, ``cutoff="auto"``) with
+a robot in the middle of the crowd, walking at 1 m/s, in each form of the robot force
+(``SRFMParams(robot_form=...)``, default parameters), the forms in turn within each
+repeat, and prints each form's time per step beside the paper's exponential form.
 """
 
 from __future__ import annotations
@@ -80,6 +86,7 @@ from numpy.typing import NDArray
 DT_S = 1.0 / 15.0
 DENSITY_PER_M2 = 0.25
 SPEED_MPS = 1.25
+ROBOT_SPEED_MPS = 1.0  # the robot of --robot-forms
 CHUNK_MIN_S = 2e-3  # steps are timed in chunks of at least this long
 
 FloatArray = NDArray[np.float64]
@@ -201,11 +208,25 @@ def busy_core(enabled: bool) -> Iterator[None]:
         proc.wait()
 
 
-def srfm_bench(pos: FloatArray, goal: FloatArray, parallel: bool | None) -> Bench:
-    """srfm's ``step_crowd`` with the given kernel choice (None = default)."""
+def srfm_bench(
+    pos: FloatArray,
+    goal: FloatArray,
+    parallel: bool | None,
+    robot_form: str | None = None,
+) -> Bench:
+    """srfm's ``step_crowd`` with the given kernel choice (None = default); with a
+    ``robot_form``, a robot in the crowd's centre (radius 0.3 m, walking at 1 m/s along
+    x) that the crowd feels in that form of the robot force (default parameters)."""
     import srfm
 
     params = srfm.SRFMParams()
+    robot = None
+    if robot_form is not None:
+        params = params.replace(robot_form=robot_form)
+        centre = (pos.min(axis=0) + pos.max(axis=0)) / 2.0
+        robot = srfm.RobotBody(
+            x=float(centre[0]), y=float(centre[1]), radius=0.3, vx=ROBOT_SPEED_MPS, vy=0.0
+        )
     start = srfm.CrowdState.create(pos=pos, goal=goal, v0=SPEED_MPS)
     crowd = start.copy()
 
@@ -215,9 +236,44 @@ def srfm_bench(pos: FloatArray, goal: FloatArray, parallel: bool | None) -> Benc
 
     def run(k: int) -> None:
         for _ in range(k):
-            srfm.step_crowd(crowd, DT_S, params, parallel=parallel)
+            srfm.step_crowd(crowd, DT_S, params, robot, parallel=parallel)
 
     return Bench(reset, run)
+
+
+def robot_form_rates(
+    sizes: list[int], seed: int, seconds: float, repeats: int, window: int
+) -> list[tuple[int, dict[str, float]]]:
+    """Per N, the default crowd step's best throughput with the robot in each form of
+    the robot force. The forms are timed in turn within each repeat (round robin), so
+    that a change of the machine's load falls on all of them alike."""
+    from srfm.models.params import ROBOT_FORMS
+
+    rows = []
+    for n in sizes:
+        pos, goal = initial_state(n, seed)
+        benches = {form: srfm_bench(pos, goal, None, form) for form in ROBOT_FORMS}
+        best = dict.fromkeys(ROBOT_FORMS, 0.0)
+        for _ in range(repeats):
+            for form, bench in benches.items():
+                rate = measure(bench, n, seconds / repeats, 1, window).rate
+                best[form] = max(best[form], rate)
+        rows.append((n, best))
+        print(f"  measured the robot forms at N = {n}", file=sys.stderr)
+    return rows
+
+
+def print_robot_form_rows(rows: list[tuple[int, dict[str, float]]]) -> None:
+    """The robot-form table: µs per crowd step and the cost relative to the paper's form."""
+    forms = list(rows[0][1])
+    print("Time per crowd step with a robot, by form of the robot force (µs, lower is better;")
+    print("in brackets: the step's time relative to the paper's exponential form):\n")
+    print("| N | " + " | ".join(forms) + " |")
+    print("|---:|" + "---:|" * len(forms))
+    for n, rates in rows:
+        base = rates["exponential"]
+        cells = [f"{fmt_step_us(rates[f], n)} ({base / rates[f]:.2f}×)" for f in forms]
+        print(f"| {n} | " + " | ".join(cells) + " |")
 
 
 @contextlib.contextmanager
@@ -483,6 +539,12 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
         "--memory-n", type=int, default=200_000, help="crowd size of the memory probe (0: skip)"
     )
     parser.add_argument(
+        "--robot-forms",
+        action="store_true",
+        help="time srfm's default step with a robot in each form of the robot force"
+        " (srfm.models.params.ROBOT_FORMS) instead of the comparison with other simulators",
+    )
+    parser.add_argument(
         "--cold-cache",
         action="store_true",
         help="use an empty numba cache so srfm's first calls include a full JIT compile",
@@ -531,6 +593,21 @@ def main(argv: list[str] | None = None) -> int:
             f" {'a CPU-bound process busy beside it' if args.busy else 'no extra load'},"
             f" {'CPU time' if args.cpu_time else 'wall time'}\n"
         )
+
+        if args.robot_forms:
+            with busy_core(args.busy):
+                other = OtherLoad()
+                w_ours = window_steps(args.window_s, DT_S)
+                form_rows = robot_form_rates(
+                    args.sizes, args.seed, args.seconds, args.repeats, w_ours
+                )
+                other_percent = other.percent()
+            print_robot_form_rows(form_rows)
+            print(
+                f"\n- load average (1, 5, 15 min) at end: {load_average()}; other processes"
+                f" used {other_percent:.1f} % of the machine's CPU time during the measurements"
+            )
+            return 0
 
         with busy_core(args.busy):
             # Warm-up on a small crowd: the first call compiles (or loads from the cache).

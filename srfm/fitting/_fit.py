@@ -31,7 +31,7 @@ from srfm.fitting._predict import Mode, displacement_errors, predict
 from srfm.fitting._windows import Windows
 from srfm.models.params import PRESETS, SRFMParams
 
-__all__ = ["BOUNDS", "STAGE_FIELDS", "FitResult", "StageResult", "fit_params"]
+__all__ = ["BOUNDS", "FORM_FIT_FIELDS", "STAGE_FIELDS", "FitResult", "StageResult", "fit_params"]
 
 Stage = Literal["pedestrian", "robot"]
 
@@ -48,6 +48,25 @@ BOUNDS: Final[dict[str, tuple[float, float]]] = {
     "a_robot": (0.0, 100.0),
     "b_robot": (0.05, 3.0),
     "lambda_robot": (0.0, 1.0),
+    # the other robot-force forms (srfm.models.params.FORM_FIELDS; k in m², A of the
+    # collision-prediction force dimensionless, times in s)
+    "ttc_k": (0.0, 100.0),
+    "ttc_tau0": (0.1, 20.0),
+    "cp_a": (0.0, 100.0),
+    "cp_b": (0.05, 3.0),
+    "ell_a": (0.0, 100.0),
+    "ell_b": (0.05, 3.0),
+    "ell_dt": (0.0, 5.0),
+}
+# The parameters a robot-stage fit of each robot-force form varies by default: its
+# strength and range (the exponential form's λ_r, and the elliptical form's too, only when
+# asked: ``srfm fit --fit-lambda-robot``); the forms' force cap and the collision-
+# prediction force's time limits are kept.
+FORM_FIT_FIELDS: Final[dict[str, tuple[str, ...]]] = {
+    "exponential": ("a_robot", "b_robot"),
+    "ttc": ("ttc_k", "ttc_tau0"),
+    "collision_prediction": ("cp_a", "cp_b"),
+    "elliptical": ("ell_a", "ell_b", "ell_dt"),
 }
 _MAX_NFEV: Final = 1_000_000
 # The published parameter sets every fit also starts from (not fitted presets such as

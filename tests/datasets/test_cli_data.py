@@ -286,3 +286,54 @@ def test_fit_and_ade_on_encounter_windows_reproduce_the_python_protocol(
     code, text = run("ade", str(data), "--align", "sideways")
     assert code == 2
     assert "sideways" in text
+
+
+def test_fit_robot_force_form_on_real_encounters(real_data: Path, tmp_path: Path) -> None:
+    """srfm fit --robot-force FORM fits that form's own parameters (FORM_FIT_FIELDS) on
+    the real NavWareSet excerpt, as fit_params does, and writes a file that runs."""
+    from srfm.datasets.navwareset import read_navwareset
+    from srfm.fitting import WindowConfig, build_windows, fit_params
+
+    data = tmp_path / "nav.mcap"
+    code, text = run("data", "convert", "navwareset", str(real_data / "navwareset"), str(data))
+    assert code == 0, text
+    out = tmp_path / "ttc.toml"
+    options = ("--align", "encounter", "--goal", "heading", "--min-start-speed", "0.3")
+    code, text = run(
+        "fit", str(data), "-o", str(out), "--stage", "robot", "--robot-force", "ttc",
+        "--max-nfev", "10", *options,
+    )  # fmt: skip
+    assert code == 0, text
+    fitted = srfm.load_params(out)
+    assert fitted.robot_form == "ttc"
+    default = srfm.SRFMParams()
+    assert fitted.ttc_k != default.ttc_k  # fitted, not kept
+    assert (fitted.a_robot, fitted.b_robot) == (default.a_robot, default.b_robot)
+    windows = build_windows(
+        read_navwareset(real_data / "navwareset"),
+        WindowConfig(align="encounter", goal="heading", min_start_speed_mps=0.3),
+    )
+    expected = fit_params(
+        windows,
+        start=default.replace(robot_form="ttc"),
+        stages=("robot",),
+        fields={"robot": ("ttc_k", "ttc_tau0")},
+        max_nfev=10,
+    ).params
+    assert fitted.ttc_k == pytest.approx(expected.ttc_k, rel=1e-6)
+    assert fitted.ttc_tau0 == pytest.approx(expected.ttc_tau0, rel=1e-6)
+    meta = tomllib.loads(out.read_text())["meta"]
+    assert meta["robot_force"] == "ttc"
+    code, text = run("ade", str(data), "--params", str(out), *options)
+    assert code == 0, text
+    assert "SRFM" in text
+    # The form's λ_r does not exist for ttc.
+    code, text = run(
+        "fit", str(data), "-o", str(out), "--stage", "robot", "--robot-force", "ttc",
+        "--fit-lambda-robot",
+    )  # fmt: skip
+    assert code == 2
+    assert "the ttc robot force has no λ_r" in text
+    code, text = run("fit", str(data), "-o", str(out), "--robot-force", "spring")
+    assert code == 2
+    assert "spring" in text

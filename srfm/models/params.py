@@ -276,7 +276,8 @@ class SRFMParams:
 
     @classmethod
     def preset(cls, name: str) -> SRFMParams:
-        """Return a named preset (``agrawal2024``, ``ferrer2013`` or ``navwareset2025``)."""
+        """Return a named preset (``agrawal2024``, ``ferrer2013``, ``navwareset2025`` or
+        ``navwareset2026_ttc``)."""
         try:
             return PRESETS[name]
         except (KeyError, TypeError):
@@ -335,8 +336,10 @@ PRESETS: Final[dict[str, SRFMParams]] = {
 A = 2.66 m/s², B = 0.79 m for people and robot alike) and the presets fitted by srfm on
 real data, shipped as parameter files in ``srfm/models/presets/`` with the fit's
 provenance in their ``[meta]`` (:func:`preset_meta`): ``navwareset2025`` (NavWareSet's
-own pedestrian part and the paper's exponential robot force fitted on its encounters;
-docs/real_encounters.md). Strengths in m/s², ranges in m, τ in s (docs/model.md,
+own pedestrian part and the paper's exponential robot force fitted on its encounters)
+and ``navwareset2026_ttc`` (the same pedestrian part and the time-to-collision robot
+force, which predicts the pass distance of held-out encounters best;
+docs/real_encounters.md, part 4). Strengths in m/s², ranges in m, τ in s (docs/model.md,
 docs/fitting.md)."""
 
 

@@ -19,11 +19,13 @@ its set-up exactly as the same scenario without them.
   entering pedestrians (:func:`srfm.scenarios.entry_times`).
 - ``SOURCE_GOAL_STREAM`` = 4, ``SeedSequence(seed, spawn_key=(4,))``: the goals of a
   source's members in its ``goal_region`` (:func:`srfm.scenarios.source_goals`).
+- ``POOL_STREAM`` = 5, ``SeedSequence(seed, spawn_key=(5,))``: which scenario of a
+  training pool episode ``seed`` runs (:func:`srfm.scenarios.training.pool_scenario`).
 - ``TRAINING_STREAM`` = 7, ``default_rng((seed, 7))``: the RL training layouts
   (:func:`srfm.scenarios.training.training_layout`); here 7 is the second word of the
   generator's entropy, not a spawn key.
 
-A new stream takes a new key here (5 and 6 are free). The values are part of the results:
+A new stream takes a new key here (6 is free). The values are part of the results:
 changing one changes every episode that draws from that stream.
 """
 
@@ -36,11 +38,13 @@ import numpy as np
 __all__ = [
     "ENTRY_STREAM",
     "PLANNER_STREAM",
+    "POOL_STREAM",
     "REGOAL_STREAM",
     "SOURCE_GOAL_STREAM",
     "TRAINING_STREAM",
     "entry_rng",
     "planner_rng",
+    "pool_rng",
     "regoal_rng",
     "setup_rng",
     "source_goal_rng",
@@ -51,6 +55,7 @@ PLANNER_STREAM: Final = 1
 REGOAL_STREAM: Final = 2
 ENTRY_STREAM: Final = 3
 SOURCE_GOAL_STREAM: Final = 4
+POOL_STREAM: Final = 5
 TRAINING_STREAM: Final = 7
 
 
@@ -81,6 +86,11 @@ def entry_rng(seed: int) -> np.random.Generator:
 def source_goal_rng(seed: int) -> np.random.Generator:
     """The stream of the goals drawn in the sources' goal regions of episode ``seed``."""
     return _spawned(seed, SOURCE_GOAL_STREAM)
+
+
+def pool_rng(seed: int) -> np.random.Generator:
+    """The stream that picks the scenario of training episode ``seed`` from a pool."""
+    return _spawned(seed, POOL_STREAM)
 
 
 def training_rng(seed: int) -> np.random.Generator:

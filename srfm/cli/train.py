@@ -48,6 +48,35 @@ def _family_weights(
         raise click.BadParameter(str(error)) from None
 
 
+def _scenario_list(ctx: click.Context, param: click.Parameter, value: Any) -> tuple[str, ...]:
+    """``--library`` / ``--eval-scenarios``: comma-separated built-in scenario names, or
+    a set: ``train-split`` (the library's training split), ``validation`` (the mixed
+    layouts and the library's validation scenarios), ``paper`` (the five evaluation
+    scenarios)."""
+    if isinstance(value, tuple):
+        return value
+    if value is None or value == "":
+        return ()
+    from srfm.scenarios import BUILTIN_SCENARIOS, EVALUATION_SCENARIOS
+    from srfm.scenarios.training import LIBRARY_TRAINING, LIBRARY_VALIDATION, TRAINING_SCENARIO
+
+    sets = {
+        "train-split": LIBRARY_TRAINING,
+        "validation": (TRAINING_SCENARIO, *LIBRARY_VALIDATION),
+        "paper": EVALUATION_SCENARIOS,
+    }
+    names: list[str] = []
+    for word in str(value).split(","):
+        word = word.strip()
+        if word in sets:
+            names += sets[word]
+        elif word in BUILTIN_SCENARIOS or (word == TRAINING_SCENARIO and param.name != "library"):
+            names.append(word)
+        else:
+            raise click.BadParameter(f"unknown scenario or set {word!r}")
+    return tuple(names)
+
+
 def _default(name: str) -> Any:
     # TrainConfig's defaults without importing attrs classes at CLI start-up cost.
     if not _DEFAULTS:
@@ -251,6 +280,58 @@ def _default(name: str) -> Any:
     show_default=True,
     help="Environments stepped together (seeds seed, seed + 1, ...).",
 )
+@click.option(
+    "--range-beams",
+    type=click.IntRange(min=0, max=360),
+    default=_default("range_beams"),
+    show_default=True,
+    help="Range beams to walls and pillars in the observation (0: the paper's observation).",
+)
+@click.option(
+    "--range-max",
+    "range_max_m",
+    type=click.FloatRange(min=0.0, min_open=True),
+    default=_default("range_max_m"),
+    show_default=True,
+    help="Range of the beams (m).",
+)
+@click.option(
+    "--library",
+    callback=_scenario_list,
+    default=None,
+    help=(
+        "For --scenario mixed: built-in scenarios run in a share --library-share of the "
+        "episodes, comma-separated, or train-split (the library's training split, "
+        "docs/rl.md)."
+    ),
+)
+@click.option(
+    "--library-share",
+    type=click.FloatRange(0.0, 1.0),
+    default=_default("library_share"),
+    show_default=True,
+    help="Probability that an episode runs a --library scenario.",
+)
+@click.option(
+    "--eval-scenarios",
+    callback=_scenario_list,
+    default="paper",
+    show_default=True,
+    help=(
+        "Scenarios of the periodic evaluations, comma-separated: built-in names, mixed "
+        "(training layouts), or the sets paper and validation (the mixed layouts and "
+        "the library's validation split)."
+    ),
+)
+@click.option(
+    "--select-by-deviation/--select-by-outcome",
+    default=True,
+    show_default=True,
+    help=(
+        "Rank evaluations by success, collisions, then deviation; or by success and "
+        "collisions only."
+    ),
+)
 @click.option("--progress/--no-progress", default=True, show_default=True)
 def train(**options: Any) -> None:
     """Train a TD3 navigation policy on srfm/SocialNav-v0 (stable-baselines3).
@@ -314,6 +395,12 @@ def _train(
     gradient_steps: int,
     n_envs: int,
     family_weights: tuple[float, ...] | None,
+    range_beams: int,
+    range_max_m: float,
+    library: tuple[str, ...],
+    library_share: float,
+    eval_scenarios: tuple[str, ...],
+    select_by_deviation: bool,
     progress: bool,
 ) -> None:
     from srfm._io import check_writable
@@ -351,6 +438,12 @@ def _train(
         gradient_steps=gradient_steps,
         n_envs=n_envs,
         family_weights=family_weights,
+        range_beams=range_beams,
+        range_max_m=range_max_m,
+        library=library,
+        library_share=library_share,
+        eval_scenarios=eval_scenarios,
+        select_by_deviation=select_by_deviation,
     )
     command = _command_line()
     if not progress:

@@ -1,6 +1,6 @@
 """The RL policy's observation and action: one definition for training and evaluation.
 
-A policy sees the same 9 + 6K numbers whether it is trained in the environment
+A policy sees the same 9 + 6K + B numbers whether it is trained in the environment
 ``srfm/SocialNav-v0`` (:mod:`srfm.rl`, which builds the vector inside its fused step
 kernel) or runs as a planner in :func:`srfm.run_episode` (:class:`ObservationBuilder`,
 used by :mod:`srfm.planners.td3`): both call :func:`build_observation`, and both turn
@@ -27,10 +27,17 @@ index           entry
 9 + 6m … 14+6m  slot m = 0 … K−1, closest pedestrian first: present (1.0),
                 distance / social zone, cos and sin of the bearing, relative
                 velocity (pedestrian − robot) / velocity scale (x, y), clipped
+9 + 6K + j      range beam j = 0 … B−1 (B = ``range_beams``, 0 by default):
+                the distance from the robot centre to the nearest wall or
+                pillar along the direction heading + 2πj/B (counter-clockwise,
+                beam 0 straight ahead) / ``range_max_m``, capped at 1 (1: nothing
+                within range)
 ==============  ==========================================================
 
 Slots hold the pedestrians whose centre is closer than the social zone to the robot
-centre, nearest first (ties by index); empty slots are zeros.
+centre, nearest first (ties by index); empty slots are zeros. The range beams model a
+planar range sensor (a 2-D lidar) that sees the scenario's walls and pillars, not
+pedestrians (they are in the slots) and not the world's bounds (no physical surface).
 """
 
 from __future__ import annotations
@@ -67,6 +74,7 @@ from srfm.planners._base import Observation, PlannerContext
 
 __all__ = [
     "DEFAULT_K_DIV",
+    "MAX_RANGE_BEAMS",
     "OBS_ACTION",
     "OBS_FLAGS",
     "OBS_GOAL",
@@ -77,6 +85,7 @@ __all__ = [
     "ObservationBuilder",
     "ObservationParams",
     "action_to_command",
+    "beam_range",
     "build_observation",
     "obs_size",
 ]
@@ -91,13 +100,15 @@ OBS_GOAL: Final = 0  # goal distance / goal scale, cos, sin of the goal bearing
 OBS_VEL: Final = 3  # the robot's velocity, normalised
 OBS_ACTION: Final = 5  # the last action, in [-1, 1]
 OBS_FLAGS: Final = 7  # success, terminated
-OBS_PEDS: Final = 9  # K slots of PED_FEATURES
+OBS_PEDS: Final = 9  # K slots of PED_FEATURES, then B range beams
 PED_FEATURES: Final = 6  # present, distance / zone, cos, sin, relative vx, vy
+MAX_RANGE_BEAMS: Final = 360
 
 
-def obs_size(max_peds: int) -> int:
-    """Length of the observation vector with ``max_peds`` pedestrian slots (9 + 6K)."""
-    return OBS_PEDS + PED_FEATURES * max_peds
+def obs_size(max_peds: int, range_beams: int = 0) -> int:
+    """Length of the observation vector with ``max_peds`` pedestrian slots and
+    ``range_beams`` range beams (9 + 6K + B)."""
+    return OBS_PEDS + PED_FEATURES * max_peds + range_beams
 
 
 def _non_negative(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
@@ -131,6 +142,17 @@ def _action_repeat(inst: Any, attribute: attrs.Attribute[int], value: Any) -> No
         )
 
 
+def _range_beams(inst: Any, attribute: attrs.Attribute[int], value: Any) -> None:
+    try:
+        count = operator.index(value)
+    except TypeError:
+        count = -1
+    if isinstance(value, bool) or not 0 <= count <= MAX_RANGE_BEAMS:
+        raise ParameterError(
+            f"env.range_beams must be an integer in [0, {MAX_RANGE_BEAMS}], got {value!r}"
+        )
+
+
 def _kinematics(inst: Any, attribute: attrs.Attribute[str | None], value: Any) -> None:
     if value is not None and value not in KINEMATICS:
         raise ParameterError(f"env.kinematics must be None or one of {KINEMATICS}, got {value!r}")
@@ -158,12 +180,16 @@ class ObservationParams(NamedTuple):
             and their distance is divided by it (m).
         velocity_scale_mps: relative velocities are divided by this (m/s).
         max_pedestrians: K, the number of pedestrian slots.
+        range_beams: B, the number of range beams (0: none).
+        range_max_m: the beams' range (m); a beam's distance is divided by it.
     """
 
     goal_scale_m: float
     social_zone_m: float
     velocity_scale_mps: float
     max_pedestrians: int
+    range_beams: int
+    range_max_m: float
 
 
 @attrs.frozen(kw_only=True)
@@ -208,6 +234,12 @@ class EnvConfig:
             progress term taken over the whole action, γ Φ(s_{t+k}) − Φ(s_t), so that
             it stays potential-based for a learner that discounts once per action. A
             policy's planner holds each action for as many steps.
+        range_beams: B, the number of range beams to walls and pillars appended to
+            the observation (0, the default, is the paper's observation, which has
+            none). The beams are spread evenly over the full circle, beam 0 along
+            the heading.
+        range_max_m: the range of the beams (m): a beam reports its distance to the
+            nearest wall or pillar divided by this, capped at 1.
     """
 
     k1: float = attrs.field(default=0.1, validator=_non_negative)
@@ -222,6 +254,8 @@ class EnvConfig:
     k_progress: float = attrs.field(default=0.0, validator=_non_negative)
     progress_gamma: float = attrs.field(default=0.99, validator=_unit_interval)
     action_repeat: int = attrs.field(default=1, validator=_action_repeat)
+    range_beams: int = attrs.field(default=0, validator=_range_beams)
+    range_max_m: float = attrs.field(default=4.0, validator=_positive)
 
     def __new__(cls, *args: Any, **options: Any) -> EnvConfig:
         # Before attrs' __init__: an unknown option is a ParameterError naming it.
@@ -238,6 +272,11 @@ class EnvConfig:
         """A copy with some fields changed (validated)."""
         return attrs.evolve(self, **changes)
 
+    @property
+    def obs_size(self) -> int:
+        """Length of the observation vector (9 + 6K + B)."""
+        return obs_size(self.max_pedestrians, self.range_beams)
+
     def observation_params(self, world: Any) -> ObservationParams:
         """The observation options for the kernels, in a world of the given bounds.
 
@@ -250,6 +289,8 @@ class EnvConfig:
             social_zone_m=float(self.social_zone_m),
             velocity_scale_mps=float(self.velocity_scale_mps),
             max_pedestrians=int(self.max_pedestrians),
+            range_beams=int(self.range_beams),
+            range_max_m=float(self.range_max_m),
         )
 
 
@@ -290,6 +331,71 @@ def _bearing(c: float, s: float, dx: float, dy: float, d: float) -> tuple[float,
 
 
 @njit(cache=True)
+def beam_range(
+    x: float, y: float, ux: float, uy: float, segments: np.ndarray, circles: np.ndarray, rmax: float
+) -> float:
+    """Distance (m) from (x, y) along the unit direction (ux, uy) to the first wall
+    segment or pillar it meets, or ``rmax`` when none is nearer.
+
+    Args:
+        x, y: the ray's origin (m).
+        ux, uy: its direction, a unit vector.
+        segments: (M, 4) walls (x1, y1, x2, y2) (m).
+        circles: (C, 3) pillars (cx, cy, radius) (m); from inside a pillar the ray
+            meets its boundary on the way out.
+        rmax: the largest distance reported (m).
+    """
+    best = rmax
+    for m in range(segments.shape[0]):
+        ex = segments[m, 2] - segments[m, 0]
+        ey = segments[m, 3] - segments[m, 1]
+        det = ux * ey - uy * ex  # cross(u, e); 0: the ray runs parallel to the wall
+        if det == 0.0:
+            continue
+        wx = segments[m, 0] - x
+        wy = segments[m, 1] - y
+        t = (wx * ey - wy * ex) / det  # along the ray (m)
+        s = (wx * uy - wy * ux) / det  # along the wall, 0 … 1
+        if 0.0 <= t < best and 0.0 <= s <= 1.0:
+            best = t
+    for m in range(circles.shape[0]):
+        fx = x - circles[m, 0]
+        fy = y - circles[m, 1]
+        r = circles[m, 2]
+        b = fx * ux + fy * uy
+        disc = b * b - (fx * fx + fy * fy - r * r)
+        if disc < 0.0:
+            continue
+        root = math.sqrt(disc)
+        t = -b - root
+        if t < 0.0:
+            t = -b + root  # the origin is inside the pillar
+        if 0.0 <= t < best:
+            best = t
+    return best
+
+
+@njit(cache=True, inline="always")
+def _write_beams(
+    x: float,
+    y: float,
+    theta: float,
+    segments: np.ndarray,
+    circles: np.ndarray,
+    params: ObservationParams,
+    obs: np.ndarray,
+) -> None:
+    """The B range beams into ``obs[9 + 6K:]`` (distance / range, capped at 1)."""
+    n = params.range_beams
+    rmax = params.range_max_m
+    base = OBS_PEDS + PED_FEATURES * params.max_pedestrians
+    for j in range(n):
+        angle = theta + 2.0 * math.pi * j / n
+        hit = beam_range(x, y, math.cos(angle), math.sin(angle), segments, circles, rmax)
+        obs[base + j] = hit / rmax
+
+
+@njit(cache=True)
 def build_observation(
     ped_pos: np.ndarray,
     ped_vel: np.ndarray,
@@ -300,6 +406,8 @@ def build_observation(
     limits: RobotLimits,
     task: RobotTask,
     params: ObservationParams,
+    segments: np.ndarray,
+    circles: np.ndarray,
     dist_buf: np.ndarray,
     idx_buf: np.ndarray,
     obs: np.ndarray,
@@ -322,9 +430,11 @@ def build_observation(
         limits: the robot's limits (v_max, ω_max, kinematics).
         task: the robot's goal.
         params: the observation options.
+        segments: (M, 4) walls (x1, y1, x2, y2) (m), for the range beams.
+        circles: (C, 3) pillars (cx, cy, radius) (m), for the range beams.
         dist_buf: (≥ N,) scratch, float64.
         idx_buf: (≥ N,) scratch, int64.
-        obs: (9 + 6K,) float32, overwritten.
+        obs: (9 + 6K + B,) float32, overwritten.
 
     Returns:
         The number of pedestrians in the zone (which may exceed K).
@@ -388,6 +498,8 @@ def build_observation(
         wy = ped_vel[i, 1] - rvy
         obs[base + 4] = _unit_clip((c * wx + s * wy) / vscale)
         obs[base + 5] = _unit_clip((-s * wx + c * wy) / vscale)
+    if params.range_beams > 0:
+        _write_beams(x, y, robot[THETA], segments, circles, params, obs)
     return k
 
 
@@ -407,7 +519,10 @@ class ObservationBuilder:
         self.limits = context.robot.for_kernels()
         self.task = robot_task(context.robot_goal, context.world, context.horizon_steps)
         self.params = config.observation_params(context.world)
-        self.size = obs_size(config.max_pedestrians)
+        self.size = config.obs_size
+        walls = context.obstacles.for_kernels()
+        self._segments = walls.segments
+        self._circles = walls.circles
         self._robot = np.zeros(ROBOT_SIZE)
         self._dist = np.zeros(0)
         self._idx = np.zeros(0, dtype=np.int64)
@@ -463,6 +578,8 @@ class ObservationBuilder:
             self.limits,
             self.task,
             self.params,
+            self._segments,
+            self._circles,
             self._dist,
             self._idx,
             out,

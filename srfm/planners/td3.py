@@ -43,7 +43,7 @@ from numpy.typing import NDArray
 from srfm.errors import MissingDependencyError, PlannerError
 from srfm.models.robot import KINEMATICS
 from srfm.planners._base import FloatArray, Observation, PlannerContext
-from srfm.planners._observation import EnvConfig, ObservationBuilder, obs_size
+from srfm.planners._observation import EnvConfig, ObservationBuilder
 
 __all__ = [
     "ACTION_SIZE",
@@ -290,7 +290,7 @@ def save_numpy_policy(
     _check_layers(
         [w.shape for w in actor.weights],
         [b.shape for b in actor.biases],
-        obs_size(config.max_pedestrians),
+        config.obs_size,
         str(json_path),
     )
     arrays: dict[str, F32] = {}
@@ -423,11 +423,12 @@ def load_numpy_policy(path: str | Path) -> NumpyPolicy:
             raise PlannerError(f"{npz_path}: {name} has dtype {a.dtype}, expected float32")
         if not np.all(np.isfinite(a)):
             raise PlannerError(f"{npz_path}: {name} holds NaN or infinite values")
-    n_obs = obs_size(config.max_pedestrians)
+    n_obs = config.obs_size
     if _require(meta, "obs_size", source) != n_obs:
         raise PlannerError(
             f"{source}: obs_size {meta['obs_size']!r} does not match env_config "
-            f"(max_pedestrians {config.max_pedestrians} gives {n_obs})"
+            f"(max_pedestrians {config.max_pedestrians} and range_beams "
+            f"{config.range_beams} give {n_obs})"
         )
     _check_layers([w.shape for w in weights], [b.shape for b in biases], n_obs, str(npz_path))
     layers = _require(meta, "layers", source)

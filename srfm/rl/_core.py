@@ -24,7 +24,7 @@ from srfm.errors import ScenarioError
 from srfm.models import _robot_kernels as _rk
 from srfm.models.params import SRFMParams
 from srfm.models.robot import RobotState
-from srfm.planners._observation import EnvConfig, obs_size
+from srfm.planners._observation import EnvConfig
 from srfm.rl import _kernels as _k
 from srfm.scenarios import Scenario, episode_setup
 from srfm.sim.engine import EpisodeEngine
@@ -74,7 +74,7 @@ class EnvCore:
         )
         self.arrays = _k.EnvArrays(
             action=np.zeros(2),
-            obs=np.zeros(obs_size(config.max_pedestrians), dtype=np.float32),
+            obs=np.zeros(config.obs_size, dtype=np.float32),
             out=np.zeros(_k.OUT_SIZE),  # one simulation step's results (the kernel's)
             zone_body=np.array([0.0, 0.0, scenario.robot.radius_m, 0.0, 0.0]),
             dist_buf=np.zeros(max(n, 1)),

@@ -15,10 +15,10 @@ from srfm.errors import ParameterError, ScenarioError, SimulationError
 from srfm.models import _robot_kernels as _rk
 from srfm.models.params import SRFMParams
 from srfm.models.robot import RobotState, command_pair
-from srfm.planners._observation import EnvConfig, obs_size
+from srfm.planners._observation import EnvConfig
 from srfm.rl._core import EnvCore, resolve_scenario
-from srfm.scenarios import Scenario, load_scenario, validate_seed
-from srfm.scenarios.training import TRAINING_SCENARIO, training_layout
+from srfm.scenarios import BUILTIN_SCENARIOS, Scenario, load_scenario, validate_seed
+from srfm.scenarios.training import TRAINING_SCENARIO, pool_scenario, training_layout
 from srfm.scenarios.training import family_weights as check_family_weights
 from srfm.sim.engine import EVENT_OUTCOMES, EpisodeEngine
 
@@ -37,6 +37,26 @@ _TERMINAL: Final = frozenset(
 
 ObsType = NDArray[np.float32]
 ActType = NDArray[np.float32]
+
+
+def _library(library: Sequence[str], share: float, mixed: bool) -> tuple[str, ...]:
+    """The checked library of a training pool (see :class:`SocialNavEnv`)."""
+    if isinstance(library, (str, bytes)):
+        raise ParameterError(f"library must be a sequence of scenario names, got {library!r}")
+    names = tuple(library)
+    if not (isinstance(share, (int, float)) and 0.0 <= share <= 1.0):
+        raise ParameterError(f"library_share must be a number in [0, 1], got {share!r}")
+    if (names or share) and not mixed:
+        raise ParameterError(
+            f"library and library_share apply to the {TRAINING_SCENARIO!r} scenario only"
+        )
+    if share > 0.0 and not names:
+        raise ParameterError(f"library_share is {share!r} but the library is empty")
+    known = set(BUILTIN_SCENARIOS)
+    for name in names:
+        if name not in known:
+            raise ParameterError(f"unknown library scenario {name!r}")
+    return names
 
 
 class SocialNavEnv(gym.Env[ObsType, ActType]):
@@ -63,9 +83,9 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
 
     ## Observation space
 
-    ``Box(-1, 1, (9 + 6K,), float32)``, K = ``config.max_pedestrians`` (10 by default:
-    69 entries). Robot frame (x forward along the heading, y to the left), every entry
-    normalised:
+    ``Box(-1, 1, (9 + 6K + B,), float32)``, K = ``config.max_pedestrians`` (10 by
+    default), B = ``config.range_beams`` (0 by default: 69 entries). Robot frame (x
+    forward along the heading, y to the left), every entry normalised:
 
     | index | entry |
     |---|---|
@@ -85,12 +105,16 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
     | 13 + 6m | slot m: relative velocity x (pedestrian − robot) / velocity scale |
     | 14 + 6m | slot m: relative velocity y (pedestrian − robot) / velocity scale |
 
+    | 9 + 6K + j | beam j: wall or pillar distance at heading + 2πj/B / range_max_m, ≤ 1 |
+
     for slots m = 0 … K − 1 (with K = 10: slot 0 is entries 9–14, slot 1 15–20, …,
-    slot 9 63–68). The slots hold the pedestrians whose centre is closer than the
-    social zone (3 m) to the robot centre, nearest first (ties by index); empty slots
-    are all zeros. Velocities are divided by ``config.velocity_scale_mps`` (2 m/s)
-    and clipped to [−1, 1]. Entry 8 is 1 at every ending, the horizon (a truncation)
-    included.
+    slot 9 63–68) and beams j = 0 … B − 1 (B = 0 by default, the paper's observation;
+    the walls-aware recipe uses B = 24 beams of 4 m: entries 69–92). The slots hold
+    the pedestrians whose centre is closer than the social zone (3 m) to the robot
+    centre, nearest first (ties by index); empty slots are all zeros. The beams see
+    walls and pillars, not pedestrians and not the world's bounds. Velocities are
+    divided by ``config.velocity_scale_mps`` (2 m/s) and clipped to [−1, 1]. Entry 8
+    is 1 at every ending, the horizon (a truncation) included.
 
     ## Rewards
 
@@ -147,6 +171,13 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         render_mode: only None (use ``srfm.run_episode`` and its sinks to look at runs).
         family_weights: for ``"mixed"`` only: relative probabilities of the layout
             families (:func:`srfm.scenarios.training.family_weights`); None: uniform.
+        library: for ``"mixed"`` only: built-in scenarios run in a share
+            ``library_share`` of the episodes instead of a training layout (each
+            equally likely, chosen from the episode seed:
+            :func:`srfm.scenarios.training.pool_scenario`), for example
+            :data:`srfm.scenarios.training.LIBRARY_TRAINING`. Their robots must have
+            the kinematics of the ``random`` scenario's (or of ``config``).
+        library_share: the probability of a library scenario, in [0, 1].
 
     ## Example
 
@@ -172,6 +203,8 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         params: SRFMParams | None = None,
         render_mode: str | None = None,
         family_weights: Sequence[float] | None = None,
+        library: Sequence[str] = (),
+        library_share: float = 0.0,
     ) -> None:
         if render_mode is not None:
             raise ParameterError(f"render_mode must be None, got {render_mode!r}")
@@ -195,6 +228,8 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
             self.family_weights = check_family_weights(family_weights)
         except ScenarioError as error:
             raise ParameterError(str(error)) from None
+        self.library = _library(library, library_share, self.mixed)
+        self.library_share = float(library_share)
         if not isinstance(scenario, Scenario):
             scenario = load_scenario("random" if self.mixed else scenario)
         self.render_mode = render_mode
@@ -202,10 +237,12 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         self.config = config
         self.params = params
         self._core = EnvCore(self.scenario, config, params)
-        # one core per (pedestrian count, re-goaling) of the mixed layouts
+        # one core per (pedestrian count, re-goaling) of the mixed layouts, and one per
+        # library scenario
         self._cores: dict[tuple[int, bool], EnvCore] = {}
+        self._library_cores: dict[str, EnvCore] = {}
         self._k2 = float(config.k2)
-        size = obs_size(config.max_pedestrians)
+        size = config.obs_size
         self.observation_space = gym.spaces.Box(-1.0, 1.0, shape=(size,), dtype=np.float32)
         self.action_space = gym.spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
         self._running = False
@@ -229,21 +266,36 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
             episode = validate_seed(seed)
         else:
             episode = int(self.np_random.integers(0, MAX_DRAWN_SEED))
-        if self.mixed:
+        picked = pool_scenario(episode, self.library, self.library_share) if self.mixed else None
+        if picked is not None:
+            self._core = self._library_core(picked)
+            self._core.set_k2(self._k2)
+        elif self.mixed:
             drawn = training_layout(self.scenario, episode, weights=self.family_weights)
             layout = resolve_scenario(drawn, self.config)
             key = (layout.n_pedestrians, layout.random is not None)
-            core = self._cores.get(key)
-            if core is None:
-                core = EnvCore(layout, self.config, self.params)
-                self._cores[key] = core
-            core.use_layout(layout)
-            core.set_k2(self._k2)
-            self._core = core
+            if key not in self._cores:
+                self._cores[key] = EnvCore(layout, self.config, self.params)
+            self._core = self._cores[key]
+            self._core.use_layout(layout)
+            self._core.set_k2(self._k2)
         self._core.reset(episode)
         self.episode_seed = episode
         self._running = True
         return self._core.obs.copy(), {"episode_seed": episode}
+
+    def _library_core(self, name: str) -> EnvCore:
+        core = self._library_cores.get(name)
+        if core is None:
+            scenario = resolve_scenario(load_scenario(name), self.config)
+            if scenario.robot.kinematics != self.scenario.robot.kinematics:
+                raise ParameterError(
+                    f"library scenario {name!r} has a {scenario.robot.kinematics} robot, "
+                    f"the environment a {self.scenario.robot.kinematics} one"
+                )
+            core = EnvCore(scenario, self.config, self.params)
+            self._library_cores[name] = core
+        return core
 
     def step(self, action: ActType) -> tuple[ObsType, float, bool, bool, dict[str, Any]]:
         """Advance one step; see the class docstring."""

@@ -81,7 +81,7 @@ class EnvArrays(NamedTuple):
     Attributes:
         action: (2,) float64, the agent's action, clipped to [−1, 1] by the step (the
             observation's last action).
-        obs: (9 + 6K,) float32, the observation (:mod:`srfm.planners._observation`).
+        obs: (9 + 6K + B,) float32, the observation (:mod:`srfm.planners._observation`).
         out: (``OUT_SIZE``,) float64, the step's reward terms (``OUT_*``).
         zone_body: (5,) the robot's body (x, y, radius, vx, vy) at its new state (the
             r_div input).
@@ -213,6 +213,8 @@ def observe(ep: EpisodeArrays, env: EnvArrays, event: int) -> int:
         ep.limits,
         env.steer,
         env.observation,
+        ep.felt.obstacles.segments,
+        ep.felt.obstacles.circles,
         env.dist_buf,
         env.idx_buf,
         env.obs,

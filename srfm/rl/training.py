@@ -44,9 +44,10 @@ from typing import Any, Final
 import attrs
 import numpy as np
 
-from srfm._validate import non_negative, positive
+from srfm._validate import non_negative, positive, unit_interval
 from srfm.errors import ParameterError, ScenarioError, SrfmError
-from srfm.scenarios.training import family_weights
+from srfm.scenarios import BUILTIN_SCENARIOS, EVALUATION_SCENARIOS
+from srfm.scenarios.training import TRAINING_SCENARIO, family_weights
 
 __all__ = [
     "BACKENDS",
@@ -119,6 +120,24 @@ def _families(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
         raise ParameterError(f"train.family_weights: {error}") from None
 
 
+def _names(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
+    if not isinstance(value, tuple):
+        raise ParameterError(f"train.{attribute.name} must be a tuple of names, got {value!r}")
+    unknown = [n for n in value if n not in BUILTIN_SCENARIOS]
+    if unknown:
+        raise ParameterError(f"train.{attribute.name}: unknown scenario {unknown[0]!r}")
+
+
+def _eval_names(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
+    if not isinstance(value, tuple) or not value:
+        raise ParameterError(f"train.{attribute.name} must name scenarios, got {value!r}")
+    _names(inst, attribute, tuple(n for n in value if n != TRAINING_SCENARIO))
+
+
+def _share(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    unit_interval(value, f"train.{attribute.name}", ParameterError)
+
+
 @attrs.frozen(kw_only=True)
 class TrainConfig:
     """TD3 hyperparameters and the run's schedule (defaults: the paper, docs/rl.md).
@@ -171,6 +190,19 @@ class TrainConfig:
         family_weights: relative probabilities of the ``mixed`` layout families, in
             the order of :data:`srfm.scenarios.training.TRAINING_FAMILIES` (walkers,
             streams, crossing, standing, circle); None: each 1/5. Only for ``mixed``.
+        library: built-in scenarios run in a share ``library_share`` of the
+            training episodes (``mixed`` only; :class:`srfm.rl.SocialNavEnv`), e.g.
+            :data:`srfm.scenarios.training.LIBRARY_TRAINING`.
+        library_share: the probability of a library scenario per episode, in [0, 1].
+        range_beams: range beams to walls and pillars in the observation
+            (:class:`srfm.rl.EnvConfig`; 0: the paper's observation).
+        range_max_m: the range of the beams (m).
+        eval_scenarios: the scenarios of the periodic evaluations (built-in names;
+            ``mixed`` stands for the training layouts of the evaluation seeds).
+        select_by_deviation: rank evaluations by success, then collisions, then
+            deviation (True); False ranks by success and collisions only (an
+            evaluation must be strictly better to replace the best), so that a
+            comparison of k2 values is not selected on the quantity under test.
     """
 
     total_steps: int = attrs.field(default=2_000_000, validator=_count(1))
@@ -206,6 +238,14 @@ class TrainConfig:
     backend: str = attrs.field(default="sb3", validator=_backend)
     n_envs: int = attrs.field(default=1, validator=_count(1))
     family_weights: tuple[float, ...] | None = attrs.field(default=None, validator=_families)
+    library: tuple[str, ...] = attrs.field(default=(), validator=_names)
+    library_share: float = attrs.field(default=0.0, validator=_share)
+    range_beams: int = attrs.field(default=0, validator=_count(0))
+    range_max_m: float = attrs.field(default=4.0, validator=_pos)
+    eval_scenarios: tuple[str, ...] = attrs.field(
+        default=EVALUATION_SCENARIOS, validator=_eval_names
+    )
+    select_by_deviation: bool = True
 
 
 @attrs.frozen(kw_only=True)
@@ -229,12 +269,16 @@ class EvalResult:
     mean_deviation_m: float
     per_scenario: dict[str, dict[str, float]]
 
-    def better_than(self, other: EvalResult | None) -> bool:
-        """Higher success, then fewer collisions, then less deviation."""
+    def better_than(self, other: EvalResult | None, by_deviation: bool = True) -> bool:
+        """Higher success, then fewer collisions, then (with ``by_deviation``) less
+        deviation; strictly better only."""
         if other is None:
             return True
-        mine = (-self.success_rate, self.collision_rate, self.mean_deviation_m)
-        theirs = (-other.success_rate, other.collision_rate, other.mean_deviation_m)
+        mine: tuple[float, ...] = (-self.success_rate, self.collision_rate)
+        theirs: tuple[float, ...] = (-other.success_rate, other.collision_rate)
+        if by_deviation:
+            mine += (self.mean_deviation_m,)
+            theirs += (other.mean_deviation_m,)
         return mine < theirs
 
 
@@ -255,14 +299,22 @@ def evaluate_planner(
     seeds: Sequence[int],
     steps: int = 0,
 ) -> EvalResult:
-    """Run full twin episodes (:func:`srfm.run_episode`) and summarise them."""
+    """Run full twin episodes (:func:`srfm.run_episode`) and summarise them.
+
+    A scenario named ``mixed`` runs the training layout of each seed
+    (:func:`srfm.scenarios.training.training_layout`)."""
+    from srfm.scenarios import load_scenario
+    from srfm.scenarios.training import training_layout
     from srfm.sim.episode import run_episode
 
     outcomes: dict[str, list[str]] = {}
     deviations: dict[str, list[float]] = {}
     for name in scenarios:
         for seed in seeds:
-            record = run_episode(name, seed, make_planner())
+            scenario: Any = name
+            if name == TRAINING_SCENARIO:
+                scenario = training_layout(load_scenario("random"), seed)
+            record = run_episode(scenario, seed, make_planner())
             outcomes.setdefault(name, []).append(record.outcome)
             deviations.setdefault(name, []).append(
                 float(record.twin_separation_m().max(axis=0).mean())
@@ -295,6 +347,13 @@ def k2_schedule(config: TrainConfig, steps: int) -> float:
     return config.k_div * min(1.0, (steps - config.k_div_start) / config.k_div_ramp)
 
 
+def selectable(config: TrainConfig, steps: int) -> bool:
+    """Whether the policy at ``steps`` may become the run's best: once the k2
+    curriculum is over (``k_div_start + k_div_ramp``), also for a run with k2 = 0, so
+    that runs that differ only in k2 select from the same window of training."""
+    return steps >= config.k_div_start + config.k_div_ramp
+
+
 def _versions() -> dict[str, str]:
     out = {"python": platform.python_version()}
     for mod in ("srfm", "numpy", "numba", "gymnasium", "stable_baselines3", "torch", "sbx", "jax"):
@@ -322,7 +381,7 @@ def _require_sbx() -> Any:
         ) from None
 
 
-def _best_so_far(path: Path) -> EvalResult | None:
+def _best_so_far(path: Path, by_deviation: bool = True) -> EvalResult | None:
     """The best evaluation recorded in an ``eval.jsonl`` among those eligible to be
     the run's best (None when there is none)."""
     best: EvalResult | None = None
@@ -336,7 +395,7 @@ def _best_so_far(path: Path) -> EvalResult | None:
         if not row.get("eligible", True):
             continue
         result = EvalResult(**{k: v for k, v in row.items() if k in names})
-        if result.better_than(best):
+        if result.better_than(best, by_deviation):
             best = result
     return best
 
@@ -407,7 +466,7 @@ def train(
         previous_wall_s=previous_wall,
     )
     if resume is not None:
-        session.best = _best_so_far(run / "eval.jsonl")
+        session.best = _best_so_far(run / "eval.jsonl", config.select_by_deviation)
     callback = CallbackList(
         [
             K2Curriculum(SCHEDULE_EVERY, functools.partial(k2_schedule, config)),
@@ -494,8 +553,16 @@ def _env_config(config: TrainConfig) -> Any:
         timeout_penalty=config.timeout_penalty,
         progress_gamma=config.gamma,
         action_repeat=config.action_repeat,
+        range_beams=config.range_beams,
+        range_max_m=config.range_max_m,
     )
-    probe = SocialNavEnv(config.scenario, env_config, family_weights=config.family_weights)
+    probe = SocialNavEnv(
+        config.scenario,
+        env_config,
+        family_weights=config.family_weights,
+        library=config.library,
+        library_share=config.library_share,
+    )
     return env_config.replace(kinematics=probe.scenario.robot.kinematics)
 
 
@@ -511,7 +578,13 @@ def _vec_env(config: TrainConfig, env_config: Any, run: Path) -> Any:
         name = "monitor.csv" if i == 0 else f"{i}.monitor.csv"
 
         def make() -> Any:
-            env = SocialNavEnv(config.scenario, env_config, family_weights=config.family_weights)
+            env = SocialNavEnv(
+                config.scenario,
+                env_config,
+                family_weights=config.family_weights,
+                library=config.library,
+                library_share=config.library_share,
+            )
             return Monitor(env, filename=str(run / name), info_keywords=("outcome",))
 
         return make
@@ -652,24 +725,23 @@ class _Session:
         """Evaluate the current policy (a line of eval.jsonl); best.zip when it is the
         best eligible one."""
         from srfm.planners.td3 import PolicyPlanner
-        from srfm.scenarios import EVALUATION_SCENARIOS
 
         actor = self._actor()
         eval_seeds = list(range(EVAL_SEED_BASE, EVAL_SEED_BASE + self.config.eval_seeds))
         result = evaluate_planner(
             lambda: PolicyPlanner(actor, self.env_config, "policy"),
-            EVALUATION_SCENARIOS,
+            self.config.eval_scenarios,
             eval_seeds,
             steps,
         )
         # Only a policy trained with the final k2 can be the run's best (the k2
         # curriculum's early checkpoints are policies of another reward).
         k2 = k2_schedule(self.config, steps)
-        eligible = k2 == self.config.k_div
+        eligible = selectable(self.config, steps)
         row = {**attrs.asdict(result), "wall_time_s": self.wall(), "k2": k2}
         with (self.run / "eval.jsonl").open("a") as fh:
             fh.write(json.dumps({**row, "eligible": eligible}) + "\n")
-        if eligible and result.better_than(self.best):
+        if eligible and result.better_than(self.best, self.config.select_by_deviation):
             self.best = result
             self.model.save(self.run / "best.zip")
         self.say(

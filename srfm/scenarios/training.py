@@ -36,6 +36,22 @@ layouts for a policy that fails to cross standing crowds (docs/rl.md).
 
 Randomness is keyed by the seed only (the training stream,
 :func:`srfm._streams.training_rng`), so a layout never depends on what ran before it.
+
+**Library scenarios in training.** The layouts above have no walls. A policy that is to
+go anywhere also trains on built-in library scenarios with walls, doors, rooms, pillars
+and entering people: ``SocialNavEnv("mixed", library=LIBRARY_TRAINING,
+library_share=p)`` runs a library scenario in a share p of the episodes
+(:func:`pool_scenario`, keyed by the episode seed). The library is split once, before
+any training (issue 30), and the split is fixed here:
+
+- :data:`LIBRARY_TRAINING`: the scenarios training may use; those of
+  :data:`LIBRARY_VALIDATION` (all but ``corridor_flow``, which is reported) also select
+  checkpoints, on seeds 10000 on.
+- :data:`LIBRARY_HELDOUT`: never used for training, selection or tuning; they are
+  reported only (seeds 0-99). Each held-out scenario has a sibling of its kind in
+  training (a corridor encounter, a crowd in a corridor, a corner, a door, a room, an
+  open crossing, the NavWareSet room), so the held-out set tests generalisation to new
+  geometry, not to a kind of scene never seen.
 """
 
 from __future__ import annotations
@@ -47,17 +63,61 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm._streams import training_rng
+from srfm._streams import pool_rng, training_rng
 from srfm.errors import ScenarioError
 from srfm.scenarios._schema import RandomSpec, Scenario
 from srfm.scenarios._setup import validate_seed
 from srfm.world import WorldBounds
 
-__all__ = ["TRAINING_FAMILIES", "TRAINING_SCENARIO", "family_weights", "training_layout"]
+__all__ = [
+    "LIBRARY_HELDOUT",
+    "LIBRARY_TRAINING",
+    "LIBRARY_VALIDATION",
+    "TRAINING_FAMILIES",
+    "TRAINING_SCENARIO",
+    "family_weights",
+    "pool_scenario",
+    "training_layout",
+]
 
 FloatArray = NDArray[np.float64]
 
 TRAINING_SCENARIO: Final = "mixed"  # the environment's name for these layouts
+
+# The split of the scenario library (the Francis, NavWareSet and flow suites), fixed on
+# 2026-11-27 before any policy was trained on it (issue 30; docs/rl.md).
+LIBRARY_TRAINING: Final = (
+    "frontal_approach",
+    "pedestrian_obstruction",
+    "robot_overtaking",
+    "parallel_traffic",
+    "robot_crowding",
+    "intersection",
+    "intersection_open",
+    "narrow_hallway",
+    "entering_room",
+    "perpendicular_traffic",
+    "crowd_navigation",
+    "navwareset_frontal_approach",
+    "navwareset_obstruction",
+    "navwareset_perpendicular_crossing",
+    "corridor_flow",
+)
+"""Library scenarios a policy may train on."""
+LIBRARY_HELDOUT: Final = (
+    "pedestrian_overtaking",
+    "down_path",
+    "blind_corner",
+    "narrow_doorway",
+    "exiting_room",
+    "circular_crossing",
+    "navwareset_blind_corner",
+    "navwareset_circular_crossing",
+)
+"""Library scenarios never used for training, checkpoint selection or tuning."""
+LIBRARY_VALIDATION: Final = tuple(n for n in LIBRARY_TRAINING if n != "corridor_flow")
+"""Library scenarios that select checkpoints (on seeds 10000 on; ``corridor_flow`` is
+reported, so it does not select)."""
 TRAINING_FAMILIES: Final = ("walkers", "streams", "crossing", "standing", "circle")
 _MARGIN_M: Final = 0.5  # everything at least this far inside the world
 _PED_GAP_M: Final = 0.7  # pedestrian starts at least this far apart (centres)
@@ -321,6 +381,23 @@ def family_weights(weights: Sequence[float] | None) -> tuple[float, ...] | None:
     if sum(values) <= 0.0:
         raise ScenarioError(f"family weights must not all be 0, got {weights!r}")
     return values
+
+
+def pool_scenario(seed: int, library: Sequence[str], share: float) -> str | None:
+    """The library scenario that training episode ``seed`` runs, or None for a
+    training layout (:func:`training_layout`).
+
+    Args:
+        seed: the episode seed.
+        library: the library scenarios of the pool (each equally likely).
+        share: the probability of a library scenario, in [0, 1].
+    """
+    if not library or share <= 0.0:
+        return None
+    rng = pool_rng(validate_seed(seed))
+    if not rng.random() < share:
+        return None
+    return library[int(rng.integers(len(library)))]
 
 
 def training_layout(

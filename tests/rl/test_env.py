@@ -393,6 +393,8 @@ def _observe(
         limits,
         robot_task(np.array(goal), world, 750),
         EnvConfig(max_pedestrians=3).observation_params(world),
+        np.zeros((0, 4)),
+        np.zeros((0, 3)),
         np.zeros(max(len(peds), 1)),
         np.zeros(max(len(peds), 1), dtype=np.int64),
         out,

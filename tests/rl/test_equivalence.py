@@ -114,25 +114,33 @@ def _random_actor(obs_size: int, seed: int) -> NumpyActor:
 
 
 @pytest.mark.parametrize(
-    ("name", "kinematics", "repeat"),
+    ("name", "kinematics", "repeat", "beams"),
     [
-        ("random", "unicycle", 1),
-        ("crosswalk", "unicycle", 1),
-        ("circle", "holonomic", 1),
-        ("crosswalk", "unicycle", 3),
-        ("circle", "holonomic", 4),
-        ("blind_corner", "unicycle", 1),
-        ("navwareset_circular_crossing", "holonomic", 3),
-        ("corridor_flow", "unicycle", 1),
-        ("corridor_flow", "holonomic", 3),
+        ("random", "unicycle", 1, 0),
+        ("crosswalk", "unicycle", 1, 0),
+        ("circle", "holonomic", 1, 0),
+        ("crosswalk", "unicycle", 3, 0),
+        ("circle", "holonomic", 4, 24),
+        ("blind_corner", "unicycle", 1, 24),
+        ("narrow_doorway", "unicycle", 4, 24),
+        ("crowd_navigation", "unicycle", 1, 36),  # pillars
+        ("navwareset_circular_crossing", "holonomic", 3, 16),
+        ("corridor_flow", "unicycle", 1, 0),
+        ("corridor_flow", "holonomic", 3, 24),
     ],
 )
 def test_policy_sees_the_same_observation_in_env_and_episode(
-    name: str, kinematics: str, repeat: int
+    name: str, kinematics: str, repeat: int, beams: int
 ) -> None:
     """Also with action_repeat: the planner decides every ``repeat`` steps, on the
-    observation the environment returned for that step, and holds the action."""
-    config = EnvConfig(kinematics=kinematics, action_repeat=repeat)  # type: ignore[arg-type]
+    observation the environment returned for that step, and holds the action; with
+    range beams, in scenarios with walls and pillars."""
+    config = EnvConfig(
+        kinematics=kinematics,  # type: ignore[arg-type]
+        action_repeat=repeat,
+        range_beams=beams,
+        range_max_m=8.0,
+    )
     env = SocialNavEnv(name, config)
     actor = _random_actor(env.observation_space.shape[0], 4)
     obs, _ = env.reset(seed=3)
@@ -145,6 +153,8 @@ def test_policy_sees_the_same_observation_in_env_and_episode(
         if terminated or truncated:
             break
         env_obs.append(obs)
+    if beams and not env.scenario.obstacles.empty:  # the beams saw something
+        assert min(o[-beams:].min() for o in env_obs) < 1.0
     planner = _Recording(actor, config)
     record = srfm.run_episode(env.scenario, 3, planner)
     decisions = planner.seen[::repeat]

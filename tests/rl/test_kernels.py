@@ -44,7 +44,7 @@ def test_build_observation_equals_its_python_function(kinematics: str) -> None:
     rng = np.random.default_rng(5)
     world = WorldBounds()
     limits = RobotConfig(kinematics=kinematics).for_kernels()  # type: ignore[arg-type]
-    params = EnvConfig(max_pedestrians=4).observation_params(world)
+    params = EnvConfig(max_pedestrians=4, range_beams=12).observation_params(world)
     for _ in range(50):
         n = int(rng.integers(0, 12))
         pos = rng.uniform(0.0, 15.0, (n, 2))
@@ -52,9 +52,13 @@ def test_build_observation_equals_its_python_function(kinematics: str) -> None:
         robot = np.concatenate([rng.uniform(0.0, 15.0, 2), rng.uniform(-3.0, 3.0, 5)])
         task = robot_task(rng.uniform(0.0, 15.0, 2), world, 750)
         last = rng.uniform(-2.0, 2.0, 2)
+        segments = rng.uniform(0.0, 15.0, (int(rng.integers(0, 5)), 4))
+        circles = np.column_stack([rng.uniform(0.0, 15.0, (2, 2)), rng.uniform(0.1, 1.0, 2)])[
+            : int(rng.integers(0, 3))
+        ]
         outs = []
         for fn in (build_observation, build_observation.py_func):
-            out = np.zeros(obs_size(4), dtype=np.float32)
+            out = np.zeros(obs_size(4, 12), dtype=np.float32)
             k = fn(
                 pos,
                 vel,
@@ -65,6 +69,8 @@ def test_build_observation_equals_its_python_function(kinematics: str) -> None:
                 limits,
                 task,
                 params,
+                segments,
+                circles,
                 np.zeros(max(n, 1)),
                 np.zeros(max(n, 1), dtype=np.int64),
                 out,

@@ -315,3 +315,55 @@ def test_family_weights_option(tmp_path: Path) -> None:
         SocialNavEnv("crosswalk", family_weights=(1, 1, 1, 1, 1))
     with pytest.raises(ParameterError, match="'circle' must be finite"):
         TrainConfig(family_weights=(1.0, 1.0, 1.0, 1.0, -2.0))
+
+
+def test_walls_recipe_options(tmp_path: Path) -> None:
+    """Range beams, a library share, validation scenarios and selection by outcome only
+    reach the environment, the evaluations and the exported policy."""
+    from srfm.planners.td3 import load_policy
+    from srfm.rl.training import export_policy, selectable
+
+    run = tmp_path / "walls"
+    args = ["train", "--run-dir", str(run), "--steps", "200", "--no-progress", *TINY]
+    args += ["--scenario", "mixed", "--net-arch", "8", "--range-beams", "8"]
+    args += ["--library", "narrow_hallway,frontal_approach", "--library-share", "0.5"]
+    args += ["--eval-scenarios", "mixed,narrow_hallway", "--select-by-outcome"]
+    args += ["--k-div", "0", "--k-div-start", "100", "--k-div-ramp", "50"]
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    meta = json.loads((run / "config.json").read_text())
+    assert meta["train_config"]["library"] == ["narrow_hallway", "frontal_approach"]
+    assert meta["train_config"]["select_by_deviation"] is False
+    assert meta["env_config"]["range_beams"] == 8
+    evals = [json.loads(line) for line in (run / "eval.jsonl").read_text().splitlines()]
+    assert [set(e["per_scenario"]) for e in evals] == [{"mixed", "narrow_hallway"}] * 2
+    # k2 = 0 throughout, but only evaluations after the curriculum window may be the best
+    assert [e["eligible"] for e in evals] == [False, True]
+    json_path, _ = export_policy(run / "best.zip", tmp_path / "policy")
+    _, config = load_policy(json_path)
+    assert config.range_beams == 8
+    assert config.obs_size == 9 + 6 * 10 + 8
+    config_k2 = TrainConfig(k_div_start=100, k_div_ramp=50)
+    assert [selectable(config_k2, s) for s in (149, 150)] == [False, True]
+    bad = CliRunner().invoke(main, [*args[:3], str(tmp_path / "b"), "--library", "nowhere"])
+    assert bad.exit_code == 2
+    assert "nowhere" in bad.output
+    with pytest.raises(ParameterError, match="nowhere"):
+        TrainConfig(eval_scenarios=("crosswalk", "nowhere"))
+
+
+def test_selection_by_outcome_ignores_deviation() -> None:
+    def result(success: float, deviation: float) -> EvalResult:
+        return EvalResult(
+            steps=0,
+            episodes=10,
+            success_rate=success,
+            collision_rate=0.0,
+            timeout_rate=1.0 - success,
+            mean_deviation_m=deviation,
+            per_scenario={},
+        )
+
+    assert result(0.9, 0.1).better_than(result(0.9, 0.2))
+    assert not result(0.9, 0.1).better_than(result(0.9, 0.2), by_deviation=False)
+    assert result(1.0, 0.5).better_than(result(0.9, 0.2), by_deviation=False)

@@ -571,7 +571,7 @@ def main(argv: list[str] | None = None) -> int:
         import_s = time.perf_counter() - t0
         from srfm.models.forces import CELL_LIST_MIN_AGENTS
 
-        psf = None if args.no_pysocialforce else import_pysocialforce(tmp)
+        psf = None if args.no_pysocialforce or args.robot_forms else import_pysocialforce(tmp)
         config = None if psf is None else pysocialforce_config(psf, tmp)
         jps = not args.no_jupedsim
 

@@ -7,7 +7,8 @@ the median. Configurations:
 
 * ``SocialNavEnv`` used directly, actions drawn up front (uniform in [−1, 1]²): the
   cost of the environment itself; with the full counterfactual twin (default) and
-  without it (``EnvConfig(counterfactual_twin=False)``, the training set-up);
+  without it (``EnvConfig(counterfactual_twin=False)``, the training set-up), and with
+  ``--beams B`` also the training set-up with B range beams to walls and pillars;
 * ``gym.make("srfm/SocialNav-v0")``: the same behind gymnasium's default wrappers;
 * ``action_space.sample()`` drawn inside the loop, as a random agent would;
 * for context, the core ``TwinSimulator`` stepped from Python with ``observe`` each
@@ -17,6 +18,7 @@ Usage::
 
     .venv/bin/python tools/bench/bench_env.py
     .venv/bin/python tools/bench/bench_env.py --steps 50000 --repeats 3 --scenarios random
+    .venv/bin/python tools/bench/bench_env.py --scenarios random entering_room --beams 24
 """
 
 from __future__ import annotations
@@ -96,6 +98,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--steps", type=int, default=100_000, help="steps per timed block")
     parser.add_argument("--repeats", type=int, default=5, help="timed blocks per row")
     parser.add_argument("--scenarios", nargs="+", default=["random", "crosswalk"])
+    parser.add_argument(
+        "--beams",
+        type=int,
+        default=0,
+        help="also time the training set-up with this many range beams (0: not)",
+    )
     args = parser.parse_args(argv)
 
     import gymnasium as gym
@@ -126,6 +134,16 @@ def main(argv: list[str] | None = None) -> int:
                 *_time(_env_loop(env, actions), args.steps, args.repeats),
             )
         )
+        if args.beams:
+            env = SocialNavEnv(name, EnvConfig(counterfactual_twin=False, range_beams=args.beams))
+            env.reset(seed=0)
+            rows.append(
+                (
+                    name,
+                    f"SocialNavEnv, no full twin, {args.beams} range beams",
+                    *_time(_env_loop(env, actions), args.steps, args.repeats),
+                )
+            )
         made = gym.make(srfm.rl.ENV_ID, scenario=name)
         made.reset(seed=0)
         rows.append(

@@ -1,0 +1,194 @@
+"""The study's report (issue 30): targets per policy and scenario, and the paper's
+claim tested over training seeds.
+
+    PYTHONPATH=. srfm benchmark -s SCENARIOS -p tools.rl.study_planners:k0_seed1,... \\
+        --seeds 0-99 --no-logs --no-figures --out runs/study-report
+    python tools/rl/study_report.py runs/study-report > tools/rl/study/report.md
+
+``SCENARIOS`` are the report's: the five paper scenarios, the library's held-out set
+and corridor_flow (``python tools/rl/study_report.py --scenarios`` prints them
+comma-separated). Printed, in Markdown:
+
+1. **Targets**, per policy and scenario (100 seeds each): goal, collision and
+   out-of-bounds shares; a cell misses its target when goal < 95 % or collisions > 2 %
+   (paper and held-out scenarios) or collisions > 5 % (corridor_flow).
+2. **The claim**, per scenario: each training seed's mean Fréchet deviation over the
+   episodes where its policy reached the goal; the difference k2 = 2 minus k2 = 0,
+   paired by training seed (both arms of a seed share the recipe's first 100,000
+   actions), with its 95 % t interval and two-sided paired t-test p-value, Holm-corrected
+   over the scenarios; and the equivalence test (TOST, two one-sided paired t-tests at
+   ±0.03 m, α = 0.05: equivalent when the 90 % interval lies inside ±0.03 m). The
+   answer per scenario is one of "the penalty lowers (raises) deviation by x m",
+   "equivalent within ±0.03 m", or "inconclusive: would need n seeds", with
+   n = (t₀.₉₅ + t₀.₉)² s² / (0.03 m)² paired seeds for TOST to show equivalence with
+   power 0.8 when the true difference is 0 (s the standard deviation of the paired
+   differences; normal quantiles, rounded up).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import re
+import sys
+from collections import defaultdict
+from pathlib import Path
+
+import numpy as np
+from scipy import stats
+
+from srfm.scenarios import EVALUATION_SCENARIOS
+from srfm.scenarios.training import LIBRARY_HELDOUT
+
+REPORT_SCENARIOS = (*EVALUATION_SCENARIOS, *LIBRARY_HELDOUT, "corridor_flow")
+POLICY = re.compile(r"tools\.rl\.study_planners:k(\d+(?:\.\d+)?)_seed(\d+)")
+MARGIN_M = 0.03
+ALPHA = 0.05
+
+Table = dict[tuple[str, str], list[dict[str, str]]]
+
+
+def load(folder: Path) -> Table:
+    table: Table = defaultdict(list)
+    with (folder / "episodes.csv").open() as fh:
+        for row in csv.DictReader(fh):
+            table[(row["scenario"], row["planner"])].append(row)
+    return table
+
+
+def share(rows: list[dict[str, str]], key: str) -> float:
+    return sum(float(r[key]) for r in rows) / len(rows)
+
+
+def targets(table: Table, planners: list[str]) -> list[str]:
+    lines = [
+        "| scenario | " + " | ".join(short(p) for p in planners) + " |",
+        "|---|" + "---|" * len(planners),
+    ]
+    misses = 0
+    for scenario in REPORT_SCENARIOS:
+        cells = []
+        for planner in planners:
+            rows = table.get((scenario, planner), [])
+            if not rows:
+                cells.append("–")
+                continue
+            goal = share(rows, "robot_success")
+            col = share(rows, "robot_collision")
+            oob = share(rows, "robot_out_of_bounds")
+            limit = 0.05 if scenario == "corridor_flow" else 0.02
+            miss = col > limit or (scenario != "corridor_flow" and goal < 0.95)
+            misses += miss
+            mark = " ✗" if miss else ""
+            cells.append(f"{goal:.2f} / {col:.2f} / {oob:.2f}{mark}")
+        lines.append(f"| {scenario} | " + " | ".join(cells) + " |")
+    lines.append("")
+    lines.append(
+        "Cells: goal / collision / out-of-bounds shares over seeds 0-99 (n = 100 each); "
+        f"✗ misses the target ({misses} cells)."
+    )
+    return lines
+
+
+def short(planner: str) -> str:
+    match = POLICY.fullmatch(planner)
+    return f"k2={match[1]} seed {match[2]}" if match else planner
+
+
+def holm(p: list[float]) -> list[float]:
+    """Holm-adjusted p-values (NaN stays NaN)."""
+    order = sorted((v, i) for i, v in enumerate(p) if math.isfinite(v))
+    out = [math.nan] * len(p)
+    running = 0.0
+    m = len(order)
+    for rank, (v, i) in enumerate(order):
+        running = max(running, min(1.0, (m - rank) * v))
+        out[i] = running
+    return out
+
+
+def seed_means(table: Table, scenario: str, planner: str) -> float:
+    rows = table.get((scenario, planner), [])
+    good = [float(r["frechet_m"]) for r in rows if float(r["robot_success"]) == 1.0]
+    return float(np.mean(good)) if good else math.nan
+
+
+def claim(table: Table, planners: list[str]) -> list[str]:
+    arms: dict[str, dict[int, str]] = defaultdict(dict)
+    for planner in planners:
+        match = POLICY.fullmatch(planner)
+        if match:
+            arms[match[1]][int(match[2])] = planner
+    if set(arms) < {"0", "2"}:
+        return ["(needs both arms, k2 = 0 and k2 = 2)"]
+    seeds = sorted(set(arms["0"]) & set(arms["2"]))
+    rows = []
+    for scenario in REPORT_SCENARIOS:
+        d = np.array(
+            [
+                seed_means(table, scenario, arms["2"][s])
+                - seed_means(table, scenario, arms["0"][s])
+                for s in seeds
+            ]
+        )
+        d = d[np.isfinite(d)]
+        n = len(d)
+        if n < 2:
+            rows.append(
+                (scenario, n, math.nan, math.nan, math.nan, math.nan, math.nan, math.nan, math.nan)
+            )
+            continue
+        mean = float(d.mean())
+        sd = float(d.std(ddof=1))
+        se = sd / math.sqrt(n)
+        t975 = float(stats.t.ppf(0.975, n - 1))
+        t95 = float(stats.t.ppf(0.95, n - 1))
+        p = float(stats.ttest_1samp(d, 0.0).pvalue) if sd > 0 else math.nan
+        lo90, hi90 = mean - t95 * se, mean + t95 * se
+        rows.append((scenario, n, mean, mean - t975 * se, mean + t975 * se, p, lo90, hi90, sd))
+    adjusted = holm([r[5] for r in rows])
+    z = float(stats.norm.ppf(0.95) + stats.norm.ppf(0.9))
+    lines = [
+        f"Training seeds with both arms: {', '.join(map(str, seeds))} (n = {len(seeds)}).",
+        "",
+        "| scenario | n seeds | Δ Fréchet (m), k2=2 − k2=0 | 95 % CI | p | p (Holm) "
+        "| 90 % CI (TOST ±0.03 m) | answer |",
+        "|---|---:|---:|---|---:|---:|---|---|",
+    ]
+    for (scenario, n, mean, lo, hi, p, lo90, hi90, sd), p_holm in zip(rows, adjusted, strict=True):
+        if not math.isfinite(mean):
+            lines.append(f"| {scenario} | {n} | – | – | – | – | – | too few seeds |")
+            continue
+        if math.isfinite(p_holm) and p_holm < ALPHA:
+            verb = "lowers" if mean < 0 else "raises"
+            answer = f"the penalty {verb} deviation by {abs(mean):.3f} m ({lo:+.3f} to {hi:+.3f})"
+        elif lo90 > -MARGIN_M and hi90 < MARGIN_M:
+            answer = "equivalent within ±0.03 m"
+        else:
+            need = math.ceil((z * sd / MARGIN_M) ** 2)
+            answer = f"inconclusive: would need about {need} seeds"
+        lines.append(
+            f"| {scenario} | {n} | {mean:+.3f} | {lo:+.3f} to {hi:+.3f} | {p:.2g} | "
+            f"{p_holm:.2g} | {lo90:+.3f} to {hi90:+.3f} | {answer} |"
+        )
+    return lines
+
+
+def main(argv: list[str]) -> int:
+    if argv == ["--scenarios"]:
+        print(",".join(REPORT_SCENARIOS))
+        return 0
+    if len(argv) != 1:
+        print(__doc__, file=sys.stderr)
+        return 2
+    table = load(Path(argv[0]))
+    planners = sorted({p for _, p in table}, key=lambda p: (POLICY.fullmatch(p) is None, p))
+    print("## Targets (seeds 0-99)\n")
+    print("\n".join(targets(table, planners)))
+    print("\n## The claim over training seeds\n")
+    print("\n".join(claim(table, planners)))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main(sys.argv[1:]))

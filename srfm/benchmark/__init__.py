@@ -1,5 +1,13 @@
 """The benchmark: scenarios × planners × seeds into a results folder of tables and figures."""
 
+from srfm.benchmark._draws import (
+    SENSITIVITY_RANGES,
+    ParamDraws,
+    RankTable,
+    draw_params,
+    rank_probabilities,
+    rank_table,
+)
 from srfm.benchmark._html import REPORT, render_report, write_report
 from srfm.benchmark._request import (
     MANIFEST,
@@ -23,12 +31,18 @@ __all__ = [
     "MAX_SEEDS",
     "QUICK_SEEDS",
     "REPORT",
+    "SENSITIVITY_RANGES",
     "BenchmarkRequest",
     "BenchmarkSummary",
     "EpisodeWriter",
+    "ParamDraws",
+    "RankTable",
     "default_planners",
+    "draw_params",
     "episode_path",
     "load_results",
+    "rank_probabilities",
+    "rank_table",
     "read_episode",
     "render_report",
     "run_benchmark",

@@ -25,6 +25,7 @@ from srfm.benchmark._results import episode_path, read_episode
 from srfm.errors import BenchmarkError, SrfmError
 from srfm.metrics.episode import EPISODE_METRICS, METRIC_GROUPS
 from srfm.metrics.report import MANIFEST, SUMMARY_SCHEMA, render_tables
+from srfm.metrics.tables import GIVEN_SUCCESS, base_metric, outcome_shares, share_text
 from srfm.models.params import SRFMParams
 from srfm.sim.record import ROBOT_OUTCOMES
 
@@ -52,6 +53,9 @@ _DATA_FILES: Final = (
     ("pedestrians.csv", "one row per episode and pedestrian"),
     ("pedestrians.parquet", "the same as Parquet"),
     ("summary.json", "every cell: n, undefined, mean, std, p-values"),
+    ("rankings.md", "rank probabilities under the parameter draws (Markdown)"),
+    ("rankings.json", "the same with every draw's means"),
+    ("param_draws.json", "the parameter draws"),
     (MANIFEST, "versions, parameters, request and command"),
 )
 
@@ -79,6 +83,8 @@ th { background: #f3f6fa; }
 td.name, th.name { text-align: left; }
 tr.group td { background: #f9fafc; font-style: italic; text-align: left; }
 td.best { font-weight: 700; background: #e8f3e8; }
+th.cond, td.cond { border-left: 2px solid #9db3cf; }
+td.shares { color: #444; font-size: .88em; }
 .n { color: #8a5a00; font-size: .85em; }
 .mark { color: #a00; font-weight: 700; }
 .legend { font-size: .88em; color: #444; max-width: 70em; }
@@ -93,6 +99,7 @@ dl.kv { display: grid; grid-template-columns: max-content auto; gap: .1em 1em; }
 dl.kv dt { font-weight: 600; }
 dl.kv dd { margin: 0; }
 .missing { color: #a00; }
+td.prob { color: #000; min-width: 2.6em; }
 """
 
 
@@ -110,6 +117,10 @@ def _read_bytes(out: Path, name: str, files: Mapping[str, bytes]) -> bytes | Non
     return read_input_bytes(
         path, max_bytes=MAX_DOCUMENT_BYTES * 4, error=BenchmarkError, what="results file"
     )
+
+
+def _has(out: Path, name: str, files: Mapping[str, bytes]) -> bool:
+    return name in files or (out / name).is_file()
 
 
 def _json_file(out: Path, name: str, files: Mapping[str, bytes]) -> Any:
@@ -158,22 +169,85 @@ def _number(x: float | None) -> str:
     return "–" if x is None else f"{x:.2f}"
 
 
-def _cell(entry: Mapping[str, Any], n_seeds: int) -> str:
+def _cell(entry: Mapping[str, Any], n_seeds: int, *, conditioned: bool = False) -> str:
+    """One cell; a column conditioned on success (``conditioned``) always shows its n
+    and is shaded as such."""
     marks = str(entry.get("marks", ""))
     body = f"{_number(entry.get('mean'))} ± {_number(entry.get('std'))}"
     mark = f'<span class="mark">{_esc(marks)}</span>' if marks else ""
     n = int(entry.get("n", 0))
-    note = f' <span class="n">(n={n})</span>' if n < n_seeds else ""
-    cls = ' class="best"' if entry.get("best") else ""
+    note = f' <span class="n">(n={n})</span>' if n < n_seeds or conditioned else ""
+    classes = [c for c, on in (("best", entry.get("best")), ("cond", conditioned)) if on]
+    cls = f' class="{" ".join(classes)}"' if classes else ""
     return f"<td{cls}>{mark}{_esc(body)}{note}</td>"
 
 
+def _info(column: str) -> Any:
+    return _INFO.get(base_metric(column))
+
+
+def _arrow(column: str) -> str:
+    info = _info(column)
+    return _ARROWS[info.better] if info is not None else ""
+
+
+def _shares(summary: Mapping[str, Any], scenario: str, planner: str) -> str:
+    counts = (summary.get("outcomes") or {}).get(scenario, {}).get(planner)
+    return f'<td class="name shares">{_esc(outcome_shares(counts))}</td>' if counts else "<td></td>"
+
+
+def _interval(entry: Mapping[str, Any], digits: int) -> str:
+    est, low, high = (entry.get(k) for k in ("estimate", "low", "high"))
+    if est is None:
+        return "–"
+    if low is None or high is None:
+        return f"{est:.{digits}f}"
+    return f"{est:.{digits}f} [{low:.{digits}f}, {high:.{digits}f}]"
+
+
+def _references(summary: Mapping[str, Any]) -> str:
+    """The reference points of every scenario (headroom, SE, seeds needed, whether it
+    discriminates), when the run has ``straight`` and ``oracle``."""
+    refs = summary.get("references")
+    if not refs:
+        return ""
+    rows = []
+    for scenario, ref in refs.items():
+        flag = (
+            '<td class="name ok">yes</td>'
+            if ref["discriminates"]
+            else '<td class="name bad nodisc">does not discriminate</td>'
+        )
+        se = ref.get("standard_error")
+        rows.append(
+            f'<tr><td class="name">{_esc(scenario)}</td>'
+            f"<td>{_esc(_interval(ref['headroom'], 3))}</td>"
+            f"<td>{'–' if se is None else f'{se:.3f}'}</td>"
+            f"<td>{_esc(ref.get('seeds_needed') or '–')}</td>{flag}</tr>"
+        )
+    return (
+        '<h3 id="references">Reference points: headroom and power</h3>'
+        '<div class="scroll"><table class="references"><thead><tr><th class="name">Scenario'
+        "</th><th>Headroom (m) [95 % CI]</th><th>SE (m)</th><th>Seeds for 0.05 m</th>"
+        '<th class="name">Discriminates</th></tr></thead><tbody>'
+        + "".join(rows)
+        + '</tbody></table></div><p class="legend">'
+        + _esc(summary.get("references_legend", ""))
+        + "</p>"
+    )
+
+
 def _wide_table(summary: Mapping[str, Any]) -> str:
-    """A (scenario, planner) × column table of a ``summary.json`` table entry."""
+    """A (scenario, planner) × column table of a ``summary.json`` table entry, with
+    each planner's normalised score (when the run has the reference planners) and
+    each row's outcome shares last."""
     columns = [(str(n), str(h)) for n, h in summary["columns"]]
     n_seeds = int(summary["n_seeds"])
+    refs = summary.get("references") or {}
     head = "".join(
-        f"<th>{_esc(h)} {_ARROWS[_INFO[n].better] if n in _INFO else ''}</th>" for n, h in columns
+        ('<th class="cond">' if n.endswith(GIVEN_SUCCESS) else "<th>")
+        + f"{_esc(h)} {_arrow(n)}</th>"
+        for n, h in columns
     )
     rows = []
     for scenario, planners in summary["scenarios"].items():
@@ -183,13 +257,22 @@ def _wide_table(summary: Mapping[str, Any]) -> str:
                 if k == 0
                 else ""
             )
-            tds = "".join(_cell(cells[n], n_seeds) for n, _ in columns)
+            tds = "".join(
+                _cell(cells[n], n_seeds, conditioned=n.endswith(GIVEN_SUCCESS)) for n, _ in columns
+            )
+            if refs:
+                score = refs[scenario]["scores"][planner]
+                tds += f'<td class="score">{_esc(_interval(score, 2))}</td>'
+            tds += _shares(summary, scenario, planner)
             rows.append(f'<tr>{first}<td class="name">{_esc(planner)}</td>{tds}</tr>')
+    score_head = "<th>Norm. score ↑</th>" if refs else ""
     return (
         '<div class="scroll"><table><thead><tr><th class="name">Scenario</th>'
-        f'<th class="name">Planner</th>{head}</tr></thead><tbody>'
+        f'<th class="name">Planner</th>{head}{score_head}<th class="name">Outcomes</th></tr>'
+        "</thead><tbody>"
         + "".join(rows)
         + f'</tbody></table></div><p class="legend">{_esc(summary["legend"])}</p>'
+        + _references(summary)
     )
 
 
@@ -200,20 +283,29 @@ def _extended_tables(summary: Mapping[str, Any]) -> str:
     out = [f'<p class="legend">{_esc(summary["legend"])}</p>']
     for k, (scenario, planners) in enumerate(summary["scenarios"].items()):
         head = "".join(f"<th>{_esc(p)}</th>" for p in planners)
-        rows = []
+        shares = "".join(_shares(summary, scenario, p) for p in planners)
+        rows = [f'<tr class="outcomes"><td class="name">Outcomes</td><td></td>{shares}</tr>']
         for group, title in METRIC_GROUPS.items():
-            in_group = [n for n in names if n in _INFO and _INFO[n].group == group]
+            in_group = [n for n in names if _info(n) is not None and _info(n).group == group]
             if not in_group:
                 continue
             rows.append(
                 f'<tr class="group"><td colspan="{len(planners) + 2}">{_esc(title)}</td></tr>'
             )
             for name in in_group:
-                info = _INFO[name]
-                tds = "".join(_cell(cells[name], n_seeds) for cells in planners.values())
+                info = _info(name)
+                conditioned = name.endswith(GIVEN_SUCCESS)
+                tds = "".join(
+                    _cell(cells[name], n_seeds, conditioned=conditioned)
+                    for cells in planners.values()
+                )
+                label = f"<code>{_esc(info.name)}</code>" + (" | success" if conditioned else "")
+                title_text = info.definition + (
+                    " Over the seeds in which the robot reached its goal." if conditioned else ""
+                )
                 rows.append(
-                    f'<tr><td class="name" title="{_esc(info.definition)}"><code>{_esc(name)}'
-                    f"</code> {_ARROWS[info.better]}</td><td>{_esc(info.unit)}</td>{tds}</tr>"
+                    f'<tr><td class="name" title="{_esc(title_text)}">{label} '
+                    f"{_ARROWS[info.better]}</td><td>{_esc(info.unit)}</td>{tds}</tr>"
                 )
         opened = " open" if k == 0 else ""
         out.append(
@@ -222,6 +314,36 @@ def _extended_tables(summary: Mapping[str, Any]) -> str:
             f"{head}</tr></thead><tbody>" + "".join(rows) + "</tbody></table></div></details>"
         )
     return "".join(out)
+
+
+def _rankings(doc: Mapping[str, Any]) -> str:
+    """The rank probabilities under the parameter draws: a planner × rank table per
+    scenario (the cell shaded by its probability) with the interval of the planner's
+    mean deviation over the draws."""
+    planners = [str(p) for p in doc["planners"]]
+    ranks = "".join(f"<th>{r + 1}</th>" for r in range(len(planners)))
+    parts = [f'<p class="legend">{_esc(doc["legend"])}</p>']
+    for scenario, rows in doc["scenarios"].items():
+        trs = []
+        for planner in planners:
+            entry = rows[planner]
+            tds = "".join(
+                f'<td class="prob" style="background: rgba(31, 58, 95, {0.6 * float(v):.3f})">'
+                f"{float(v):.2f}</td>"
+                for v in entry["rank_probabilities"]
+            )
+            low, mid, high = (float(v) for v in entry["interval"])
+            trs.append(
+                f'<tr><td class="name">{_esc(planner)}</td>{tds}'
+                f"<td>{low:.3f} · {mid:.3f} · {high:.3f}</td></tr>"
+            )
+        parts.append(
+            f'<h3>{_esc(scenario)}</h3><div class="scroll"><table class="ranks"><thead><tr>'
+            f'<th class="name" rowspan="2">Planner</th><th colspan="{len(planners)}">P(rank)'
+            '</th><th rowspan="2">Fréchet dev. (m): 2.5 % · median · 97.5 %</th></tr>'
+            f"<tr>{ranks}</tr></thead><tbody>" + "".join(trs) + "</tbody></table></div>"
+        )
+    return "".join(parts)
 
 
 def _episodes(out: Path, files: Mapping[str, bytes]) -> list[dict[str, str]]:
@@ -262,7 +384,7 @@ def _outcomes(
             tds.append(f'<td class="{kind}">{reached} / {n}{note}</td>')
         trs.append(f'<tr><td class="name">{_esc(planner)}</td>{"".join(tds)}</tr>')
         total = sum(totals.values())
-        share = _percent(totals["goal_reached"], total)
+        share = share_text(totals["goal_reached"], total)
         others = ", ".join(
             f"{totals[o]} {_OUTCOME_TITLES[o]}" for o in ROBOT_OUTCOMES[1:] if totals[o]
         )
@@ -278,20 +400,6 @@ def _outcomes(
         '<div class="scroll"><table><thead><tr><th class="name">Planner</th>'
         f"{head}</tr></thead><tbody>" + "".join(trs) + "</tbody></table></div>"
     )
-
-
-def _percent(k: int, n: int) -> str:
-    """k of n as a percentage that never reads 0 % or 100 % unless it is exactly that:
-    499 of 500 is 99.8 %, not 100 %."""
-    if n == 0:
-        return "–"
-    share = 100.0 * k / n
-    for digits in (0, 1):
-        text = f"{share:.{digits}f}"
-        if 0 < k < n and float(text) in (0.0, 100.0):
-            continue
-        return f"{text} %"
-    return "< 0.1 %" if share < 50 else "> 99.9 %"
 
 
 def _log_links(
@@ -464,12 +572,16 @@ def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
         f"{count(len(seeds), 'seed')} = {count(len(rows), 'twin episode')}. Reference planner "
         f"for the significance tests: {reference or 'none'}."
     )
+    rankings = (
+        _json_file(out, "rankings.json", files) if _has(out, "rankings.json", files) else None
+    )
     nav = "".join(
         f'<a href="#{k}">{_esc(v)}</a>'
         for k, v in (
             ("table", "Table 3 layout"),
             ("outcomes", "Robot outcomes"),
             ("extended", "Every metric"),
+            *((("rankings", "Rankings under parameter draws"),) if rankings else ()),
             ("figures", "Figures"),
             ("planners", "Per planner"),
             ("logs", "Episode logs"),
@@ -482,13 +594,23 @@ def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
         '<h2 id="table">The paper\'s Table 3 layout</h2>',
         "<p>Fréchet deviation of the pedestrians, minimum robot distance, trajectory length "
         "of the pedestrians, and the duration of the robot's run (what the paper's Time "
-        "column measured). Definitions: docs/metrics.md.</p>",
+        "column measured); beside each pedestrian and social column the same over the "
+        "episodes in which the robot reached its goal ('| success', with their number n), "
+        "and last how the episodes ended. Definitions: docs/metrics.md.</p>",
         _wide_table(summary["table"]),
         '<h2 id="outcomes">Robot outcomes</h2>',
         _wide_table(summary["outcomes"]),
         '<h2 id="extended">Every metric</h2>',
         "<p>One table per scenario; hover over a metric for its definition.</p>",
         _extended_tables(summary["extended"]),
+        *(
+            (
+                '<h2 id="rankings">Rankings under the model\'s uncertainty</h2>',
+                _rankings(rankings),
+            )
+            if rankings
+            else ()
+        ),
         '<h2 id="figures">Figures</h2>',
         _figures(out, files, scenarios, figure_seed),
         '<h2 id="planners">Per planner: how the robot\'s episodes ended</h2>',

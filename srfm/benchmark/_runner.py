@@ -37,6 +37,7 @@ from srfm._io import (
     write_file_set,
 )
 from srfm.benchmark._dask import check_scheduler, map_on_dask
+from srfm.benchmark._draws import ParamDraws, check_param_draws, draw_folder, render_rankings
 from srfm.benchmark._html import REPORT, render_report
 from srfm.benchmark._request import MANIFEST, BenchmarkRequest, check_manifest
 from srfm.benchmark._results import episode_path, read_episode, write_episode
@@ -86,6 +87,8 @@ class BenchmarkSummary:
             manifest.json (the episode files and logs are in episodes/ and logs/).
         resimulated: damaged episode files found and simulated again.
         jobs: worker processes used at most (fewer than asked when memory is short).
+        draws: the number of parameter draws the run added (``param_draws``); their
+            episodes are counted in ``episodes`` and ``simulated``.
     """
 
     out: Path
@@ -95,6 +98,7 @@ class BenchmarkSummary:
     files: tuple[str, ...]
     resimulated: tuple[str, ...] = ()
     jobs: int = 1
+    draws: int = 0
 
 
 EpisodeWriter = Callable[[Path, EpisodeRecord, EpisodeMetrics], None]
@@ -357,10 +361,12 @@ def estimate_benchmark(
     jobs: int,
     remote: bool = False,
     writer: EpisodeWriter | None = None,
+    draws: int = 0,
 ) -> RunEstimate:
     """The time and memory of ``request`` on ``jobs`` workers (:mod:`srfm.sim.budget`):
-    every episode of the request, whether or not a folder already holds it."""
-    per_scenario = len(request.planners) * len(request.seeds)
+    every episode of the request, whether or not a folder already holds it, and again
+    under each of ``draws`` parameter draws."""
+    per_scenario = len(request.planners) * len(request.seeds) * (1 + draws)
     return estimate_run(
         ((s, per_scenario) for s in request.scenarios),
         jobs=jobs,
@@ -385,6 +391,7 @@ def run_benchmark(
     executor: str = "process",
     scheduler: str | None = None,
     scheduler_file: str | Path | None = None,
+    param_draws: ParamDraws | None = None,
 ) -> BenchmarkSummary:
     """Run (or finish) a benchmark into ``out`` and write its reports.
 
@@ -418,6 +425,11 @@ def run_benchmark(
             :mod:`srfm.benchmark._dask`). The results are the same bytes either way.
         scheduler: address of a running Dask scheduler (``executor="dask"``).
         scheduler_file: scheduler file of a running Dask scheduler (``executor="dask"``).
+        param_draws: run every episode again under each of these parameter sets
+            (:mod:`srfm.benchmark._draws`), each draw into a results folder of its own,
+            ``out/draws/draw-NNN`` (no logs, no figures), and add the planners' rank
+            probabilities over the draws to the reports (``rankings.md``,
+            ``rankings.json``, ``report.html``).
 
     Returns:
         A :class:`BenchmarkSummary`.
@@ -442,7 +454,8 @@ def run_benchmark(
     for scenario in request.scenarios:
         jobs = check_episode_memory(scenario, jobs=jobs, **logs)
     remote = executor == "dask" and (scheduler is not None or scheduler_file is not None)
-    estimate = estimate_benchmark(request, jobs=jobs, remote=remote, writer=writer)
+    n_draws = 0 if param_draws is None else len(param_draws.params)
+    estimate = estimate_benchmark(request, jobs=jobs, remote=remote, writer=writer, draws=n_draws)
     estimate = check_run(
         estimate, what="the benchmark", smaller="fewer scenarios, planners or seeds", force=force
     )
@@ -451,15 +464,18 @@ def run_benchmark(
         recover_file_set(out)  # a report set cut short by a kill: finish it first
         remove_stale_temporaries(out)
         manifest = check_manifest(out, request, command)
+        if param_draws is not None:  # other draws are refused before anything is written
+            check_param_draws(out, param_draws)
         atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
         damaged: list[str] = []
         tasks = _pending_tasks(out, request, writer, figures, damaged)
-        total = len(request.scenarios) * len(request.planners) * len(request.seeds)
+        cells = len(request.scenarios) * len(request.planners) * len(request.seeds)
+        total = cells * (1 + n_draws)
         pending = sum(len(t.seeds) for t in tasks)
         if on_start is not None:
             on_start(estimate)
         if on_progress is not None:
-            on_progress(total - pending)
+            on_progress(cells - pending)
         start = time.perf_counter()
         if tasks:
             if executor == "process" and jobs > 1 and sys.platform != "win32":
@@ -474,6 +490,21 @@ def run_benchmark(
             ):
                 if on_progress is not None:
                     on_progress(done)
+        for k, params in enumerate(param_draws.params if param_draws is not None else ()):
+            draw = run_benchmark(
+                attrs.evolve(request, params=params),
+                draw_folder(out, k),
+                jobs=jobs,
+                on_progress=on_progress,
+                figures=False,
+                force=force,  # each draw is smaller than the whole, checked above
+                command=command,
+                executor=executor,
+                scheduler=scheduler,
+                scheduler_file=scheduler_file,
+            )
+            pending += draw.simulated
+            damaged += draw.resimulated
         wall = time.perf_counter() - start
         files = _write_reports(out, request, figures=figures)
     return BenchmarkSummary(
@@ -484,6 +515,7 @@ def run_benchmark(
         files=(*files, MANIFEST),
         resimulated=tuple(damaged),
         jobs=jobs,
+        draws=n_draws,
     )
 
 
@@ -527,6 +559,9 @@ def _write_reports(out: Path, request: BenchmarkRequest, *, figures: bool) -> tu
     )
     if figures:
         files.update(render_figures(out, request, tables.table, tables.extended))
+    files.update(
+        render_rankings(out, [s.name for s in request.scenarios], request.planners, request.seeds)
+    )
     files[REPORT] = render_report(out, files)
     write_file_set(out, files)
     return tuple(files)

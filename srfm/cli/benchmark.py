@@ -245,6 +245,31 @@ def _split(values: tuple[str, ...]) -> list[str]:
     "cell (0: none).",
 )
 @click.option("--forces", is_flag=True, help="Force arrows in the Rerun recordings.")
+@click.option(
+    "--param-draws",
+    type=click.IntRange(min=1, max=1000),
+    default=None,
+    metavar="K",
+    help="Also run every episode under K parameter sets drawn from --param-draws-from, "
+    "each into OUT/draws/draw-NNN, and report each planner's rank probabilities and "
+    "deviation interval over the draws (rankings.md, report.html; docs/benchmark.md).",
+)
+@click.option(
+    "--param-draws-from",
+    default="sensitivity",
+    show_default=True,
+    metavar="sensitivity|FILE",
+    help="The distribution of the draws: 'sensitivity' (A_r ~ U(3.965, 15.86), "
+    "B_r ~ U(0.5, 1.5)) or a CSV file of parameter sets (header: parameter names), "
+    "e.g. the bootstrap replicates of a fit.",
+)
+@click.option(
+    "--param-draws-seed",
+    type=click.IntRange(min=0),
+    default=0,
+    show_default=True,
+    help="Seed of the parameter draws.",
+)
 @user_errors
 def benchmark(
     scenarios: tuple[str, ...],
@@ -266,6 +291,9 @@ def benchmark(
     rrd_seeds: str,
     forces: bool,
     force: bool,
+    param_draws: int | None,
+    param_draws_from: str,
+    param_draws_seed: int,
 ) -> None:
     """Run scenarios × planners × seeds of twin episodes and write tables and figures.
 
@@ -276,9 +304,11 @@ def benchmark(
     metric), summary.json, figures/ and manifest.json, and the episode logs in logs/
     (by default an MCAP file for every episode and a Rerun recording for the first
     seed of each cell; `srfm score OUT` re-scores them). Re-running on the same folder
-    skips finished episodes (their logs are not rewritten).
+    skips finished episodes (their logs are not rewritten). With --param-draws K, the
+    episodes also run under K parameter draws (OUT/draws/, param_draws.json) and
+    rankings.md holds each planner's rank probabilities over them.
     """
-    from srfm.benchmark import BenchmarkRequest, run_benchmark
+    from srfm.benchmark import BenchmarkRequest, draw_params, run_benchmark
 
     remote = scheduler is not None or scheduler_file is not None
     if executor == "process" and remote:
@@ -304,8 +334,16 @@ def benchmark(
         reference=reference,
         quick=quick,
     )
+    draws = (
+        None
+        if param_draws is None
+        else draw_params(
+            request.params, param_draws, seed=param_draws_seed, source=param_draws_from
+        )
+    )
     writer = _log_writer(request, out, logs, mcap, mcap_profile, rrd_seeds, forces)
-    total = len(request.scenarios) * len(request.planners) * len(request.seeds)
+    cells = len(request.scenarios) * len(request.planners) * len(request.seeds)
+    total = cells * (1 + (param_draws or 0))
     bar: Any = None
     # Nothing is printed before every check has passed (run_benchmark calls start):
     # a mistake is one line. Ctrl-C, up to the last line, keeps what is done.
@@ -317,7 +355,13 @@ def benchmark(
                 click.echo(
                     f"benchmark: {count(len(request.scenarios), 'scenario')} × "
                     f"{count(len(request.planners), 'planner')} × "
-                    f"{count(len(request.seeds), 'seed')} = {count(total, 'episode')} -> {out}",
+                    f"{count(len(request.seeds), 'seed')} = {count(cells, 'episode')}"
+                    + (
+                        f", again under {count(len(draws.params), 'parameter draw')}"
+                        if draws
+                        else ""
+                    )
+                    + f" -> {out}",
                     err=True,
                 )
                 if estimate.large:
@@ -340,6 +384,7 @@ def benchmark(
                 executor=executor,
                 scheduler=scheduler,
                 scheduler_file=scheduler_file,
+                param_draws=draws,
             )
         _print_summary(summary, out, jobs, writer is not None)
     except KeyboardInterrupt:

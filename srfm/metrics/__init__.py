@@ -14,14 +14,24 @@ from srfm.metrics.episode import (
     episode_metrics,
 )
 from srfm.metrics.frechet import frechet_distance, frechet_distances
-from srfm.metrics.stats import ALPHA, Comparison, Summary, compare, summarize
+from srfm.metrics.stats import (
+    ALPHA,
+    CORRECTIONS,
+    Comparison,
+    Summary,
+    adjust_p_values,
+    compare,
+    summarize,
+)
 from srfm.metrics.tables import (
     EXTENDED_COLUMNS,
     OUTCOME_COLUMNS,
     TABLE_COLUMNS,
     BenchmarkTable,
     Cell,
+    base_metric,
     benchmark_table,
+    given_success,
     legend,
     min_n_for_best,
     summary_dict,
@@ -33,6 +43,7 @@ from srfm.metrics.tables import (
 
 __all__ = [
     "ALPHA",
+    "CORRECTIONS",
     "EPISODE_METRICS",
     "EXTENDED_COLUMNS",
     "METRIC_GROUPS",
@@ -46,11 +57,14 @@ __all__ = [
     "MetricInfo",
     "MetricParams",
     "Summary",
+    "adjust_p_values",
+    "base_metric",
     "benchmark_table",
     "compare",
     "episode_metrics",
     "frechet_distance",
     "frechet_distances",
+    "given_success",
     "legend",
     "min_n_for_best",
     "summarize",

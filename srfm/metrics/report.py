@@ -39,6 +39,7 @@ from srfm.metrics.tables import (
 from srfm.models.params import SRFMParams
 
 __all__ = [
+    "CORRECTION_OF",
     "MANIFEST",
     "SUMMARY_SCHEMA",
     "ReportTables",
@@ -50,8 +51,16 @@ __all__ = [
 
 MANIFEST: Final = "manifest.json"
 """The file that marks a benchmark results folder (written by the benchmark)."""
-SUMMARY_SCHEMA: Final = "srfm.summary/2"
-"""Layout of ``summary.json``; 2: the extended table, n and undefined counts, the rules."""
+SUMMARY_SCHEMA: Final = "srfm.summary/3"
+"""Layout of ``summary.json``; 2: the extended table, n and undefined counts, the rules;
+3 (issue 29): columns conditioned on success, outcome counts, adjusted p-values and
+each table's correction."""
+
+CORRECTION_OF: Final = {"table": "holm", "outcomes": "holm", "extended": "bh"}
+"""The multiple-comparison correction of each table: Holm's (the family-wise error
+rate) for the Table 3 layout and the outcomes, whose marks are the claims a reader
+takes away; Benjamini–Hochberg's (the false discovery rate) for the extended table,
+a screen of some 60 columns where Holm's would hide nearly everything."""
 
 
 @attrs.frozen
@@ -213,8 +222,14 @@ def render_tables(
             seeds=seeds,
             reference=reference,
             columns=columns,
+            correction=CORRECTION_OF[key],
+            with_references=key == "table",
         )
-        for columns in (TABLE_COLUMNS, OUTCOME_COLUMNS, EXTENDED_COLUMNS)
+        for key, columns in (
+            ("table", TABLE_COLUMNS),
+            ("outcomes", OUTCOME_COLUMNS),
+            ("extended", EXTENDED_COLUMNS),
+        )
     )
     summary = {
         "schema": SUMMARY_SCHEMA,

@@ -13,10 +13,26 @@ from scipy import stats
 
 from srfm.errors import MetricError
 
-__all__ = ["ALPHA", "Comparison", "Summary", "compare", "summarize"]
+__all__ = [
+    "ALPHA",
+    "CORRECTIONS",
+    "Comparison",
+    "Summary",
+    "adjust_p_values",
+    "compare",
+    "summarize",
+]
 
 ALPHA: Final = 0.05
 """Significance level of every test (the paper's p = 0.05)."""
+
+CORRECTIONS: Final[dict[str, str]] = {
+    "holm": "Holm's step-down correction (family-wise error rate)",
+    "bh": "the Benjamini–Hochberg correction (false discovery rate)",
+    "none": "no correction for multiple comparisons",
+}
+"""The multiple-comparison corrections :func:`adjust_p_values` knows, with the words
+the tables' legends use for them."""
 
 
 @attrs.frozen
@@ -58,11 +74,17 @@ class Comparison:
         paired_p: two-sided p of the paired t-test over the seeds both planners have a
             finite value for.
         n_pairs: the number of those seeds.
+        welch_p_adjusted, paired_p_adjusted: the same p-values adjusted for multiple
+            comparisons over the family of tests of the table they belong to
+            (:func:`adjust_p_values`); NaN before a table adjusts them and where the
+            test is undefined. The tables' marks use these.
     """
 
     welch_p: float
     paired_p: float
     n_pairs: int
+    welch_p_adjusted: float = math.nan
+    paired_p_adjusted: float = math.nan
 
     @property
     def welch_significant(self) -> bool:
@@ -114,3 +136,50 @@ def compare(
 
 def _spread(x: NDArray[np.float64]) -> bool:
     return bool(x.size and np.ptp(x) > 0)
+
+
+def adjust_p_values(p_values: ArrayLike, method: str) -> NDArray[np.float64]:
+    """p-values adjusted for multiple comparisons over one family of tests.
+
+    With the m defined (finite) p-values sorted, p_(1) ≤ … ≤ p_(m):
+
+    - ``"holm"`` (Holm 1979): adj_(i) = max over j ≤ i of min(1, (m − j + 1) p_(j));
+      rejecting where adj < α keeps the family-wise error rate at α.
+    - ``"bh"`` (Benjamini & Hochberg 1995): adj_(i) = min over j ≥ i of
+      min(1, m p_(j) / j); rejecting where adj < α keeps the false discovery rate at α
+      (for independent or positively dependent tests).
+    - ``"none"``: the p-values unchanged.
+
+    Args:
+        p_values: the family's p-values, any shape; NaN marks an undefined test, which
+            stays NaN and is not counted in m.
+        method: one of :data:`CORRECTIONS`.
+
+    Returns:
+        The adjusted p-values, same shape.
+
+    Raises:
+        MetricError: an unknown method, or a p-value outside [0, 1].
+    """
+    if method not in CORRECTIONS:
+        raise MetricError(f"unknown correction {method!r}; known: {', '.join(CORRECTIONS)}")
+    p = np.array(p_values, dtype=np.float64)
+    flat = p.ravel()
+    defined = np.flatnonzero(np.isfinite(flat))
+    values = flat[defined]
+    outside = ~np.isnan(flat) & ~((flat >= 0.0) & (flat <= 1.0))
+    if np.any(outside):
+        raise MetricError(f"p-values must lie in [0, 1], got {float(flat[outside][0])!r}")
+    m = values.size
+    if method == "none" or m == 0:
+        return p
+    order = np.argsort(values, kind="stable")
+    ranked = values[order]
+    k = np.arange(1, m + 1, dtype=np.float64)
+    if method == "holm":
+        adjusted = np.maximum.accumulate(np.minimum(1.0, (m - k + 1.0) * ranked))
+    else:
+        adjusted = np.minimum.accumulate(np.minimum(1.0, m * ranked / k)[::-1])[::-1]
+    out = flat.copy()
+    out[defined[order]] = adjusted
+    return out.reshape(p.shape)

@@ -10,6 +10,7 @@ from srfm.planners._registry import (
 from srfm.planners.dwa import DWAConfig, DWAPlanner
 from srfm.planners.orca import ORCAConfig, ORCAPlanner
 from srfm.planners.social_force import SocialForceConfig, SocialForcePlanner
+from srfm.planners.stay import StayPlanner
 from srfm.planners.straight import StraightPlanner
 from srfm.planners.velocity_obstacles import VelocityObstaclePlanner, VOConfig
 
@@ -24,6 +25,7 @@ __all__ = [
     "PlannerInfo",
     "SocialForceConfig",
     "SocialForcePlanner",
+    "StayPlanner",
     "StraightPlanner",
     "VOConfig",
     "VelocityObstaclePlanner",
@@ -76,4 +78,12 @@ register_planner(
 register_planner("td3-srfm", _td3_srfm, "TD3 policy trained with the SRFM deviation penalty")
 register_planner(
     "td3-base", _td3_base, "TD3 policy trained without the deviation penalty (RL_base)"
+)
+
+
+register_planner(
+    "stay",
+    StayPlanner,
+    "reference: a robot that never moves (a standing obstacle); not in the default benchmark",
+    default=False,
 )

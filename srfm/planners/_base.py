@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Protocol, runtime_checkable
+from typing import Final, Protocol, runtime_checkable
 
 import attrs
 import numpy as np
@@ -14,9 +14,15 @@ from srfm.models.state import Obstacles
 from srfm.scenarios import RobotRecording
 from srfm.world import WorldBounds
 
-__all__ = ["Observation", "Planner", "PlannerContext", "check_planner"]
+__all__ = ["PRIVILEGED_HOOK", "Observation", "Planner", "PlannerContext", "check_planner"]
 
 FloatArray = NDArray[np.float64]
+
+PRIVILEGED_HOOK: Final = "attach_episode"
+"""A planner with a method of this name is a *privileged reference*, not a navigation
+policy: :func:`srfm.run_episode` calls it after ``reset`` with the running episode's
+engine (:class:`srfm.sim.engine.EpisodeEngine`), which it may read and copy but must not
+change. The ``oracle`` reference planner is one (:mod:`srfm.planners.oracle`)."""
 
 
 @attrs.frozen(kw_only=True, eq=False)

@@ -37,6 +37,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm._jit import specialize_once
+from srfm.errors import SimulationError
 from srfm.models import _robot_kernels as _rk
 from srfm.models._arrays import ForceContext
 from srfm.models._primitives import TRUE
@@ -225,6 +226,56 @@ class EpisodeEngine:
         self._advance = None
         self._pack(self.n_present)
         self._robot_event = specialize_once(_rk.robot_event, *self._event_args(), 0)
+
+    def look_ahead(self, *, counterfactual: bool = False) -> EpisodeEngine:
+        """A new engine in this one's state (:meth:`copy_from`), for look-ahead: no event
+        records, and the counterfactual crowd left where it is unless asked for. The new
+        engine draws nothing from the episode's random streams (re-goaling reads the
+        same per-pedestrian streams), so stepping it changes nothing here."""
+        engine = EpisodeEngine(
+            self.setup,
+            self.params,
+            cutoff=self._cutoff,
+            counterfactual=counterfactual,
+            records=False,
+        )
+        engine.copy_from(self)
+        return engine
+
+    def copy_from(self, other: EpisodeEngine) -> None:
+        """Put this engine in ``other``'s state at its current sample: both crowds, the
+        arrivals, the robot, the routes and the robot's episode.
+
+        For look-ahead: a reference planner (``oracle``) copies the running episode into
+        an engine of its own and steps that one; ``other`` is only read. Both engines
+        must run the same set-up (the same :class:`~srfm.scenarios.EpisodeSetup` object).
+
+        Raises:
+            SimulationError: ``other`` runs another set-up.
+        """
+        if other.setup is not self.setup:
+            raise SimulationError("copy_from needs an engine of the same episode set-up")
+        for twin in (0, 1):
+            mine, theirs = self.crowd(twin), other.crowd(twin)
+            for name in ("pos", "vel", "goal"):
+                getattr(mine, name)[:] = getattr(theirs, name)
+        self._arrived[:] = other._arrived
+        self._new[:] = other._new
+        self._goal_count[:] = other._goal_count
+        self._goal_cache = dict(other._goal_cache)
+        self.robot[:] = other.robot
+        self._body[:] = other._body
+        self.robot_active = other.robot_active
+        self.outcome = other.outcome
+        self.end_step = other.end_step
+        self.step_index = other.step_index
+        if self.robot_route is not None and other.robot_route is not None:
+            self.robot_route.copy_from(other.robot_route)
+        for twin, routes in self._ped_routes.items():
+            routes.copy_from(other._ped_routes[twin])
+        if other.n_present != self.n_present:
+            self.n_present = other.n_present
+            self._pack(self.n_present)
 
     def crowd(self, twin: int) -> CrowdState:
         """The factual (0) or counterfactual (1) crowd."""

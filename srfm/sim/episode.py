@@ -23,6 +23,7 @@ from srfm.errors import PlannerError, ResourceError, SimulationError, SrfmError
 from srfm.models.forces import Cutoff
 from srfm.models.params import SRFMParams
 from srfm.planners import Planner, check_planner, make_planner
+from srfm.planners._base import PRIVILEGED_HOOK
 from srfm.scenarios import Scenario, episode_setup, load_scenario
 from srfm.sim.record import EpisodeRecord, Event
 from srfm.sim.simulator import TwinSimulator
@@ -234,6 +235,12 @@ def _start(
         call_user_code(name, "reset()", lambda: chosen.reset(context, rng), where)
     else:
         planner.reset(context, rng)
+    attach = getattr(planner, PRIVILEGED_HOOK, None)
+    if callable(attach):  # a reference planner that reads the episode (oracle)
+        if user:
+            call_user_code(name, f"{PRIVILEGED_HOOK}()", lambda: attach(sim.engine), where)
+        else:
+            attach(sim.engine)
     return _Start(planner=planner, name=name, detection=detection, sim=sim, user=user, where=where)
 
 

@@ -107,6 +107,12 @@ class RobotRoute:
         self.index = 0
         self._checked_at = (math.inf, math.inf)
 
+    def copy_from(self, other: RobotRoute) -> None:
+        """Take ``other``'s progress along the route (the same route: same scenario,
+        start and goal)."""
+        self.index = other.index
+        self._checked_at = other._checked_at
+
     def update(self, x: float, y: float) -> FloatArray:
         """Advance past reached or bypassed waypoints from (x, y); the current one."""
         wps = self.waypoints
@@ -247,6 +253,18 @@ class PedestrianRoutes:
     def at_goal_leg(self, i: int) -> bool:
         """True when pedestrian i steers to its goal (its last waypoint)."""
         return bool(self.index[i] == len(self.waypoints[i]) - 1)
+
+    def copy_from(self, other: PedestrianRoutes) -> None:
+        """Take ``other``'s state (the routes of the same set-up and twin): waypoints
+        replanned so far, progress, waits. Waypoint arrays are replaced, never changed in
+        place, so the lists are copied and their arrays shared."""
+        self.waypoints = list(other.waypoints)
+        self.skippable = list(other.skippable)
+        self.wait_steps = list(other.wait_steps)
+        self.index[:] = other.index
+        self.left[:] = other.left
+        self.active = list(other.active)
+        self._steps = other._steps
 
     def _visible(self, i: int, a: FloatArray, b: FloatArray) -> bool:
         routers = self._routers[float(self._radius[i])]

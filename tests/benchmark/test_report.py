@@ -8,6 +8,7 @@ import html.parser
 import json
 import math
 import os
+import re
 import shutil
 from pathlib import Path
 
@@ -35,8 +36,8 @@ CHROMIUM_ARGS = [
 
 @pytest.fixture(scope="module")
 def results(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A small benchmark with logs (an MCAP file per episode, .rrd for the first seed),
-    run through the CLI as a user would."""
+    """A small benchmark with logs (an MCAP file per episode, .rrd for the first seed)
+    and two parameter draws, run through the CLI as a user would."""
     scenario = write_scenario(tmp_path_factory.mktemp("scn") / "short.toml", SHORT)
     out = tmp_path_factory.mktemp("results") / "out"
     result = CliRunner().invoke(
@@ -53,6 +54,10 @@ def results(tmp_path_factory: pytest.TempPathFactory) -> Path:
             str(out),
             "-j",
             "1",
+            "--param-draws",
+            "2",
+            "--reference",
+            "straight",
         ],
     )
     assert result.exit_code == 0, result.output
@@ -249,6 +254,27 @@ def _load_in_chromium(page_path: Path) -> dict[str, object]:
             )
             ids = page.evaluate("Array.from(document.querySelectorAll('[id]')).map(e => e.id)")
             title = page.title()
+            # What a reader sees of the issue-29 parts: the first table's headers, its
+            # cells conditioned on success, its outcome shares, the rank tables.
+            headers = page.evaluate(
+                "Array.from(document.querySelector('#table + p + div table')"
+                ".querySelectorAll('thead th')).map(t => t.innerText.trim())"
+            )
+            conditioned = page.evaluate(
+                "Array.from(document.querySelector('#table + p + div table')"
+                ".querySelectorAll('td.cond')).filter(t => t.offsetWidth > 0)"
+                ".map(t => t.innerText.trim())"
+            )
+            shares = page.evaluate(
+                "Array.from(document.querySelector('#table + p + div table')"
+                ".querySelectorAll('td.shares')).map(t => t.innerText.trim())"
+            )
+            legend = page.evaluate("document.querySelector('#table + p + div + p').innerText")
+            ranks = page.evaluate(
+                "Array.from(document.querySelectorAll('table.ranks tbody tr')).filter("
+                "r => r.offsetHeight > 0).map(r => Array.from(r.querySelectorAll('td.prob'))"
+                ".map(t => parseFloat(t.innerText)))"
+            )
         finally:
             browser.close()
     return {
@@ -258,6 +284,11 @@ def _load_in_chromium(page_path: Path) -> dict[str, object]:
         "hrefs": hrefs,
         "ids": set(ids),
         "title": title,
+        "headers": headers,
+        "conditioned": conditioned,
+        "shares": shares,
+        "legend": legend,
+        "ranks": ranks,
     }
 
 
@@ -278,6 +309,29 @@ def test_the_page_loads_cleanly_in_chromium(results: Path, tmp_path: Path) -> No
     assert isinstance(hrefs, list)
     assert isinstance(ids, set)
     assert _missing_targets(results, [str(h) for h in hrefs], ids) == []
+    # Issue 29: the success-conditioned columns with their n, the outcome shares, the
+    # corrected marks' legend and the rank probabilities are on the page, visible.
+    headers = seen["headers"]
+    assert isinstance(headers, list)
+    assert "Fréchet dist. | success (m) ↓" in headers
+    assert "Min. robot dist. | success (m) ↑" in headers
+    assert headers[-1] == "Outcomes"
+    conditioned = seen["conditioned"]
+    assert isinstance(conditioned, list)
+    assert len(conditioned) == 2 * 2 * 3  # scenarios x planners x conditioned columns
+    assert all(re.search(r"\(n=[0-3]\)$", text) for text in conditioned), conditioned
+    shares = seen["shares"]
+    assert isinstance(shares, list)
+    assert len(shares) == 4
+    assert all("% goal" in text for text in shares), shares
+    assert "Holm's step-down correction" in str(seen["legend"])
+    ranks = seen["ranks"]
+    assert isinstance(ranks, list)
+    assert ranks
+    assert len(ranks) == 2 * 2  # a row per planner in each scenario's rank table
+    for row in ranks:
+        assert len(row) == 2
+        assert sum(row) == pytest.approx(1.0, abs=0.011)  # two decimals shown
     # The same check on a folder with a figure gone: the browser reports it.
     broken = tmp_path / "broken"
     shutil.copytree(results, broken)
@@ -292,16 +346,16 @@ def test_the_page_loads_cleanly_in_chromium(results: Path, tmp_path: Path) -> No
 
 
 def test_outcome_shares_never_round_to_all_or_nothing() -> None:
-    from srfm.benchmark._html import _percent
+    from srfm.metrics.tables import share_text
 
-    assert [_percent(k, 500) for k in (500, 499, 481, 1, 0)] == [
+    assert [share_text(k, 500) for k in (500, 499, 481, 1, 0)] == [
         "100 %",
         "99.8 %",
         "96 %",
         "0.2 %",
         "0 %",
     ]
-    assert (_percent(99_999, 100_000), _percent(1, 100_000), _percent(0, 0)) == (
+    assert (share_text(99_999, 100_000), share_text(1, 100_000), share_text(0, 0)) == (
         "> 99.9 %",
         "< 0.1 %",
         "–",

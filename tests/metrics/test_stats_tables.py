@@ -12,8 +12,11 @@ from srfm.errors import MetricError
 from srfm.metrics import (
     TABLE_COLUMNS,
     EpisodeMetrics,
+    adjust_p_values,
+    base_metric,
     benchmark_table,
     compare,
+    given_success,
     min_n_for_best,
     summarize,
     summary_dict,
@@ -229,9 +232,15 @@ def test_extended_table_has_every_metric_grouped() -> None:
         columns=EXTENDED_COLUMNS,
     )
     md = to_markdown_extended(table)
-    assert {n for n, _ in EXTENDED_COLUMNS} == {m.name for m in EPISODE_METRICS}
+    assert {base_metric(n) for n, _ in EXTENDED_COLUMNS} == {m.name for m in EPISODE_METRICS}
     for m in EPISODE_METRICS:
-        assert md.count(f"| `{m.name}`") == 2  # one row per scenario
+        conditioned = m.group in ("pedestrian", "social")
+        assert (given_success(m.name), given_success(m.name)) in EXTENDED_COLUMNS or (
+            not conditioned
+        )
+        rows = md.count(f"| `{m.name}` ")  # one row per scenario, one more conditioned
+        assert md.count(f"| `{m.name}` \\| success") == (2 if conditioned else 0)
+        assert rows == (4 if conditioned else 2)
     for title in METRIC_GROUPS.values():
         assert md.count(f"*{title}*") == 2
     assert "## s1" in md
@@ -267,3 +276,220 @@ def test_nothing_is_bold_when_every_planner_ties() -> None:
     )
     best = {p for p in ("a", "b", "c") if table.cells[("s", p)]["robot_success"].best}
     assert best == {"a", "b"}  # a tie at the top is still bold when someone is worse
+
+
+def test_holm_and_bh_match_hand_computed_values() -> None:
+    p = [0.01, 0.04, 0.03, 0.005, math.nan]
+    # m = 4 defined; sorted 0.005, 0.01, 0.03, 0.04.
+    # Holm: 4·0.005 = 0.02, 3·0.01 = 0.03, 2·0.03 = 0.06, 1·0.04 = 0.04 -> running max.
+    holm = adjust_p_values(p, "holm")
+    np.testing.assert_allclose(holm[:4], [0.03, 0.06, 0.06, 0.02], rtol=0, atol=1e-15)
+    # BH: 4/1·0.005 = 0.02, 4/2·0.01 = 0.02, 4/3·0.03 = 0.04, 4/4·0.04 = 0.04 -> running
+    # min from the largest.
+    bh = adjust_p_values(p, "bh")
+    np.testing.assert_allclose(bh[:4], [0.02, 0.04, 0.04, 0.02], rtol=0, atol=1e-15)
+    assert math.isnan(holm[4])
+    assert math.isnan(bh[4])
+    assert adjust_p_values([0.6, 0.5], "holm").tolist() == [1.0, 1.0]  # capped at 1
+    np.testing.assert_array_equal(adjust_p_values(p, "none"), np.array(p))
+    with pytest.raises(MetricError, match="unknown correction 'bonf'"):
+        adjust_p_values(p, "bonf")
+    with pytest.raises(MetricError, match=r"\[0, 1\], got 1.5"):
+        adjust_p_values([0.1, 1.5], "holm")
+
+
+def _episode(planner: str, seed: int, outcome: str, frechet: float) -> EpisodeMetrics:
+    return EpisodeMetrics(
+        scenario="s",
+        planner=planner,
+        seed=seed,
+        outcome=outcome,
+        end_step=10,
+        values={"frechet_m": frechet, "min_robot_distance_m": 1.0 + seed},
+        pedestrians={},
+    )
+
+
+def test_columns_conditioned_on_success_and_outcome_shares() -> None:
+    # ref reaches its goal in seeds 0, 1, 3 (a collision in seed 2, where it deviates
+    # people most); "stops" only in seeds 0 and 3 (two timeouts, little deviation).
+    results = [
+        _episode("ref", 0, "goal_reached", 1.0),
+        _episode("ref", 1, "goal_reached", 2.0),
+        _episode("ref", 2, "collision", 9.0),
+        _episode("ref", 3, "goal_reached", 3.0),
+        _episode("stops", 0, "goal_reached", 0.5),
+        _episode("stops", 1, "timeout", 0.1),
+        _episode("stops", 2, "timeout", 0.2),
+        _episode("stops", 3, "goal_reached", 1.5),
+    ]
+    table = benchmark_table(
+        results,
+        scenarios=["s"],
+        planners=["ref", "stops"],
+        seeds=range(4),
+        reference="ref",
+        columns=[("frechet_m", "Fréchet"), (given_success("frechet_m"), "Fréchet | success")],
+    )
+    ref = table.cells[("s", "ref")]
+    stops = table.cells[("s", "stops")]
+    assert ref["frechet_m"].summary.mean == pytest.approx(15.0 / 4)
+    assert ref["frechet_m|success"].summary.n == 3
+    assert ref["frechet_m|success"].summary.mean == pytest.approx(2.0)
+    assert ref["frechet_m|success"].summary.std == pytest.approx(1.0)
+    assert stops["frechet_m"].summary.mean == pytest.approx(0.575)
+    assert stops["frechet_m|success"].summary.n == 2
+    assert stops["frechet_m|success"].summary.mean == pytest.approx(1.0)
+    # Paired over the seeds where both reached the goal: 0 and 3.
+    assert table.comparisons[("s", "stops")]["frechet_m|success"].n_pairs == 2
+    assert table.outcomes[("s", "ref")] == {
+        "goal_reached": 3,
+        "collision": 1,
+        "out_of_bounds": 0,
+        "timeout": 0,
+    }
+    md = to_markdown(table)
+    # The conditioned cell always shows n, the unconditional one only below S.
+    assert "| s | ref | 3.75 ± 3.59 | 2.00 ± 1.00 (n=3) | 75 % goal, 25 % coll. |" in md
+    assert "| s | stops | **0.57 ± 0.64** | 1.00 ± 0.71 (n=2) | 50 % goal, 50 % timeout |" in md
+    assert md.splitlines()[0] == (
+        "| Scenario | Planner | Fréchet ↓ | Fréchet \\| success ↓ | Outcomes |"
+    )
+    tex = to_latex(table)
+    assert "75 \\% goal, 25 \\% coll." in tex
+    summary = summary_dict(table)
+    assert summary["outcomes"]["s"]["stops"]["timeout"] == 2
+    assert summary["scenarios"]["s"]["stops"]["frechet_m|success"]["n"] == 2
+    extended = to_markdown_extended(table)
+    assert "| Outcomes | | 75 % goal, 25 % coll. | 50 % goal, 50 % timeout |" in extended
+    assert "| `frechet_m` \\| success ↓ | m | 2.00 ± 1.00 (n=3) | 1.00 ± 0.71 (n=2) |" in extended
+
+
+def test_marks_follow_the_adjusted_p_values_of_the_table_family() -> None:
+    # Six scenarios, each with a small paired shift of "b" against "a": several are
+    # significant before the correction and fewer after it.
+    rng = np.random.default_rng(7)
+    scenarios = [f"s{k}" for k in range(6)]
+    results = []
+    for k, scenario in enumerate(scenarios):
+        for seed in range(12):
+            base = rng.normal(1.0, 0.2)
+            for planner, shift in (("a", 0.0), ("b", 0.01 * k + rng.normal(0.0, 0.04))):
+                results.append(
+                    EpisodeMetrics(
+                        scenario=scenario,
+                        planner=planner,
+                        seed=seed,
+                        outcome="goal_reached",
+                        end_step=10,
+                        values={"frechet_m": base + shift},
+                        pedestrians={},
+                    )
+                )
+    kwargs = {
+        "scenarios": scenarios,
+        "planners": ["a", "b"],
+        "seeds": range(12),
+        "reference": "a",
+        "columns": [("frechet_m", "F")],
+    }
+    holm = benchmark_table(results, **kwargs)  # type: ignore[arg-type]
+    plain = benchmark_table(results, correction="none", **kwargs)  # type: ignore[arg-type]
+    raw = np.array([holm.comparisons[(s, "b")]["frechet_m"].paired_p for s in scenarios])
+    adjusted = np.array(
+        [holm.comparisons[(s, "b")]["frechet_m"].paired_p_adjusted for s in scenarios]
+    )
+    np.testing.assert_array_equal(adjusted, adjust_p_values(raw, "holm"))
+    marks = [holm.cells[(s, "b")]["frechet_m"].paired for s in scenarios]
+    assert marks == [bool(p < 0.05) for p in adjusted]
+    plain_marks = [plain.cells[(s, "b")]["frechet_m"].paired for s in scenarios]
+    assert plain_marks == [bool(p < 0.05) for p in raw]
+    assert sum(plain_marks) > sum(marks) > 0  # the correction takes some marks away
+    assert holm.family == {"welch": 6, "paired": 6}
+    md = to_markdown(holm)
+    assert "Holm's step-down correction" in md
+    assert "6 Welch and, separately, 6 paired tests" in md
+    entry = summary_dict(holm)["scenarios"]["s0"]["b"]["frechet_m"]
+    assert entry["paired_p_adjusted"] == adjusted[0]
+    assert summary_dict(holm)["correction"] == "holm"
+    with pytest.raises(MetricError, match="unknown correction 'sidak'"):
+        benchmark_table(results, correction="sidak", **kwargs)  # type: ignore[arg-type]
+
+
+def test_reference_points_when_the_run_has_straight_and_oracle() -> None:
+    from srfm.benchmark._html import _wide_table
+    from srfm.metrics.headroom import headroom
+
+    # "wide": straight 1.0 + noise, oracle 0.6, "half" halfway; "flat": everyone at 1.0
+    # but the oracle 0.98 (headroom 0.02 m < 0.1 m: does not discriminate).
+    rng = np.random.default_rng(3)
+    results = []
+    for seed in range(10):
+        noise = rng.normal(0.0, 0.05)
+        for scenario, values in (
+            ("wide", {"straight": 1.0, "oracle": 0.6, "half": 0.8}),
+            ("flat", {"straight": 1.0, "oracle": 0.98, "half": 1.0}),
+        ):
+            for planner, value in values.items():
+                results.append(
+                    EpisodeMetrics(
+                        scenario=scenario,
+                        planner=planner,
+                        seed=seed,
+                        outcome="goal_reached",
+                        end_step=10,
+                        values={"frechet_m": value + noise + 0.01 * rng.normal()},
+                        pedestrians={},
+                    )
+                )
+    table = benchmark_table(
+        results,
+        scenarios=["wide", "flat"],
+        planners=["straight", "oracle", "half"],
+        seeds=range(10),
+        reference=None,
+        columns=[("frechet_m", "F")],
+    )
+    wide = table.references["wide"]
+    values = {
+        p: [r.values["frechet_m"] for r in results if r.scenario == "wide" and r.planner == p]
+        for p in ("straight", "oracle", "half")
+    }
+    assert wide.headroom == headroom(values["straight"], values["oracle"])
+    assert wide.headroom.estimate == pytest.approx(0.4, abs=0.02)
+    assert wide.scores["half"].estimate == pytest.approx(0.5, abs=0.05)
+    assert wide.scores["straight"].estimate == 0.0
+    assert wide.discriminates
+    assert not table.references["flat"].discriminates
+    md = to_markdown(table)
+    assert "Norm. score ↑" in md.splitlines()[0]
+    flat = table.references["flat"].headroom
+    assert f"| flat | {flat.estimate:.3f} [{flat.low:.3f}, {flat.high:.3f}] |" in md
+    assert flat.estimate == pytest.approx(0.02, abs=0.01)
+    assert "**does not discriminate** (headroom < 0.1 m" in md
+    summary = summary_dict(table)
+    assert summary["references"]["flat"]["discriminates"] is False
+    assert summary["references"]["wide"]["scores"]["oracle"]["estimate"] == 1.0
+    page = _wide_table(summary)
+    assert "<th>Norm. score ↑</th>" in page
+    assert '<td class="name bad nodisc">does not discriminate</td>' in page
+    # Without the oracle, or without asking, there are no reference points.
+    assert not benchmark_table(
+        results,
+        scenarios=["wide"],
+        planners=["straight", "half"],
+        seeds=range(10),
+        reference=None,
+        columns=[("frechet_m", "F")],
+    ).references
+    assert "Norm. score" not in to_markdown(
+        benchmark_table(
+            results,
+            scenarios=["wide"],
+            planners=["straight", "oracle"],
+            seeds=range(10),
+            reference=None,
+            columns=[("frechet_m", "F")],
+            with_references=False,
+        )
+    )

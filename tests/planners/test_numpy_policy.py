@@ -185,27 +185,35 @@ def test_shipped_numpy_policies(name: str) -> None:
     meta = policy.metadata
     assert (policy.config.k2 > 0.0) == (name == "td3-srfm")
     assert meta["kinematics"] == "unicycle"
-    # the recipe of docs/rl.md: SBX [64, 64], a stage-1 training seed 1-3 (td3-base) or
-    # a stage-2 one 11-13 (td3-srfm), actions held for 4 simulation steps, a checkpoint
-    # of a periodic evaluation (every 25,000 actions in stage 1, 5,000 in stage 2)
-    assert meta["layers"] == [[64, 69], [64, 64], [2, 64]]
+    # the walls-aware recipe of docs/rl.md (tools/rl/study.py): SBX [64, 64] from
+    # scratch, 24 range beams, actions held for 4 simulation steps, the progress term 10,
+    # a checkpoint after the k2 curriculum (every 25,000 actions), training seed 1
+    assert meta["layers"] == [[64, 93], [64, 64], [2, 64]]
     assert meta["training"]["backend"] == "sbx"
-    stage2 = name == "td3-srfm"
-    assert meta["training"]["seed"] in ({11, 12, 13} if stage2 else {1, 2, 3})
-    assert meta["training"]["steps"] % (5_000 if stage2 else 25_000) == 0
-    # stage 1 (td3-base) with the progress term 10, stage 2 (td3-srfm) with 5
-    assert policy.config.k_progress == (5.0 if name == "td3-srfm" else 10.0)
+    assert meta["training"]["seed"] == 1
+    assert meta["training"]["steps"] % 25_000 == 0
+    assert meta["training"]["steps"] >= 125_000
+    assert policy.config.k_progress == 10.0
     assert policy.config.action_repeat == 4
+    assert (policy.config.range_beams, policy.config.range_max_m) == (24, 4.0)
     assert meta["evaluation"]["at_export"]["episodes"] == 50
     planner = make_planner(name)
-    record = srfm.run_episode("crosswalk", 1, planner)
+    record = srfm.run_episode("narrow_doorway", 1, planner)
     assert record.outcome in {"goal_reached", "collision", "out_of_bounds", "timeout"}
-    # A file written before an option existed loads with its default (range beams: none).
+    assert attrs.asdict(policy.config) == meta["env_config"]
+
+
+def test_policy_files_written_before_range_beams_load_without_them() -> None:
+    """A file written before an option existed loads with its default (range beams:
+    none): the first shipped policies, kept in tools/rl/policies/."""
+    path = Path(__file__).parents[2] / "tools" / "rl" / "policies" / "td3_srfm_seed12.json"
+    policy = load_numpy_policy(path)
+    meta = policy.metadata
     loaded = attrs.asdict(policy.config)
-    assert set(meta["env_config"]) <= set(loaded)
+    assert "range_beams" not in meta["env_config"]
     assert {k: loaded[k] for k in meta["env_config"]} == meta["env_config"]
-    missing = set(loaded) - set(meta["env_config"])
-    assert all(loaded[k] == attrs.fields_dict(EnvConfig)[k].default for k in missing)
+    assert (policy.config.range_beams, policy.config.obs_size) == (0, 69)
+    assert meta["layers"][0] == [64, 69]
 
 
 @pytest.mark.parametrize("variant", ["srfm", "base"])

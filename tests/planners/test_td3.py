@@ -186,15 +186,15 @@ def test_export_round_trip_and_same_episodes(policy_file: Path, tmp_path: Path) 
     assert "cannot load a TD3 policy" in bad.output
 
 
-def _observations(n_random: int) -> np.ndarray:
-    """Random observations in [−1, 1] and observations met in episodes."""
+def _observations(n_random: int, config: EnvConfig) -> np.ndarray:
+    """Random observations in [−1, 1] and observations met in episodes (with walls)."""
     rng = np.random.default_rng(5)
-    obs = [rng.uniform(-1, 1, (n_random, 69)).astype(np.float32)]
+    obs = [rng.uniform(-1, 1, (n_random, config.obs_size)).astype(np.float32)]
     sparse = obs[0].copy()
     sparse[rng.random(sparse.shape) < 0.5] = 0.0
     obs.append(sparse)
-    for scenario in ("crosswalk", "concert", "random"):
-        env = SocialNavEnv(scenario, EnvConfig(kinematics="unicycle"))
+    for scenario in ("crosswalk", "concert", "random", "narrow_doorway"):
+        env = SocialNavEnv(scenario, config.replace(kinematics="unicycle"))
         o, _ = env.reset(seed=1)
         for _ in range(300):
             obs.append(o[None])
@@ -216,7 +216,9 @@ def test_shipped_numpy_actor_matches_predict(name: str) -> None:
     )
     model = library.TD3.load(checkpoint, device="cpu")
     assert numpy_policy.config == EnvConfig(**model.srfm_env_config)
-    obs = _observations(2000)
+    obs = _observations(2000, numpy_policy.config)
     predicted, _ = model.predict(obs, deterministic=True)
     got = np.stack([numpy_policy.actor.forward(o) for o in obs])
-    assert np.abs(got - predicted).max() <= 1e-5
+    # float32 sums in another order than XLA's: a few ulps of the pre-activations
+    # (93 inputs), magnified where tanh is steep; measured at most 1.1e-5
+    assert np.abs(got - predicted).max() <= 3e-5

@@ -18,7 +18,12 @@ replay buffer is lost, the resumed run is deterministic but not identical to an
 uninterrupted one). After every finished run, and every ``--collect-every`` seconds,
 ``collect`` copies what a later session needs into ``tools/rl/study/``:
 
-- ``policies/<run>.{json,npz}``: the run's best checkpoint as a NumPy policy;
+- ``policies/<run>.{json,npz}``: the run's chosen checkpoint as a NumPy policy: of the
+  checkpoints after the k2 curriculum, the one with the highest success, then the
+  fewest collisions, on the validation set with 10 seeds per scenario from 20000 on
+  (``tools/rl/validate_checkpoints.py``; its table in ``validation/<run>.json``). The
+  run's own ``best.zip`` rests on 2 seeds per scenario: too few to tell checkpoints
+  apart (docs/rl.md);
 - ``evals/<run>.jsonl``: its periodic evaluations (validation split, seeds 10000 on);
 - ``checkpoints/<run>.zip``: the latest checkpoint of an unfinished run (to resume);
 - ``runs.json``: per run, the steps done, wall time and whether it finished.
@@ -45,6 +50,7 @@ STUDY: Final = ROOT / "tools" / "rl" / "study"
 SRFM: Final = str(Path(sys.executable).with_name("srfm"))
 
 STEPS: Final = 300_000
+VALIDATION_SEEDS: Final = 10
 # The curriculum window: k2 rises from 0 at K2_START to its arm's value at
 # K2_START + K2_RAMP; both arms select checkpoints only after it (srfm.rl.training.selectable).
 K2_START: Final = 100_000
@@ -97,6 +103,28 @@ def command(run: Path, k2: str, seed: int) -> list[str]:
     return words
 
 
+def validate(run: Path) -> Path:
+    """The run's checkpoint chosen on the validation set (10 seeds per scenario, from
+    20000 on; tools/rl/validate_checkpoints.py); its table goes to validation/."""
+    table = STUDY / "validation" / f"{run.name}.json"
+    table.parent.mkdir(parents=True, exist_ok=True)
+    script = ROOT / "tools" / "rl" / "validate_checkpoints.py"
+    subprocess.run(
+        [
+            sys.executable,
+            str(script),
+            str(run),
+            "--seeds",
+            str(VALIDATION_SEEDS),
+            "--out",
+            str(table),
+        ],
+        check=True,
+    )
+    best = json.loads(table.read_text())["best"]
+    return run / "checkpoints" / str(best["checkpoint"])
+
+
 def collect(runs: Path) -> list[str]:
     """Copy every run's artefacts into tools/rl/study/; the files written."""
     written: list[str] = []
@@ -119,10 +147,12 @@ def collect(runs: Path) -> list[str]:
         checkpoint = STUDY / "checkpoints" / f"{run.name}.zip"
         if finished:
             out = STUDY / "policies" / run.name
-            if (run / "best.zip").is_file() and not out.with_suffix(".json").is_file():
+            if not out.with_suffix(".json").is_file():
+                chosen = validate(run)
                 subprocess.run(
-                    [SRFM, "export-policy", str(run / "best.zip"), str(out), "--note",
-                     f"{run.name}: best.zip of tools/rl/study.py"],
+                    [SRFM, "export-policy", str(chosen), str(out), "--note",
+                     f"{run.name}: {chosen.name}, chosen on the validation set by "
+                     "tools/rl/validate_checkpoints.py (tools/rl/study.py)"],
                     check=True,
                 )  # fmt: skip
                 written.append(f"policies/{run.name}")

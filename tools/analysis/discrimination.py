@@ -1,0 +1,315 @@
+"""Where the benchmark can tell planners apart (issue 29): headroom, standard errors and
+seeds needed per scenario; the selection of the `discriminative` suite; its report.
+
+    # 1. measure (resumable: an interrupted run goes on where it stopped)
+    nice -n 5 .venv/bin/python tools/analysis/discrimination.py run results/disc-select \
+        --suite all --seeds 1000-1099
+    # 2. select the suite on those seeds (writes docs/discrimination/selection.json)
+    .venv/bin/python tools/analysis/discrimination.py select results/disc-select
+    # 3. measure the chosen suite on other seeds and report it
+    nice -n 5 .venv/bin/python tools/analysis/discrimination.py run results/disc-report \
+        --suite discriminative --seeds 0-99
+    .venv/bin/python tools/analysis/discrimination.py report results/disc-report \
+        --json docs/discrimination/report.json
+    # the oracle's CPU time per episode (paper suite)
+    .venv/bin/python tools/analysis/discrimination.py cost --seeds 0-19
+
+`run` is `srfm benchmark -j 1 --no-logs --no-figures` with the planners below; the
+other commands read its `episodes.csv` and print Markdown (docs/benchmark.md).
+
+SELECTION RULE (written down on 2026-11-27 before the selection was run, and not
+changed after): the candidates are the 28 scenarios of suite `all` (paper, francis,
+navwareset, flows; not `large`, whose 300-400 pedestrians make the oracle cost minutes
+per episode, and not the training scenario `random`). On seeds 1000-1099, with every
+planner of `PLANNERS`, a scenario qualifies when
+
+  (a) it discriminates (srfm.metrics.headroom.discriminates): headroom = mean of
+      straight - oracle >= 0.1 m and >= 3 standard errors (SD of straight / sqrt(n));
+  (b) the oracle reaches its goal in >= 95 % of the seeds;
+  (c) straight reaches its goal in >= 95 % of the seeds (so the headroom's upper end
+      is a robot that does its task);
+  (d) 100 seeds suffice to detect 0.05 m between two planners (seeds_needed <= 100,
+      sigma_d the median SD of paired differences over the pairs of non-reference
+      planners).
+
+Qualifying scenarios are ranked by headroom / sigma_d (the headroom in units of the
+noise of a paired comparison); the first `MAX_SUITE` (8) form the suite, listed in the
+library's order. The report runs them on seeds 0-99, which the selection never saw.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import subprocess
+import sys
+import time
+from collections import defaultdict
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from srfm.metrics.headroom import (
+    DETECT_M,
+    MIN_HEADROOM_M,
+    MIN_STANDARD_ERRORS,
+    scenario_references,
+)
+from srfm.scenarios import EVALUATION_SCENARIOS
+
+PLANNERS = (
+    "straight",
+    "oracle",
+    "stay",
+    "dwa",
+    "orca",
+    "social-force",
+    "vo",
+    "td3-base",
+    "td3-srfm",
+)
+MIN_GOAL_RATE = 0.95
+MAX_SEEDS = 100
+MAX_SUITE = 8
+ROOT = Path(__file__).resolve().parents[2]
+SELECTION = ROOT / "docs" / "discrimination" / "selection.json"
+
+
+def _read(out: Path) -> tuple[list[str], dict[tuple[str, str], dict[int, dict[str, float]]]]:
+    """Scenarios in order, and per (scenario, planner) per seed its frechet_m and
+    success, from the run's per-episode files (so a run still going can be read: a
+    scenario counts once every planner of ``PLANNERS`` has all its seeds)."""
+    cells: dict[tuple[str, str], dict[int, dict[str, float]]] = defaultdict(dict)
+    manifest = json.loads((out / "manifest.json").read_text(encoding="utf-8"))
+    order = list(manifest["request"]["scenarios"])
+    n_seeds = len(manifest["request"]["seeds"])
+    for path in sorted((out / "episodes").glob("*/*/seed-*.json")):
+        doc = json.loads(path.read_text(encoding="utf-8"))
+        value = doc["metrics"]["frechet_m"]
+        cells[doc["scenario"], doc["planner"]][int(doc["seed"])] = {
+            "frechet_m": math.nan if value is None else float(value),
+            "success": float(doc["outcome"] == "goal_reached"),
+        }
+    done = [s for s in order if all(len(cells.get((s, p), {})) == n_seeds for p in PLANNERS)]
+    return done, cells
+
+
+def _measure(out: Path) -> list[dict[str, Any]]:
+    """One entry per scenario: the reference points and every planner's mean."""
+    scenarios, cells = _read(out)
+    rows = []
+    for s in scenarios:
+        planners = [p for p in PLANNERS if (s, p) in cells]
+        seeds = sorted(set.intersection(*(set(cells[s, p]) for p in planners)))
+        values = {p: np.array([cells[s, p][k]["frechet_m"] for k in seeds]) for p in planners}
+        goal = {p: float(np.mean([cells[s, p][k]["success"] for k in seeds])) for p in planners}
+        refs = scenario_references(values)
+        rows.append(
+            {
+                "scenario": s,
+                "n_seeds": len(seeds),
+                "seeds": [seeds[0], seeds[-1]],
+                "mean_m": {p: float(np.nanmean(v)) for p, v in values.items()},
+                "sd_m": {p: float(np.nanstd(v, ddof=1)) for p, v in values.items()},
+                "goal_rate": goal,
+                "standard_error_m": refs.standard_error,
+                "headroom_m": refs.headroom.estimate,
+                "headroom_ci_m": [refs.headroom.low, refs.headroom.high],
+                "headroom_in_se": refs.headroom.estimate / refs.standard_error,
+                "scores": {p: [i.estimate, i.low, i.high] for p, i in refs.scores.items()},
+                "sd_diff_m": refs.sd_diff,
+                "seeds_needed": refs.seeds_needed,
+                "discriminates": refs.discriminates,
+            }
+        )
+    return rows
+
+
+def _qualifies(row: dict[str, Any]) -> list[str]:
+    """The conditions (a)-(d) a scenario fails (empty: it qualifies)."""
+    failed = []
+    if not row["discriminates"]:
+        failed.append("a")
+    if row["goal_rate"]["oracle"] < MIN_GOAL_RATE:
+        failed.append("b")
+    if row["goal_rate"]["straight"] < MIN_GOAL_RATE:
+        failed.append("c")
+    if row["seeds_needed"] is None or row["seeds_needed"] > MAX_SEEDS:
+        failed.append("d")
+    return failed
+
+
+def _f(x: float, digits: int = 2) -> str:
+    return "–" if x is None or not math.isfinite(x) else f"{x:.{digits}f}"
+
+
+def _table(rows: list[dict[str, Any]], *, selection: bool) -> str:
+    head = (
+        "| scenario | straight (m) | oracle (m) | stay (m) | headroom (m) [95 % CI] "
+        "| SE (m) | headroom / SE | σ_d (m) | seeds for 0.05 m | oracle goal | discriminates |"
+    )
+    if selection:
+        head += " fails | rank |"
+    lines = [head, "|---" * (head.count("|") - 1) + "|"]
+    for r in rows:
+        m = r["mean_m"]
+        ci = r["headroom_ci_m"]
+        cells = [
+            r["scenario"],
+            _f(m["straight"]),
+            _f(m["oracle"]),
+            _f(m.get("stay", math.nan)),
+            f"{_f(r['headroom_m'])} [{_f(ci[0])}, {_f(ci[1])}]",
+            _f(r["standard_error_m"], 3),
+            _f(r["headroom_in_se"], 1),
+            _f(r["sd_diff_m"], 3),
+            str(r["seeds_needed"]),
+            f"{100 * r['goal_rate']['oracle']:.0f} %",
+            "yes" if r["discriminates"] else "**no**",
+        ]
+        if selection:
+            cells += [",".join(r["fails"]) or "–", str(r.get("rank") or "–")]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def _scores_table(rows: list[dict[str, Any]]) -> str:
+    planners = [p for p in PLANNERS if p not in ("straight", "oracle")]
+    head = "| scenario | " + " | ".join(planners) + " |"
+    lines = [head, "|---" * (len(planners) + 1) + "|"]
+    for r in rows:
+        items = []
+        for p in planners:
+            est, low, high = r["scores"].get(p, [math.nan] * 3)
+            items.append(f"{_f(est)} [{_f(low)}, {_f(high)}]")
+        lines.append(f"| {r['scenario']} | " + " | ".join(items) + " |")
+    return "\n".join(lines)
+
+
+def _means_table(rows: list[dict[str, Any]]) -> str:
+    head = "| scenario | " + " | ".join(PLANNERS) + " |"
+    lines = [head, "|---" * (len(PLANNERS) + 1) + "|"]
+    for r in rows:
+        items = [
+            f"{_f(r['mean_m'][p])} ± {_f(r['sd_m'][p])} ({100 * r['goal_rate'][p]:.0f} %)"
+            for p in PLANNERS
+        ]
+        lines.append(f"| {r['scenario']} | " + " | ".join(items) + " |")
+    return "\n".join(lines)
+
+
+def cmd_run(args: argparse.Namespace) -> None:
+    command = [
+        sys.executable,
+        "-m",
+        "srfm.cli",
+        "benchmark",
+        "--suite",
+        args.suite,
+        "-p",
+        ",".join(PLANNERS),
+        "--seeds",
+        args.seeds,
+        "-j",
+        "1",
+        "--no-logs",
+        "--no-figures",
+        "--reference",
+        "straight",
+        "--out",
+        str(args.out),
+    ]
+    print(" ".join(command), flush=True)
+    subprocess.run(command, check=True)
+
+
+def cmd_select(args: argparse.Namespace) -> None:
+    rows = _measure(args.out)
+    for r in rows:
+        r["fails"] = _qualifies(r)
+    qualified = [r for r in rows if not r["fails"]]
+    qualified.sort(key=lambda r: -r["headroom_m"] / r["sd_diff_m"])
+    for rank, r in enumerate(qualified, start=1):
+        r["rank"] = rank
+    chosen = {r["scenario"] for r in qualified[:MAX_SUITE]}
+    suite = [r["scenario"] for r in rows if r["scenario"] in chosen]
+    doc = {
+        "rule": __doc__.split("SELECTION RULE")[1].split('"""')[0].strip(),
+        "thresholds": {
+            "min_headroom_m": MIN_HEADROOM_M,
+            "min_standard_errors": MIN_STANDARD_ERRORS,
+            "min_goal_rate": MIN_GOAL_RATE,
+            "detect_m": DETECT_M,
+            "max_seeds": MAX_SEEDS,
+            "max_suite": MAX_SUITE,
+        },
+        "planners": list(PLANNERS),
+        "suite": suite,
+        "scenarios": rows,
+    }
+    args.json.parent.mkdir(parents=True, exist_ok=True)
+    args.json.write_text(json.dumps(doc, indent=1, allow_nan=True) + "\n", encoding="utf-8")
+    print(_table(rows, selection=True))
+    print(f"\nqualified: {len(qualified)}; suite: {suite}")
+
+
+def cmd_report(args: argparse.Namespace) -> None:
+    rows = _measure(args.out)
+    doc = {"planners": list(PLANNERS), "scenarios": rows}
+    args.json.parent.mkdir(parents=True, exist_ok=True)
+    args.json.write_text(json.dumps(doc, indent=1, allow_nan=True) + "\n", encoding="utf-8")
+    print(_table(rows, selection=False))
+    print()
+    print(_means_table(rows))
+    print()
+    print(_scores_table(rows))
+
+
+def cmd_cost(args: argparse.Namespace) -> None:
+    from srfm.scenarios import load_scenario
+    from srfm.sim.episode import run_episode
+
+    lo, hi = (int(x) for x in args.seeds.split("-"))
+    out: dict[str, Any] = {}
+    for name in EVALUATION_SCENARIOS:
+        scenario = load_scenario(name)
+        run_episode(scenario, hi + 1, "oracle")  # compile outside the clock
+        times = []
+        for seed in range(lo, hi + 1):
+            t0 = time.process_time()
+            run_episode(scenario, seed, "oracle")
+            times.append(time.process_time() - t0)
+        out[name] = {"mean_s": float(np.mean(times)), "max_s": float(np.max(times))}
+        print(f"| {name} | {out[name]['mean_s']:.2f} | {out[name]['max_s']:.2f} |", flush=True)
+    if args.json:
+        args.json.write_text(json.dumps(out, indent=1) + "\n", encoding="utf-8")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    sub = ap.add_subparsers(dest="command", required=True)
+    run = sub.add_parser("run", help="srfm benchmark with the reference planners")
+    run.add_argument("out", type=Path)
+    run.add_argument("--suite", default="all")
+    run.add_argument("--seeds", default="1000-1099")
+    run.set_defaults(func=cmd_run)
+    sel = sub.add_parser("select", help="apply the selection rule to a run")
+    sel.add_argument("out", type=Path)
+    sel.add_argument("--json", type=Path, default=SELECTION)
+    sel.set_defaults(func=cmd_select)
+    rep = sub.add_parser("report", help="reference points of every scenario of a run")
+    rep.add_argument("out", type=Path)
+    rep.add_argument("--json", type=Path, required=True)
+    rep.set_defaults(func=cmd_report)
+    cost = sub.add_parser("cost", help="the oracle's CPU time per episode, paper suite")
+    cost.add_argument("--seeds", default="0-19")
+    cost.add_argument("--json", type=Path)
+    cost.set_defaults(func=cmd_cost)
+    args = ap.parse_args()
+    args.func(args)
+
+
+if __name__ == "__main__":
+    main()

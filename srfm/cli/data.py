@@ -19,6 +19,7 @@ import click
 
 from srfm.cli._common import load_params_option, progressbar, user_errors
 from srfm.errors import DatasetError
+from srfm.models.params import ROBOT_FORMS
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -335,6 +336,41 @@ def _add_window_options(func: F, stride_s: float) -> F:
             help="Start windows only where the initial speed is at least this (m/s); "
             "the NavWareSet protocol uses 0.3 (docs/fitting.md).",
         ),
+        click.option(
+            "--align",
+            type=click.Choice(["stride", "encounter"]),
+            default="stride",
+            show_default=True,
+            help="Where windows start: every --stride along each track, or once per "
+            "encounter with the robot, --lead before the closest approach "
+            "(docs/real_encounters.md).",
+        ),
+        click.option(
+            "--lead",
+            "lead_s",
+            type=float,
+            default=3.0,
+            show_default=True,
+            help="With --align encounter: time from the window start to the closest "
+            "approach (s); shorter than --horizon.",
+        ),
+        click.option(
+            "--goal",
+            type=click.Choice(["track_end", "heading"]),
+            default="track_end",
+            show_default=True,
+            help="The pedestrian's goal: the track's last position, or a point "
+            "--goal-distance straight ahead along the initial velocity (uses nothing "
+            "observed after the window start).",
+        ),
+        click.option(
+            "--goal-distance",
+            "goal_distance_m",
+            type=float,
+            default=10.0,
+            show_default=True,
+            help="With --goal heading: distance of the goal ahead (m).",
+        ),
     ]
     for option in reversed(options):
         func = option(func)
@@ -389,9 +425,19 @@ def _load_windows(files: Sequence[Path], **config: Any) -> Any:
     help="Most model evaluations per starting point.",
 )
 @click.option(
+    "--robot-force",
+    type=click.Choice(ROBOT_FORMS),
+    default=None,
+    help="The form of the robot force (docs/model.md) that the result uses and the robot "
+    "stage fits: its strength and range (exponential: A_r, B_r; ttc: k, τ0; "
+    "collision_prediction: A, B; elliptical: A_e, B_e, Δt). Default: the --start "
+    "parameters' form (the paper's exponential one for a preset).",
+)
+@click.option(
     "--fit-lambda-robot",
     is_flag=True,
-    help="The robot stage also fits λ_r (the robot force's anisotropy); default: A_r, B_r.",
+    help="The robot stage also fits λ_r (the robot force's anisotropy; the exponential "
+    "and elliptical forms).",
 )
 @_window_options(stride_s=1.2)
 @click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
@@ -402,30 +448,46 @@ def fit(
     start_spec: str | None,
     stages: Sequence[str],
     max_nfev: int,
+    robot_force: str | None,
     fit_lambda_robot: bool,
     as_json: bool,
-    **window: float,
+    **window: Any,
 ) -> None:
     """Learn SRFM parameters from dataset MCAP FILES by nonlinear least squares.
 
     Stage 1 fits A_p, B_p, λ, τ on non-interaction windows (farther than the
-    interaction radius from the robot), stage 2 fits A_r, B_r on interaction windows
-    with the pedestrian part fixed. See docs/fitting.md for the residual.
+    interaction radius from the robot), stage 2 fits the robot force (A_r, B_r of the
+    paper's form, or another form's parameters: --robot-force) on interaction windows
+    with the pedestrian part fixed. See docs/fitting.md for the residual and
+    docs/real_encounters.md for the windows of real encounters (--align encounter).
     """
     from srfm._io import check_writable, refuse_overwriting_inputs
     from srfm._version import __version__
-    from srfm.fitting import fit_params
+    from srfm.errors import ParameterError
+    from srfm.fitting import FORM_FIT_FIELDS, fit_params
     from srfm.models import save_params
+    from srfm.models.params import FORM_FIELDS
 
     inputs = [*files, *([Path(start_spec)] if start_spec is not None else [])]
     refuse_overwriting_inputs(output, inputs, option="--output")
     check_writable(output)  # before the fit, not after it
     start = load_params_option(start_spec)
+    if robot_force is not None:
+        start = start.replace(robot_form=robot_force)
+    form = start.robot_form
+    robot_fields = FORM_FIT_FIELDS[form]
+    if fit_lambda_robot:
+        if "lambda_robot" not in FORM_FIELDS[form]:
+            raise ParameterError(
+                f"--fit-lambda-robot: the {form} robot force has no λ_r "
+                "(only the exponential and elliptical forms read it)"
+            )
+        robot_fields = (*robot_fields, "lambda_robot")
     windows = _load_windows(files, **window)
     chosen = tuple(stages) or ("pedestrian", "robot")
     t0 = time.perf_counter()
     log = None if as_json else (lambda msg: click.echo(f"  {msg}", err=True))
-    fields = {"robot": ("a_robot", "b_robot", "lambda_robot")} if fit_lambda_robot else None
+    fields = {"robot": robot_fields}
     result = fit_params(
         windows, start=start, stages=chosen, max_nfev=max_nfev, log=log, fields=fields
     )
@@ -438,8 +500,9 @@ def fit(
         "created_by": f"srfm fit (srfm {__version__})",
         "data": ", ".join(f.name for f in files),
         "start": start_spec or "agrawal2024",
-        **{k: float(v) for k, v in window.items()},
+        **{k: v if isinstance(v, str) else float(v) for k, v in window.items()},
         "fit_time_s": round(elapsed, 1),
+        "robot_force": form,
         "fit_lambda_robot": fit_lambda_robot,
     }
     for s in result.stages:
@@ -510,7 +573,7 @@ def _stage_dict(s: Any) -> dict[str, Any]:
 @_window_options(stride_s=0.4)
 @click.option("--json", "as_json", is_flag=True, help="Print the table as JSON.")
 @user_errors
-def ade(files: Sequence[Path], params_spec: str | None, as_json: bool, **window: float) -> None:
+def ade(files: Sequence[Path], params_spec: str | None, as_json: bool, **window: Any) -> None:
     """ADE/FDE of the paper's models and a constant-velocity baseline on dataset FILES.
 
     Rows: CV and SFM on non-interaction windows; CV, SFM (robot ignored), SFM (robot as
@@ -522,6 +585,13 @@ def ade(files: Sequence[Path], params_spec: str | None, as_json: bool, **window:
     params = load_params_option(params_spec)
     windows = _load_windows(files, **window)
     if windows.n_windows == 0:
+        if window["align"] == "encounter":
+            raise DatasetError(
+                "no prediction windows: no track comes within the interaction radius "
+                f"({window['interaction_radius_m']:g} m) of the robot with "
+                f"{window['lead_s']:g} s before and "
+                f"{window['horizon_s'] - window['lead_s']:g} s after its closest approach"
+            )
         raise DatasetError(
             "no prediction windows: every pedestrian track is shorter than the horizon "
             f"({window['horizon_s']:g} s) plus the initial-velocity span (0.4 s)"

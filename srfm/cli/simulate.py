@@ -64,8 +64,8 @@ def planners() -> None:
     "params_spec",
     default=None,
     metavar="PRESET|FILE",
-    help="SRFM parameters: a preset (agrawal2024, ferrer2013, navwareset2025) or a parameter "
-    "TOML file. Default: agrawal2024.",
+    help="SRFM parameters: a preset (agrawal2024, ferrer2013, navwareset2025, "
+    "navwareset2026_ttc) or a parameter TOML file. Default: agrawal2024.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the summary as JSON.")
 @click.option(

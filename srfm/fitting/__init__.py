@@ -9,7 +9,14 @@ the paper; :func:`evaluate_ade` reports the paper's ADE table. See ``docs/fittin
 
 from srfm.fitting._ade import ADE_ROWS, AdeRow, evaluate_ade, pass_errors, window_errors
 from srfm.fitting._encounters import Encounter, replay_encounter
-from srfm.fitting._fit import BOUNDS, STAGE_FIELDS, FitResult, StageResult, fit_params
+from srfm.fitting._fit import (
+    BOUNDS,
+    FORM_FIT_FIELDS,
+    STAGE_FIELDS,
+    FitResult,
+    StageResult,
+    fit_params,
+)
 from srfm.fitting._predict import MODES, displacement_errors, predict
 from srfm.fitting._protocol import (
     EVAL_WINDOWS,
@@ -23,6 +30,7 @@ from srfm.fitting._protocol import (
     fit_robot_part,
     heldout_errors,
     heldout_metrics,
+    holm,
     leave_one_scene_out,
     paired_test,
     scene_groups,
@@ -35,6 +43,7 @@ __all__ = [
     "BOUNDS",
     "EVAL_WINDOWS",
     "FIT_WINDOWS",
+    "FORM_FIT_FIELDS",
     "GOALS",
     "MODES",
     "ROBOT_FIELDS",
@@ -57,6 +66,7 @@ __all__ = [
     "fit_robot_part",
     "heldout_errors",
     "heldout_metrics",
+    "holm",
     "leave_one_scene_out",
     "paired_test",
     "pass_errors",

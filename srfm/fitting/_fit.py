@@ -29,9 +29,9 @@ from numpy.typing import NDArray
 from srfm.errors import ParameterError
 from srfm.fitting._predict import Mode, displacement_errors, predict
 from srfm.fitting._windows import Windows
-from srfm.models.params import PRESETS, SRFMParams
+from srfm.models.params import FORM_FIELDS, PRESETS, SRFMParams
 
-__all__ = ["BOUNDS", "STAGE_FIELDS", "FitResult", "StageResult", "fit_params"]
+__all__ = ["BOUNDS", "FORM_FIT_FIELDS", "STAGE_FIELDS", "FitResult", "StageResult", "fit_params"]
 
 Stage = Literal["pedestrian", "robot"]
 
@@ -48,6 +48,25 @@ BOUNDS: Final[dict[str, tuple[float, float]]] = {
     "a_robot": (0.0, 100.0),
     "b_robot": (0.05, 3.0),
     "lambda_robot": (0.0, 1.0),
+    # the other robot-force forms (srfm.models.params.FORM_FIELDS; k in m², A of the
+    # collision-prediction force dimensionless, times in s)
+    "ttc_k": (0.0, 100.0),
+    "ttc_tau0": (0.1, 20.0),
+    "cp_a": (0.0, 100.0),
+    "cp_b": (0.05, 3.0),
+    "ell_a": (0.0, 100.0),
+    "ell_b": (0.05, 3.0),
+    "ell_dt": (0.0, 5.0),
+}
+# The parameters a robot-stage fit of each robot-force form varies by default: its
+# strength and range (the exponential form's λ_r, and the elliptical form's too, only when
+# asked: ``srfm fit --fit-lambda-robot``); the forms' force cap and the collision-
+# prediction force's time limits are kept.
+FORM_FIT_FIELDS: Final[dict[str, tuple[str, ...]]] = {
+    "exponential": ("a_robot", "b_robot"),
+    "ttc": ("ttc_k", "ttc_tau0"),
+    "collision_prediction": ("cp_a", "cp_b"),
+    "elliptical": ("ell_a", "ell_b", "ell_dt"),
 }
 _MAX_NFEV: Final = 1_000_000
 # The published parameter sets every fit also starts from (not fitted presets such as
@@ -142,8 +161,10 @@ def fit_params(
             omitted. The paper's presets are tried as further starting points.
         stages: ``pedestrian`` and/or ``robot``, run in that order.
         max_nfev: most model evaluations per starting point.
-        multi_start: also start from the paper's presets (agrawal2024, ferrer2013) and
-            keep the lowest cost; False starts from ``start`` only.
+        multi_start: also start from the paper's presets (agrawal2024, ferrer2013) and,
+            for a robot force of another form than the paper's (which the presets do
+            not parametrise), from ``start`` with that form's strength divided by 10;
+            keep the lowest cost. False starts from ``start`` only.
         tolerance: scipy's ``ftol``, ``xtol`` and ``gtol``: stop when the cost or the
             parameters change by less than this fraction.
         log: called with a one-line progress message per starting point.
@@ -223,7 +244,9 @@ def fit_params(
         lower = np.array([BOUNDS[f][0] for f in fields_])
         upper = np.array([BOUNDS[f][1] for f in fields_])
         starts: list[NDArray[np.float64]] = []
-        for candidate in (params, *(_START_PRESETS if multi_start else ()), *extra_starts):
+        presets = _START_PRESETS if multi_start else ()
+        weaker = _weaker_robot(params, fields_) if multi_start and stage == "robot" else ()
+        for candidate in (params, *presets, *weaker, *extra_starts):
             x0 = np.clip([getattr(candidate, f) for f in fields_], lower, upper)
             if not any(np.array_equal(x0, s) for s in starts):
                 starts.append(x0)
@@ -272,6 +295,17 @@ def fit_params(
             )
         )
     return FitResult(params=params, stages=tuple(results))
+
+
+def _weaker_robot(params: SRFMParams, fields: Sequence[str]) -> tuple[SRFMParams, ...]:
+    """For a robot force of another form than the paper's, whose parameters the presets
+    do not give: the start with the form's strength divided by 10 (when it is fitted)."""
+    if params.robot_form == "exponential":
+        return ()
+    strength = FORM_FIELDS[params.robot_form][0]
+    if strength not in fields:
+        return ()
+    return (params.replace(**{strength: 0.1 * getattr(params, strength)}),)
 
 
 def _fmt(fields: Sequence[str], values: NDArray[np.float64]) -> str:

@@ -37,6 +37,7 @@ __all__ = [
     "fit_robot_part",
     "heldout_errors",
     "heldout_metrics",
+    "holm",
     "leave_one_scene_out",
     "paired_test",
     "scene_groups",
@@ -135,14 +136,17 @@ def fit_robot_part(
     extra_starts: Sequence[SRFMParams] = (),
     max_nfev: int = 200,
     tolerance: float = 1e-6,
+    fields: Sequence[str] = ROBOT_FIELDS,
 ) -> SRFMParams:
-    """Fit A_r, B_r, λ_r on the interaction windows of ``subset`` (all when None), the
-    pedestrian part held at ``base``; ``base``'s robot part is the first start."""
+    """Fit the robot part (``fields``: A_r, B_r, λ_r by default) on the interaction
+    windows of ``subset`` (all when None), the pedestrian part held at ``base``;
+    ``base``'s robot part (and whatever it holds that is not fitted, such as the form of
+    the robot force) is the first start."""
     result = fit_params(
         windows,
         start=base,
         stages=("robot",),
-        fields={"robot": ROBOT_FIELDS},
+        fields={"robot": tuple(fields)},
         subset=subset,
         multi_start=multi_start,
         extra_starts=extra_starts,
@@ -214,13 +218,15 @@ def bootstrap_robot_part(
     among: Sequence[int] | None = None,
     tolerance: float = 1e-6,
     log: Callable[[str], None] | None = None,
+    fields: Sequence[str] = ROBOT_FIELDS,
 ) -> NDArray[np.float64]:
     """Bootstrap over recorded scenes: ``n_boot`` resamples (with replacement) of the
     scenes in ``among`` (all when None), each fitted from ``start`` alone (the fit on
     the full sample) with the pedestrian part held at ``base``.
 
     Returns:
-        (n_boot, 3) fitted (A_r, B_r, λ_r). Deterministic for a given ``seed``.
+        (n_boot, len(fields)) the fitted ``fields`` (A_r, B_r, λ_r by default).
+        Deterministic for a given ``seed``.
     """
     if isinstance(n_boot, bool) or not isinstance(n_boot, int) or n_boot < 1:
         raise ParameterError(f"n_boot must be a positive integer, got {n_boot!r}")
@@ -228,17 +234,18 @@ def bootstrap_robot_part(
     if pool.size == 0:
         raise ParameterError("no scenes to bootstrap over")
     rng = np.random.default_rng(seed)
-    out = np.zeros((n_boot, len(ROBOT_FIELDS)))
+    out = np.zeros((n_boot, len(fields)))
     for b in range(n_boot):
         draw = rng.choice(pool, size=pool.size, replace=True)
         params = fit_robot_part(
             windows,
-            base.replace(**_robot(start)),
+            base.replace(**_robot(start)).replace(**{f: getattr(start, f) for f in fields}),
             groups.windows_of(draw),
             multi_start=False,
             tolerance=tolerance,
+            fields=fields,
         )
-        out[b] = [getattr(params, f) for f in ROBOT_FIELDS]
+        out[b] = [getattr(params, f) for f in fields]
         if log is not None:
             log(f"bootstrap {b + 1}/{n_boot}: " + _fmt(params))
     return out
@@ -377,3 +384,18 @@ def paired_test(a: NDArray[np.float64], b: NDArray[np.float64]) -> PairedTest:
         median_diff=float(np.median(d)),
         p=p,
     )
+
+
+def holm(p: Sequence[float]) -> list[float]:
+    """Holm–Bonferroni adjusted p-values of one family of tests, in the given order
+    (a NaN p is not a test: it stays NaN and does not count in the family's size)."""
+    arr = np.asarray(p, dtype=np.float64)
+    ok = np.flatnonzero(np.isfinite(arr))
+    order = ok[np.argsort(arr[ok], kind="stable")]
+    m = order.size
+    adj = np.full(arr.shape, np.nan)
+    running = 0.0
+    for rank, idx in enumerate(order):
+        running = max(running, min(1.0, (m - rank) * float(arr[idx])))
+        adj[idx] = running
+    return [float(x) for x in adj]

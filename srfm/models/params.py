@@ -26,6 +26,7 @@ from __future__ import annotations
 import functools
 import json
 import tomllib
+from importlib import resources
 from pathlib import Path
 from typing import Any, Final, NamedTuple
 
@@ -44,6 +45,7 @@ __all__ = [
     "SRFMKernelParams",
     "SRFMParams",
     "load_params",
+    "preset_meta",
     "save_params",
 ]
 
@@ -274,7 +276,8 @@ class SRFMParams:
 
     @classmethod
     def preset(cls, name: str) -> SRFMParams:
-        """Return a named preset (``agrawal2024``, ``ferrer2013`` or ``navwareset2025``)."""
+        """Return a named preset (``agrawal2024``, ``ferrer2013``, ``navwareset2025`` or
+        ``navwareset2026_ttc``)."""
         try:
             return PRESETS[name]
         except (KeyError, TypeError):
@@ -327,30 +330,17 @@ PRESETS: Final[dict[str, SRFMParams]] = {
     "ferrer2013": SRFMParams(
         a_ped=2.66, b_ped=0.79, lambda_ped=0.59, tau=0.43, a_robot=2.66, b_robot=0.79
     ),
-    # Fitted on real data by srfm (issue 15; docs/fitting.md, "NavWareSet protocol"):
-    # pedestrian part by `srfm fit --stage pedestrian` on ETH/UCY without the resampled
-    # biwi_eth copy (seq_eth and zara02 obsmat, biwi_hotel, students003, uni_examples,
-    # crowds_zara03; 10,053 windows of 1,443 tracks); robot part (A_r, B_r, λ_r) by
-    # tools/fitting/fit_navwareset.py on the NavWareSet-Quant interaction windows (32 scenes,
-    # 3,573 windows of 778 tracks, walking starts). Values rounded to 3 digits. Both
-    # repulsions are close to zero (A_r's bootstrap 95 % interval over the 32 scenes is
-    # 0.0003-0.0099 m/s²; the paper's A_r is 7.93): a goal-conditioned *prediction* fit,
-    # not a simulator preset (simulated people barely avoid each other or the robot).
-    "navwareset2025": SRFMParams(
-        a_ped=0.0745,
-        b_ped=0.137,
-        lambda_ped=0.000936,
-        tau=3.72,
-        a_robot=0.00447,
-        b_robot=0.0746,
-        lambda_robot=0.196,
-    ),
 }
 """Named SRFM parameter sets (:meth:`SRFMParams.preset`, ``--params NAME``):
 ``agrawal2024`` (the paper's Table 1, fitted on JRDB; the default), ``ferrer2013`` (one
-A = 2.66 m/s², B = 0.79 m for people and robot alike) and ``navwareset2025`` (fitted by
-srfm on NavWareSet; a prediction fit, not a simulator preset). Strengths in m/s²,
-ranges in m, τ in s (docs/model.md, docs/fitting.md)."""
+A = 2.66 m/s², B = 0.79 m for people and robot alike) and the presets fitted by srfm on
+real data, shipped as parameter files in ``srfm/models/presets/`` with the fit's
+provenance in their ``[meta]`` (:func:`preset_meta`): ``navwareset2025`` (NavWareSet's
+own pedestrian part and the paper's exponential robot force fitted on its encounters)
+and ``navwareset2026_ttc`` (the same pedestrian part and the time-to-collision robot
+force, which predicts the pass distance of held-out encounters best;
+docs/real_encounters.md, part 4). Strengths in m/s², ranges in m, τ in s (docs/model.md,
+docs/fitting.md)."""
 
 
 def load_params(path: str | Path) -> SRFMParams:
@@ -425,3 +415,32 @@ def _toml_scalar(key: Any, value: Any) -> str:
     raise ParameterError(
         f"meta value {key!r} must be a string, integer, float or boolean, got {value!r}"
     )
+
+
+def _packaged_presets() -> dict[str, Path]:
+    """The parameter files of the real-data presets, by name (``srfm/models/presets``)."""
+    folder = resources.files("srfm.models").joinpath("presets")
+    return {
+        item.name.removesuffix(".toml"): Path(str(item))
+        for item in sorted(folder.iterdir(), key=lambda t: t.name)
+        if item.name.endswith(".toml")
+    }
+
+
+def preset_meta(name: str) -> dict[str, Any]:
+    """The ``[meta]`` table of a real-data preset: where its numbers come from (data,
+    windows, fit, held-out results, the command that reproduces it). Empty for the
+    published presets (``agrawal2024``, ``ferrer2013``), which carry no file.
+
+    Raises:
+        ParameterError: an unknown preset name.
+    """
+    SRFMParams.preset(name)  # an unknown name is an error naming the known ones
+    path = _packaged_presets().get(name)
+    if path is None:
+        return {}
+    meta = tomllib.loads(path.read_text(encoding="utf-8")).get("meta", {})
+    return dict(meta)
+
+
+PRESETS.update({name: load_params(path) for name, path in _packaged_presets().items()})

@@ -236,3 +236,104 @@ def test_fit_robot_stage_with_lambda_robot_and_walking_starts(tmp_path: Path) ->
     code, text = run(*args, "--min-start-speed", "-1")
     assert code != 0
     assert "min_start_speed_mps" in text
+
+
+def test_fit_and_ade_on_encounter_windows_reproduce_the_python_protocol(
+    real_data: Path, tmp_path: Path
+) -> None:
+    """--align/--lead/--goal/--goal-distance build the windows of issue 28's part 4 on
+    the real NavWareSet excerpt: srfm fit gives what fit_params gives on the same
+    windows, records the options in [meta], and srfm ade evaluates on them."""
+    from srfm.datasets.navwareset import read_navwareset
+    from srfm.fitting import WindowConfig, build_windows, fit_params
+
+    data = tmp_path / "nav.mcap"
+    code, text = run("data", "convert", "navwareset", str(real_data / "navwareset"), str(data))
+    assert code == 0, text
+    out = tmp_path / "robot.toml"
+    options = ("--align", "encounter", "--lead", "2.5", "--goal", "heading")
+    options += ("--goal-distance", "8", "--min-start-speed", "0.3")
+    code, text = run(
+        "fit", str(data), "-o", str(out), "--stage", "robot", "--max-nfev", "15", *options
+    )
+    assert code == 0, text
+    config = WindowConfig(
+        align="encounter", lead_s=2.5, goal="heading", goal_distance_m=8.0, min_start_speed_mps=0.3
+    )
+    windows = build_windows(read_navwareset(real_data / "navwareset"), config)
+    assert 0 < windows.n_windows <= 12  # at most one window per recording
+    expected = fit_params(windows, stages=("robot",), max_nfev=15).params
+    fitted = srfm.load_params(out)
+    assert fitted.a_robot == pytest.approx(expected.a_robot, rel=1e-6)
+    assert fitted.b_robot == pytest.approx(expected.b_robot, rel=1e-6)
+    meta = tomllib.loads(out.read_text())["meta"]
+    assert (meta["align"], meta["lead_s"], meta["goal"], meta["goal_distance_m"]) == (
+        "encounter",
+        2.5,
+        "heading",
+        8.0,
+    )
+    assert meta["robot_windows"] == windows.n_windows
+    code, text = run("ade", str(data), "--params", str(out), "--json", *options)
+    assert code == 0, text
+    rows = {(r["model"], r["tracks"]): r for r in json.loads(text)["rows"]}
+    assert rows[("SRFM", "interaction")]["windows"] == windows.n_windows
+    assert rows[("SFM", "non-interaction")]["windows"] == 0  # every window is an encounter
+    # A lead as long as the horizon is refused, naming the option.
+    code, text = run("ade", str(data), "--align", "encounter", "--lead", "4.8")
+    assert code == 2
+    assert "lead_s (4.8 s) must be shorter than horizon_s" in text
+    code, text = run("ade", str(data), "--align", "sideways")
+    assert code == 2
+    assert "sideways" in text
+
+
+def test_fit_robot_force_form_on_real_encounters(real_data: Path, tmp_path: Path) -> None:
+    """srfm fit --robot-force FORM fits that form's own parameters (FORM_FIT_FIELDS) on
+    the real NavWareSet excerpt, as fit_params does, and writes a file that runs."""
+    from srfm.datasets.navwareset import read_navwareset
+    from srfm.fitting import WindowConfig, build_windows, fit_params
+
+    data = tmp_path / "nav.mcap"
+    code, text = run("data", "convert", "navwareset", str(real_data / "navwareset"), str(data))
+    assert code == 0, text
+    out = tmp_path / "ttc.toml"
+    options = ("--align", "encounter", "--goal", "heading", "--min-start-speed", "0.3")
+    code, text = run(
+        "fit", str(data), "-o", str(out), "--stage", "robot", "--robot-force", "ttc",
+        "--max-nfev", "10", *options,
+    )  # fmt: skip
+    assert code == 0, text
+    fitted = srfm.load_params(out)
+    assert fitted.robot_form == "ttc"
+    default = srfm.SRFMParams()
+    assert fitted.ttc_k != default.ttc_k  # fitted, not kept
+    assert (fitted.a_robot, fitted.b_robot) == (default.a_robot, default.b_robot)
+    windows = build_windows(
+        read_navwareset(real_data / "navwareset"),
+        WindowConfig(align="encounter", goal="heading", min_start_speed_mps=0.3),
+    )
+    expected = fit_params(
+        windows,
+        start=default.replace(robot_form="ttc"),
+        stages=("robot",),
+        fields={"robot": ("ttc_k", "ttc_tau0")},
+        max_nfev=10,
+    ).params
+    assert fitted.ttc_k == pytest.approx(expected.ttc_k, rel=1e-6)
+    assert fitted.ttc_tau0 == pytest.approx(expected.ttc_tau0, rel=1e-6)
+    meta = tomllib.loads(out.read_text())["meta"]
+    assert meta["robot_force"] == "ttc"
+    code, text = run("ade", str(data), "--params", str(out), *options)
+    assert code == 0, text
+    assert "SRFM" in text
+    # The form's λ_r does not exist for ttc.
+    code, text = run(
+        "fit", str(data), "-o", str(out), "--stage", "robot", "--robot-force", "ttc",
+        "--fit-lambda-robot",
+    )  # fmt: skip
+    assert code == 2
+    assert "the ttc robot force has no λ_r" in text
+    code, text = run("fit", str(data), "-o", str(out), "--robot-force", "spring")
+    assert code == 2
+    assert "spring" in text

@@ -512,12 +512,3 @@ def test_load_params_reads_like_every_input(tmp_path: Path) -> None:
         srfm.load_params(latin)
     with pytest.raises(srfm.ParameterError, match=r"missing\.toml: parameter file not found"):
         srfm.load_params(tmp_path / "missing.toml")
-
-
-def test_navwareset2025_preset_is_the_documented_fit() -> None:
-    # docs/fitting.md, "NavWareSet protocol": ETH/UCY pedestrian part, NavWareSet robot
-    # part, rounded to 3 digits; obstacles keep the defaults.
-    p = srfm.SRFMParams.preset("navwareset2025")
-    assert (p.a_ped, p.b_ped, p.lambda_ped, p.tau) == (0.0745, 0.137, 0.000936, 3.72)
-    assert (p.a_robot, p.b_robot, p.lambda_robot) == (0.00447, 0.0746, 0.196)
-    assert (p.a_obs, p.b_obs) == (srfm.SRFMParams().a_obs, srfm.SRFMParams().b_obs)

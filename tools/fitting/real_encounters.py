@@ -35,6 +35,7 @@ from scipy.signal import savgol_filter
 
 from srfm.datasets import PEDESTRIAN, Trajectories
 from srfm.datasets.navwareset import condition_of, drop_supersets, read_navwareset
+from srfm.fitting import holm
 
 REPO = Path(__file__).resolve().parents[2]
 FloatArray = NDArray[np.float64]
@@ -547,20 +548,6 @@ def boot_p(boot: FloatArray) -> float:
     below = (np.count_nonzero(boot <= 0) + 1) / (boot.size + 1)
     above = (np.count_nonzero(boot >= 0) + 1) / (boot.size + 1)
     return float(min(1.0, 2 * min(below, above)))
-
-
-def holm(p: Sequence[float]) -> list[float]:
-    """Holm-Bonferroni adjusted p-values (NaN stays NaN)."""
-    arr = np.asarray(p, dtype=np.float64)
-    ok = np.flatnonzero(np.isfinite(arr))
-    order = ok[np.argsort(arr[ok], kind="stable")]
-    m = order.size
-    adj = np.full(arr.shape, np.nan)
-    running = 0.0
-    for rank, idx in enumerate(order):
-        running = max(running, min(1.0, (m - rank) * arr[idx]))
-        adj[idx] = running
-    return adj.tolist()
 
 
 def summary(est: float, boot: FloatArray, n_scenes: int | None = None) -> dict[str, Any]:

@@ -19,7 +19,7 @@ import click
 
 from srfm.cli._common import load_params_option, progressbar, user_errors
 from srfm.errors import DatasetError
-from srfm.models.params import ROBOT_FORMS
+from srfm.models._forms import ROBOT_FORMS
 
 F = TypeVar("F", bound=Callable[..., Any])
 

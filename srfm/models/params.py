@@ -37,6 +37,7 @@ from numpy.typing import NDArray
 from srfm._io import MAX_TOML_BYTES, atomic_write_text, read_input_text, toml_scalar
 from srfm._validate import finite_float, non_negative, positive, unit_interval
 from srfm.errors import ParameterError
+from srfm.models._forms import ROBOT_FORMS
 
 __all__ = [
     "FORM_FIELDS",
@@ -50,10 +51,6 @@ __all__ = [
 ]
 
 PARAMS_SCHEMA_VERSION: Final = 1
-
-ROBOT_FORMS: Final = ("exponential", "ttc", "collision_prediction", "elliptical")
-"""The forms of the robot force (``SRFMParams.robot_form``), in the order of their kernel
-codes (``SRFMKernelParams.robot_form``, ``srfm.models._robot_forces.FORM_*``)."""
 
 FORM_FIELDS: Final[dict[str, tuple[str, ...]]] = {
     "exponential": ("a_robot", "b_robot", "lambda_robot"),

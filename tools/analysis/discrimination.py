@@ -14,8 +14,9 @@ seeds needed per scenario; the selection of the `discriminative` suite; its repo
     # the oracle's CPU time per episode (paper suite)
     .venv/bin/python tools/analysis/discrimination.py cost --seeds 0-19
 
-`run` is `srfm benchmark -j 1 --no-logs --no-figures` with the planners below; the
-other commands read its `episodes.csv` and print Markdown (docs/benchmark.md).
+`run` is `srfm benchmark -j 1 --no-logs --no-figures` with the planners below (`-j N`
+for N workers: the same episodes); the other commands read its per-episode files and
+print Markdown (docs/benchmark.md).
 
 SELECTION RULE (written down on 2026-11-27 before the selection was run, and not
 changed after): the candidates are the 28 scenarios of suite `all` (paper, francis,
@@ -213,7 +214,7 @@ def cmd_run(args: argparse.Namespace) -> None:
         "--seeds",
         args.seeds,
         "-j",
-        "1",
+        str(args.jobs),
         "--no-logs",
         "--no-figures",
         "--reference",
@@ -294,6 +295,13 @@ def main() -> None:
     run.add_argument("out", type=Path)
     run.add_argument("--suite", default="all")
     run.add_argument("--seeds", default="1000-1099")
+    run.add_argument(
+        "-j",
+        "--jobs",
+        type=int,
+        default=1,
+        help="worker processes (the results do not depend on it)",
+    )
     run.set_defaults(func=cmd_run)
     sel = sub.add_parser("select", help="apply the selection rule to a run")
     sel.add_argument("out", type=Path)

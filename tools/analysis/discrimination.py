@@ -236,6 +236,9 @@ def cmd_select(args: argparse.Namespace) -> None:
         r["rank"] = rank
     chosen = {r["scenario"] for r in qualified[:MAX_SUITE]}
     suite = [r["scenario"] for r in rows if r["scenario"] in chosen]
+    manifest = json.loads((args.out / "manifest.json").read_text(encoding="utf-8"))
+    measured = {r["scenario"] for r in rows}
+    incomplete = [s for s in manifest["request"]["scenarios"] if s not in measured]
     doc = {
         "rule": __doc__.split("SELECTION RULE")[1].split('"""')[0].strip(),
         "thresholds": {
@@ -248,12 +251,16 @@ def cmd_select(args: argparse.Namespace) -> None:
         },
         "planners": list(PLANNERS),
         "suite": suite,
+        # candidates whose episodes were not all there: not selected from
+        "incomplete": incomplete,
         "scenarios": rows,
     }
     args.json.parent.mkdir(parents=True, exist_ok=True)
     args.json.write_text(json.dumps(doc, indent=1, allow_nan=True) + "\n", encoding="utf-8")
     print(_table(rows, selection=True))
     print(f"\nqualified: {len(qualified)}; suite: {suite}")
+    if incomplete:
+        print(f"not complete (left out): {incomplete}")
 
 
 def cmd_report(args: argparse.Namespace) -> None:

@@ -147,7 +147,9 @@ def _split(values: tuple[str, ...]) -> list[str]:
     "evaluation scenarios, the default), francis (17 scenarios after Francis et al. "
     "2023: walls, doors, corners, rooms), navwareset (the NavWareSet room's five "
     "layouts), flows (pedestrians entering during the run), all (paper, francis, "
-    "navwareset and flows) or large (crowds of 300-400 pedestrians).",
+    "navwareset and flows), discriminative (the scenarios of all where planners can "
+    "be told apart, chosen on seeds 1000-1099: docs/benchmark.md) or large (crowds of "
+    "300-400 pedestrians).",
 )
 @click.option(
     "--planner",

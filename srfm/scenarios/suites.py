@@ -6,7 +6,10 @@ large-crowd scenarios of issue 19, ``francis`` the scenarios after Francis et al
 ``navwareset`` the NavWareSet room's five layouts and ``flows`` the scenarios with
 pedestrians entering during the run (issue 17); ``all`` is paper, francis, navwareset
 and flows (not ``large``, a performance suite of 300-400 pedestrians).
-Add a suite by adding an entry here.
+``discriminative`` is the scenarios of ``all`` where the benchmark can tell planners
+apart, chosen by the rule of ``tools/analysis/discrimination.py`` on seeds 1000-1099
+(``docs/discrimination/selection.json``; a test checks that the two agree; issue 29,
+docs/benchmark.md). Add a suite by adding an entry here.
 """
 
 from __future__ import annotations
@@ -21,7 +24,20 @@ from srfm.scenarios import (
     NAVWARESET_SCENARIOS,
 )
 
-__all__ = ["DEFAULT_SUITE", "SUITES"]
+__all__ = ["DEFAULT_SUITE", "DISCRIMINATIVE_SCENARIOS", "SUITES"]
+
+DISCRIMINATIVE_SCENARIOS: Final = (
+    "robot_overtaking",
+    "intersection",
+    "intersection_open",
+    "blind_corner",
+    "narrow_hallway",
+    "perpendicular_traffic",
+    "navwareset_blind_corner",
+    "navwareset_perpendicular_crossing",
+)
+"""The scenarios the selection of docs/discrimination/selection.json chose, in the
+library's order (rerun the selection and copy its ``suite`` here)."""
 
 SUITES: Final[dict[str, tuple[str, ...]]] = {
     "paper": EVALUATION_SCENARIOS,
@@ -30,5 +46,6 @@ SUITES: Final[dict[str, tuple[str, ...]]] = {
     "navwareset": NAVWARESET_SCENARIOS,
     "flows": FLOW_SCENARIOS,
     "all": (*EVALUATION_SCENARIOS, *FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS, *FLOW_SCENARIOS),
+    "discriminative": DISCRIMINATIVE_SCENARIOS,
 }
 DEFAULT_SUITE: Final = "paper"

@@ -14,8 +14,9 @@ seeds needed per scenario; the selection of the `discriminative` suite; its repo
     # the oracle's CPU time per episode (paper suite)
     .venv/bin/python tools/analysis/discrimination.py cost --seeds 0-19
 
-`run` is `srfm benchmark -j 1 --no-logs --no-figures` with the planners below; the
-other commands read its `episodes.csv` and print Markdown (docs/benchmark.md).
+`run` is `srfm benchmark -j 1 --no-logs --no-figures` with the planners below (`-j N`
+for N workers: the same episodes); the other commands read its per-episode files and
+print Markdown (docs/benchmark.md).
 
 SELECTION RULE (written down on 2026-11-27 before the selection was run, and not
 changed after): the candidates are the 28 scenarios of suite `all` (paper, francis,
@@ -213,7 +214,7 @@ def cmd_run(args: argparse.Namespace) -> None:
         "--seeds",
         args.seeds,
         "-j",
-        "1",
+        str(args.jobs),
         "--no-logs",
         "--no-figures",
         "--reference",
@@ -235,6 +236,9 @@ def cmd_select(args: argparse.Namespace) -> None:
         r["rank"] = rank
     chosen = {r["scenario"] for r in qualified[:MAX_SUITE]}
     suite = [r["scenario"] for r in rows if r["scenario"] in chosen]
+    manifest = json.loads((args.out / "manifest.json").read_text(encoding="utf-8"))
+    measured = {r["scenario"] for r in rows}
+    incomplete = [s for s in manifest["request"]["scenarios"] if s not in measured]
     doc = {
         "rule": __doc__.split("SELECTION RULE")[1].split('"""')[0].strip(),
         "thresholds": {
@@ -247,12 +251,16 @@ def cmd_select(args: argparse.Namespace) -> None:
         },
         "planners": list(PLANNERS),
         "suite": suite,
+        # candidates whose episodes were not all there: not selected from
+        "incomplete": incomplete,
         "scenarios": rows,
     }
     args.json.parent.mkdir(parents=True, exist_ok=True)
     args.json.write_text(json.dumps(doc, indent=1, allow_nan=True) + "\n", encoding="utf-8")
     print(_table(rows, selection=True))
     print(f"\nqualified: {len(qualified)}; suite: {suite}")
+    if incomplete:
+        print(f"not complete (left out): {incomplete}")
 
 
 def cmd_report(args: argparse.Namespace) -> None:
@@ -294,6 +302,13 @@ def main() -> None:
     run.add_argument("out", type=Path)
     run.add_argument("--suite", default="all")
     run.add_argument("--seeds", default="1000-1099")
+    run.add_argument(
+        "-j",
+        "--jobs",
+        type=int,
+        default=1,
+        help="worker processes (the results do not depend on it)",
+    )
     run.set_defaults(func=cmd_run)
     sel = sub.add_parser("select", help="apply the selection rule to a run")
     sel.add_argument("out", type=Path)

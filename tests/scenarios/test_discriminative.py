@@ -6,6 +6,7 @@ select`` from seeds 1000-1099, and the report's seeds never the selection's."""
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 from typing import Any
 
@@ -99,3 +100,12 @@ def test_suite_is_the_best_ranked_qualifiers(selection: dict[str, Any]) -> None:
     best = {r["scenario"] for r in qualified[: int(t["max_suite"])]}
     assert set(selection["suite"]) == best
     assert [r["rank"] for r in qualified] == list(range(1, len(qualified) + 1))
+
+
+def test_report_never_saw_the_selection_seeds(selection: dict[str, Any]) -> None:
+    report = _load("report.json")
+    assert [r["scenario"] for r in report["scenarios"]] == list(selection["suite"])
+    for row in report["scenarios"]:
+        assert row["seeds"] == [0, 99]
+        assert row["n_seeds"] == 100
+        assert math.isfinite(row["headroom_m"])

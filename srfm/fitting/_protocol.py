@@ -388,14 +388,8 @@ def paired_test(a: NDArray[np.float64], b: NDArray[np.float64]) -> PairedTest:
 
 def holm(p: Sequence[float]) -> list[float]:
     """Holm–Bonferroni adjusted p-values of one family of tests, in the given order
-    (a NaN p is not a test: it stays NaN and does not count in the family's size)."""
-    arr = np.asarray(p, dtype=np.float64)
-    ok = np.flatnonzero(np.isfinite(arr))
-    order = ok[np.argsort(arr[ok], kind="stable")]
-    m = order.size
-    adj = np.full(arr.shape, np.nan)
-    running = 0.0
-    for rank, idx in enumerate(order):
-        running = max(running, min(1.0, (m - rank) * float(arr[idx])))
-        adj[idx] = running
-    return [float(x) for x in adj]
+    (a NaN p is not a test: it stays NaN and does not count in the family's size);
+    :func:`srfm.metrics.stats.adjust_p_values` with ``"holm"``, as a list."""
+    from srfm.metrics.stats import adjust_p_values
+
+    return [float(x) for x in adjust_p_values(list(p), "holm")]

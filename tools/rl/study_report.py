@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 from scipy import stats
 
+from srfm.metrics.stats import adjust_p_values
 from srfm.scenarios import EVALUATION_SCENARIOS
 from srfm.scenarios.training import LIBRARY_HELDOUT
 
@@ -96,15 +97,8 @@ def short(planner: str) -> str:
 
 
 def holm(p: list[float]) -> list[float]:
-    """Holm-adjusted p-values (NaN stays NaN)."""
-    order = sorted((v, i) for i, v in enumerate(p) if math.isfinite(v))
-    out = [math.nan] * len(p)
-    running = 0.0
-    m = len(order)
-    for rank, (v, i) in enumerate(order):
-        running = max(running, min(1.0, (m - rank) * v))
-        out[i] = running
-    return out
+    """Holm-adjusted p-values (NaN stays NaN): srfm's one definition."""
+    return [float(x) for x in adjust_p_values(p, "holm")]
 
 
 def seed_means(table: Table, scenario: str, planner: str) -> float:

@@ -32,6 +32,8 @@ def test_cell_conditions_on_success_with_n() -> None:
     dwa_b = ROWS[2:4]
     assert cell(dwa_b, success=False) == "1.50 (50 %)"
     assert cell(dwa_b, success=True) == "1.50; 1.00 (1/2)"
+    # every episode reached the goal: the conditioned mean is the mean, shown once
+    assert cell(ROWS[6:8], success=True) == "2.00 (2/2)"
     # no episode reached the goal: no conditioned mean, n = 0
     assert cell(ROWS[0:2], success=True) == "0.60; – (0/2)"
 
@@ -41,7 +43,7 @@ def test_summary_keeps_the_run_order_and_averages() -> None:
     assert lines[0] == "8 episodes, seeds per cell: [2]"
     assert lines[2] == "| scenario | stay | dwa |"
     assert lines[4] == "| b | 0.60; – (0/2) | 1.50; 1.00 (1/2) |"
-    assert lines[5] == "| a | 0.40; – (0/2) | 2.00; 2.00 (2/2) |"
+    assert lines[5] == "| a | 0.40; – (0/2) | 2.00 (2/2) |"
     # the average of the scenario means; outcome rates pooled over the episodes
     assert lines[6] == "| **all 2** | 0.50 (0 %, 100 % coll.) | 1.75 (75 %, 25 % coll.) |"
     assert (

@@ -1,8 +1,9 @@
 """One line per scenario of a benchmark results folder: every planner's mean Fréchet
 deviation (m) and, in brackets, its robot success rate; then the means over all
 scenarios with success and collision rates (docs/benchmark.md, the Francis suite).
-With ``--success``, each cell is the mean; the mean over the k episodes in which the
-robot reached its goal (k/n; ``–`` where k = 0).
+With ``--success``, each cell is the mean and the k of its n episodes in which the
+robot reached its goal (k/n), and where k < n the mean over those k after a semicolon
+(``–`` where k = 0): ``1.17; 1.09 (99/100)``.
 
     .venv/bin/python tools/analysis/suite_summary.py results/francis [--without narrow_hallway]
     .venv/bin/python tools/analysis/suite_summary.py results/francis --success
@@ -37,13 +38,16 @@ def _mean(x: float) -> str:
 
 
 def cell(rows: list[Row], *, success: bool) -> str:
-    """One scenario × planner cell: mean (success %), or with ``success`` mean; mean
-    over the k of the n episodes in which the robot reached its goal (k/n)."""
+    """One scenario × planner cell: mean (success %), or with ``success`` the mean
+    and the k of the n episodes in which the robot reached its goal (k/n), with, where
+    k < n, the mean over those k after a semicolon (``–`` where k = 0)."""
     text = _mean(frechet(rows))
     if not success:
         return f"{text} ({rate(rows, 'robot_success'):.0f} %)"
     reached = [r for r in rows if float(r["robot_success"]) == 1.0]
-    return f"{text}; {_mean(frechet(reached))} ({len(reached)}/{len(rows)})"
+    if len(reached) < len(rows):
+        text += f"; {_mean(frechet(reached))}"
+    return f"{text} ({len(reached)}/{len(rows)})"
 
 
 def summary(rows: list[Row], *, without: list[str], success: bool = False) -> list[str]:

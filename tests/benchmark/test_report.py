@@ -275,6 +275,17 @@ def _load_in_chromium(page_path: Path) -> dict[str, object]:
                 "r => r.offsetHeight > 0).map(r => Array.from(r.querySelectorAll('td.prob'))"
                 ".map(t => parseFloat(t.innerText)))"
             )
+            # the reference points: each row's normalised score, the headroom table
+            scores = page.evaluate(
+                "Array.from(document.querySelector('#table + p + div table')"
+                ".querySelectorAll('td.score')).filter(t => t.offsetWidth > 0)"
+                ".map(t => t.innerText.trim())"
+            )
+            references = page.evaluate(
+                "Array.from(document.querySelectorAll('table.references tbody tr')).filter("
+                "r => r.offsetHeight > 0).map(r => Array.from(r.querySelectorAll('td'))"
+                ".map(t => t.innerText.trim()))"
+            )
         finally:
             browser.close()
     return {
@@ -289,6 +300,8 @@ def _load_in_chromium(page_path: Path) -> dict[str, object]:
         "shares": shares,
         "legend": legend,
         "ranks": ranks,
+        "scores": scores,
+        "references": references,
     }
 
 
@@ -343,6 +356,70 @@ def test_the_page_loads_cleanly_in_chromium(results: Path, tmp_path: Path) -> No
     images = seen["images"]
     assert isinstance(images, list)
     assert [src for src, _, width in images if width == 0] == ["figures/social_work.png"]
+
+
+@pytest.fixture(scope="module")
+def walled_results(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """Two Francis scenarios (walls) with the reference planners, two seeds: one where
+    the oracle has room (a 3 m corridor) and one where it has none."""
+    out = tmp_path_factory.mktemp("walled") / "out"
+    result = CliRunner().invoke(
+        main,
+        [
+            "benchmark",
+            "-s",
+            "pedestrian_overtaking,parallel_traffic",
+            "-p",
+            "straight,oracle",
+            "--seeds",
+            "0-1",
+            "--out",
+            str(out),
+            "-j",
+            "1",
+            "--no-logs",
+            "--no-figures",
+            "--reference",
+            "straight",
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    return out
+
+
+def test_the_page_shows_the_reference_points_in_chromium(walled_results: Path) -> None:
+    """Issue 29: with straight and oracle in the run (here walled scenarios of the
+    Francis suite), the page shows every row's normalised score and each scenario's
+    headroom, standard error, seeds needed and whether it discriminates, as summary.json
+    holds them."""
+    _browser_or_skip()
+    seen = _load_in_chromium(walled_results / "report.html")
+    assert seen["console"] == []
+    assert seen["failed"] == []
+    headers = seen["headers"]
+    assert isinstance(headers, list)
+    assert headers[-2:] == ["Norm. score ↑", "Outcomes"]
+    summary = json.loads((walled_results / "summary.json").read_text(encoding="utf-8"))
+    refs = summary["table"]["references"]
+    scores = seen["scores"]
+    assert isinstance(scores, list)
+    expected = []
+    for scenario in ("pedestrian_overtaking", "parallel_traffic"):
+        for planner in ("straight", "oracle"):
+            score = refs[scenario]["scores"][planner]
+            expected.append(f"{score['estimate']:.2f} [{score['low']:.2f}, {score['high']:.2f}]")
+    assert scores == expected
+    assert scores[1] == "1.00 [1.00, 1.00]"  # the oracle is the end of the ruler
+    references = seen["references"]
+    assert isinstance(references, list)
+    assert [row[0] for row in references] == ["pedestrian_overtaking", "parallel_traffic"]
+    room, none = references
+    headroom = refs["pedestrian_overtaking"]["headroom"]
+    assert room[1].startswith(f"{headroom['estimate']:.3f} [")
+    assert headroom["estimate"] > 1.0  # the corridor: the oracle lets the pedestrian pass
+    assert room[-1] == "yes"
+    assert none[-1] == "does not discriminate"
+    assert refs["parallel_traffic"]["discriminates"] is False
 
 
 def test_outcome_shares_never_round_to_all_or_nothing() -> None:

@@ -5,6 +5,7 @@ select`` from seeds 1000-1099, and the report's seeds never the selection's."""
 
 from __future__ import annotations
 
+import argparse
 import json
 import math
 from pathlib import Path
@@ -109,3 +110,57 @@ def test_report_never_saw_the_selection_seeds(selection: dict[str, Any]) -> None
         assert row["seeds"] == [0, 99]
         assert row["n_seeds"] == 100
         assert math.isfinite(row["headroom_m"])
+
+
+def _fake_run(out: Path, planners: list[str], values: dict[str, list[float]]) -> None:
+    """A results folder as `srfm benchmark` leaves it, as far as the tool reads it: the
+    manifest's request and one episode file per (planner, seed) of scenario `s`."""
+    seeds = list(range(len(next(iter(values.values())))))
+    request = {"scenarios": ["s"], "planners": planners, "seeds": seeds}
+    out.mkdir()
+    (out / "manifest.json").write_text(json.dumps({"request": request}), encoding="utf-8")
+    for planner, series in values.items():
+        folder = out / "episodes" / "s" / planner
+        folder.mkdir(parents=True)
+        for seed, value in zip(seeds, series, strict=True):
+            doc = {
+                "scenario": "s",
+                "planner": planner,
+                "seed": seed,
+                "outcome": "goal_reached" if planner != "dwa" or seed else "collision",
+                "metrics": {"frechet_m": value},
+            }
+            (folder / f"seed-{seed:06d}.json").write_text(json.dumps(doc), encoding="utf-8")
+
+
+def test_report_reads_a_run_of_any_planners(tmp_path: Path) -> None:
+    # a suite run without td3-srfm (the Francis suite before its policy is final)
+    straight = [1.0 + 0.01 * k for k in range(10)]
+    values = {
+        "straight": straight,
+        "oracle": [x - 0.5 for x in straight],
+        "dwa": [x - 0.1 + 0.001 * k for k, x in enumerate(straight)],
+    }
+    _fake_run(tmp_path / "run", ["straight", "oracle", "dwa"], values)
+    rows = discrimination._measure(tmp_path / "run")
+    assert [r["scenario"] for r in rows] == ["s"]
+    row = rows[0]
+    assert list(row["mean_m"]) == ["straight", "oracle", "dwa"]
+    assert row["headroom_m"] == pytest.approx(0.5)
+    assert row["goal_rate"]["dwa"] == pytest.approx(0.9)
+    assert set(row["scores"]) == set(values)
+    assert row["scores"]["dwa"][0] == pytest.approx((0.1 - 0.0045) / 0.5)
+    assert discrimination._planners(rows) == ["straight", "oracle", "dwa"]
+    assert "td3-srfm" not in discrimination._means_table(rows)
+    # a planner of the request with seeds missing: the scenario is not complete yet
+    (tmp_path / "run" / "episodes" / "s" / "dwa" / "seed-000009.json").unlink()
+    assert discrimination._measure(tmp_path / "run") == []
+
+
+def test_selection_needs_every_planner_of_the_rule(tmp_path: Path) -> None:
+    values = {"straight": [1.0, 1.1, 1.2], "oracle": [0.5, 0.6, 0.6]}
+    _fake_run(tmp_path / "run", ["straight", "oracle"], values)
+    args = argparse.Namespace(out=tmp_path / "run", json=tmp_path / "selection.json")
+    with pytest.raises(SystemExit, match="needs the planners"):
+        discrimination.cmd_select(args)
+    assert not (tmp_path / "selection.json").exists()

@@ -11,8 +11,11 @@ seeds needed per scenario; the selection of the `discriminative` suite; its repo
         --suite discriminative --seeds 0-99
     .venv/bin/python tools/analysis/discrimination.py report results/disc-report \
         --json docs/discrimination/report.json
-    # the oracle's CPU time per episode (paper suite)
+    # the oracle's CPU time per episode (paper suite; --suite francis for another)
     .venv/bin/python tools/analysis/discrimination.py cost --seeds 0-19
+    # any results folder with straight and oracle (e.g. a suite without td3-srfm)
+    .venv/bin/python tools/analysis/discrimination.py report results/francis \
+        --json docs/discrimination/francis.json
 
 `run` is `srfm benchmark -j 1 --no-logs --no-figures` with the planners below (`-j N`
 for N workers: the same episodes); the other commands read its per-episode files and
@@ -58,7 +61,7 @@ from srfm.metrics.headroom import (
     MIN_STANDARD_ERRORS,
     scenario_references,
 )
-from srfm.scenarios import EVALUATION_SCENARIOS
+from srfm.scenarios.suites import SUITES
 
 PLANNERS = (
     "straight",
@@ -78,13 +81,20 @@ ROOT = Path(__file__).resolve().parents[2]
 SELECTION = ROOT / "docs" / "discrimination" / "selection.json"
 
 
-def _read(out: Path) -> tuple[list[str], dict[tuple[str, str], dict[int, dict[str, float]]]]:
-    """Scenarios in order, and per (scenario, planner) per seed its frechet_m and
-    success, from the run's per-episode files (so a run still going can be read: a
-    scenario counts once every planner of ``PLANNERS`` has all its seeds)."""
-    cells: dict[tuple[str, str], dict[int, dict[str, float]]] = defaultdict(dict)
+Cells = dict[tuple[str, str], dict[int, dict[str, float]]]
+
+
+def _read(out: Path) -> tuple[list[str], list[str], Cells]:
+    """Scenarios and planners of the run's request, in order, and per (scenario,
+    planner) per seed its frechet_m and success, from the run's per-episode files (so a
+    run still going can be read: a scenario counts once every planner of the request
+    has all its seeds). The request must have ``straight`` and ``oracle``."""
+    cells: Cells = defaultdict(dict)
     manifest = json.loads((out / "manifest.json").read_text(encoding="utf-8"))
     order = list(manifest["request"]["scenarios"])
+    planners = [p for p in PLANNERS if p in manifest["request"]["planners"]]
+    if not {"straight", "oracle"} <= set(planners):
+        raise SystemExit(f"{out}: the run needs the planners straight and oracle")
     n_seeds = len(manifest["request"]["seeds"])
     for path in sorted((out / "episodes").glob("*/*/seed-*.json")):
         doc = json.loads(path.read_text(encoding="utf-8"))
@@ -93,16 +103,15 @@ def _read(out: Path) -> tuple[list[str], dict[tuple[str, str], dict[int, dict[st
             "frechet_m": math.nan if value is None else float(value),
             "success": float(doc["outcome"] == "goal_reached"),
         }
-    done = [s for s in order if all(len(cells.get((s, p), {})) == n_seeds for p in PLANNERS)]
-    return done, cells
+    done = [s for s in order if all(len(cells.get((s, p), {})) == n_seeds for p in planners)]
+    return done, planners, cells
 
 
 def _measure(out: Path) -> list[dict[str, Any]]:
     """One entry per scenario: the reference points and every planner's mean."""
-    scenarios, cells = _read(out)
+    scenarios, planners, cells = _read(out)
     rows = []
     for s in scenarios:
-        planners = [p for p in PLANNERS if (s, p) in cells]
         seeds = sorted(set.intersection(*(set(cells[s, p]) for p in planners)))
         values = {p: np.array([cells[s, p][k]["frechet_m"] for k in seeds]) for p in planners}
         goal = {p: float(np.mean([cells[s, p][k]["success"] for k in seeds])) for p in planners}
@@ -176,8 +185,14 @@ def _table(rows: list[dict[str, Any]], *, selection: bool) -> str:
     return "\n".join(lines)
 
 
+def _planners(rows: list[dict[str, Any]]) -> list[str]:
+    """The planners measured, in ``PLANNERS``' order."""
+    measured = {p for r in rows for p in r["mean_m"]}
+    return [p for p in PLANNERS if p in measured]
+
+
 def _scores_table(rows: list[dict[str, Any]]) -> str:
-    planners = [p for p in PLANNERS if p not in ("straight", "oracle")]
+    planners = [p for p in _planners(rows) if p not in ("straight", "oracle")]
     head = "| scenario | " + " | ".join(planners) + " |"
     lines = [head, "|---" * (len(planners) + 1) + "|"]
     for r in rows:
@@ -190,12 +205,13 @@ def _scores_table(rows: list[dict[str, Any]]) -> str:
 
 
 def _means_table(rows: list[dict[str, Any]]) -> str:
-    head = "| scenario | " + " | ".join(PLANNERS) + " |"
-    lines = [head, "|---" * (len(PLANNERS) + 1) + "|"]
+    planners = _planners(rows)
+    head = "| scenario | " + " | ".join(planners) + " |"
+    lines = [head, "|---" * (len(planners) + 1) + "|"]
     for r in rows:
         items = [
             f"{_f(r['mean_m'][p])} ± {_f(r['sd_m'][p])} ({100 * r['goal_rate'][p]:.0f} %)"
-            for p in PLANNERS
+            for p in planners
         ]
         lines.append(f"| {r['scenario']} | " + " | ".join(items) + " |")
     return "\n".join(lines)
@@ -210,7 +226,7 @@ def cmd_run(args: argparse.Namespace) -> None:
         "--suite",
         args.suite,
         "-p",
-        ",".join(PLANNERS),
+        args.planners,
         "--seeds",
         args.seeds,
         "-j",
@@ -227,6 +243,9 @@ def cmd_run(args: argparse.Namespace) -> None:
 
 
 def cmd_select(args: argparse.Namespace) -> None:
+    manifest = json.loads((args.out / "manifest.json").read_text(encoding="utf-8"))
+    if manifest["request"]["planners"] != list(PLANNERS):
+        raise SystemExit(f"{args.out}: the selection rule needs the planners {PLANNERS}")
     rows = _measure(args.out)
     for r in rows:
         r["fails"] = _qualifies(r)
@@ -236,7 +255,6 @@ def cmd_select(args: argparse.Namespace) -> None:
         r["rank"] = rank
     chosen = {r["scenario"] for r in qualified[:MAX_SUITE]}
     suite = [r["scenario"] for r in rows if r["scenario"] in chosen]
-    manifest = json.loads((args.out / "manifest.json").read_text(encoding="utf-8"))
     measured = {r["scenario"] for r in rows}
     incomplete = [s for s in manifest["request"]["scenarios"] if s not in measured]
     doc = {
@@ -265,7 +283,7 @@ def cmd_select(args: argparse.Namespace) -> None:
 
 def cmd_report(args: argparse.Namespace) -> None:
     rows = _measure(args.out)
-    doc = {"planners": list(PLANNERS), "scenarios": rows}
+    doc = {"planners": _planners(rows), "scenarios": rows}
     args.json.parent.mkdir(parents=True, exist_ok=True)
     args.json.write_text(json.dumps(doc, indent=1, allow_nan=True) + "\n", encoding="utf-8")
     print(_table(rows, selection=False))
@@ -281,18 +299,28 @@ def cmd_cost(args: argparse.Namespace) -> None:
 
     lo, hi = (int(x) for x in args.seeds.split("-"))
     out: dict[str, Any] = {}
-    for name in EVALUATION_SCENARIOS:
-        scenario = load_scenario(name)
-        run_episode(scenario, hi + 1, "oracle")  # compile outside the clock
-        times = []
-        for seed in range(lo, hi + 1):
-            t0 = time.process_time()
-            run_episode(scenario, seed, "oracle")
-            times.append(time.process_time() - t0)
-        out[name] = {"mean_s": float(np.mean(times)), "max_s": float(np.max(times))}
-        print(f"| {name} | {out[name]['mean_s']:.2f} | {out[name]['max_s']:.2f} |", flush=True)
-    if args.json:
-        args.json.write_text(json.dumps(out, indent=1) + "\n", encoding="utf-8")
+    if args.json and args.json.exists():  # resume: the scenarios already measured stay
+        out = json.loads(args.json.read_text(encoding="utf-8"))
+    for name in SUITES[args.suite]:
+        if name not in out:
+            scenario = load_scenario(name)
+            run_episode(scenario, hi + 1, "oracle")  # compile outside the clock
+            times, goals = [], 0
+            for seed in range(lo, hi + 1):
+                t0 = time.process_time()
+                record = run_episode(scenario, seed, "oracle")
+                times.append(time.process_time() - t0)
+                goals += record.outcome == "goal_reached"
+            out[name] = {
+                "mean_s": float(np.mean(times)),
+                "max_s": float(np.max(times)),
+                "seeds": [lo, hi],
+                "goals": goals,
+            }
+            if args.json:
+                args.json.write_text(json.dumps(out, indent=1) + "\n", encoding="utf-8")
+        row = out[name]
+        print(f"| {name} | {row['mean_s']:.2f} | {row['max_s']:.2f} |", flush=True)
 
 
 def main() -> None:
@@ -302,6 +330,12 @@ def main() -> None:
     run.add_argument("out", type=Path)
     run.add_argument("--suite", default="all")
     run.add_argument("--seeds", default="1000-1099")
+    run.add_argument(
+        "-p",
+        "--planners",
+        default=",".join(PLANNERS),
+        help="comma-separated; default: every planner of the selection rule",
+    )
     run.add_argument(
         "-j",
         "--jobs",
@@ -318,7 +352,8 @@ def main() -> None:
     rep.add_argument("out", type=Path)
     rep.add_argument("--json", type=Path, required=True)
     rep.set_defaults(func=cmd_report)
-    cost = sub.add_parser("cost", help="the oracle's CPU time per episode, paper suite")
+    cost = sub.add_parser("cost", help="the oracle's CPU time per episode over a suite")
+    cost.add_argument("--suite", default="paper", choices=sorted(SUITES))
     cost.add_argument("--seeds", default="0-19")
     cost.add_argument("--json", type=Path)
     cost.set_defaults(func=cmd_cost)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import attrs
@@ -187,10 +188,15 @@ def test_shipped_numpy_policies(name: str) -> None:
     assert meta["kinematics"] == "unicycle"
     # the walls-aware recipe of docs/rl.md (tools/rl/study.py): SBX [64, 64] from
     # scratch, 24 range beams, actions held for 4 simulation steps, the progress term 10,
-    # a checkpoint after the k2 curriculum (every 25,000 actions), training seed 1
+    # a checkpoint after the k2 curriculum (every 25,000 actions); the weights are those
+    # of the study run the note names (its policy in tools/rl/study/policies/)
     assert meta["layers"] == [[64, 93], [64, 64], [2, 64]]
     assert meta["training"]["backend"] == "sbx"
-    assert meta["training"]["seed"] == 1
+    run = re.search(r"run (k[02]-seed(\d+)) of tools/rl/study.py", meta["training"]["note"])
+    assert run is not None
+    assert int(run[2]) == meta["training"]["seed"]
+    study = Path(__file__).parents[2] / "tools" / "rl" / "study" / "policies" / f"{run[1]}.npz"
+    assert path.with_suffix(".npz").read_bytes() == study.read_bytes()
     assert meta["training"]["steps"] % 25_000 == 0
     assert meta["training"]["steps"] >= 125_000
     assert policy.config.k_progress == 10.0

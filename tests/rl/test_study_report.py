@@ -65,3 +65,25 @@ def test_report_answers_each_kind(tmp_path: Path, capsys: pytest.CaptureFixture[
     # the circle's k2 = 0 policies collide in 1 of 4 episodes: each misses the target
     assert rows(first)["circle"].count("✗") == 6
     assert "(6 cells)" in first
+
+
+def test_report_reads_several_folders_as_one(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    whole, first, second = (tmp_path / n for n in ("whole", "first", "second"))
+    for folder in (whole, first, second):
+        folder.mkdir()
+    _write(whole)
+    with (whole / "episodes.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    for folder, part in ((first, rows[::2]), (second, rows[1::2])):
+        with (folder / "episodes.csv").open("w", newline="") as fh:
+            out = csv.DictWriter(fh, list(rows[0]))
+            out.writeheader()
+            out.writerows(part)
+    assert study_report.main([str(whole)]) == 0
+    one = capsys.readouterr().out
+    assert study_report.main([str(first), str(second)]) == 0
+    assert capsys.readouterr().out == one
+    with pytest.raises(ValueError, match="is in both"):
+        study_report.load(first, first)

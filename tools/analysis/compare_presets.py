@@ -2,9 +2,11 @@
 two parameter presets (docs/benchmark.md, "Real-data presets"): per scenario, every
 planner's mean Fréchet deviation (m) and its rank under each, Kendall's τ between the
 two rankings, and the ratio of the deviations; then the same over the suite's scenario
-means.
+means. ``--planners`` compares only those planners (e.g. when one folder also holds the
+reference planners `stay` and `oracle`).
 
     .venv/bin/python tools/analysis/compare_presets.py results/a results/b --labels A B
+    .venv/bin/python tools/analysis/compare_presets.py results/a results/b --planners dwa,orca
 """
 
 from __future__ import annotations
@@ -18,11 +20,19 @@ from pathlib import Path
 from scipy import stats
 
 
-def means(folder: Path) -> tuple[dict[tuple[str, str], float], list[str], list[str], int]:
+def means(
+    folder: Path, planners: frozenset[str] | None = None
+) -> tuple[dict[tuple[str, str], float], list[str], list[str], int]:
     """Mean Fréchet deviation per (scenario, planner), the scenarios, planners and the
-    number of episodes of the folder's episodes.csv."""
+    number of episodes of the folder's episodes.csv (only ``planners``' rows when given;
+    a planner the folder does not hold is an error)."""
     with (folder / "episodes.csv").open() as fh:
         rows = list(csv.DictReader(fh))
+    if planners is not None:
+        missing = sorted(planners - {r["planner"] for r in rows})
+        if missing:
+            raise SystemExit(f"{folder}: no episodes of planner(s) {', '.join(missing)}")
+        rows = [r for r in rows if r["planner"] in planners]
     values: dict[tuple[str, str], list[float]] = defaultdict(list)
     for r in rows:
         if r["frechet_m"] not in ("", "nan"):
@@ -38,14 +48,16 @@ def ranks(values: list[float]) -> list[int]:
     return [1 + sum(other < v for other in values) for v in values]
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("a", type=Path)
     ap.add_argument("b", type=Path)
     ap.add_argument("--labels", nargs=2, default=("a", "b"))
-    args = ap.parse_args()
-    ma, scenarios, planners, na = means(args.a)
-    mb, scenarios_b, planners_b, nb = means(args.b)
+    ap.add_argument("--planners", help="comma-separated planners to compare (default: all)")
+    args = ap.parse_args(argv)
+    only = None if args.planners is None else frozenset(args.planners.split(","))
+    ma, scenarios, planners, na = means(args.a, only)
+    mb, scenarios_b, planners_b, nb = means(args.b, only)
     if (scenarios, planners) != (scenarios_b, planners_b):
         raise SystemExit("the two folders hold different scenarios or planners")
     la, lb = args.labels

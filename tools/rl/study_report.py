@@ -3,7 +3,10 @@ claim tested over training seeds.
 
     PYTHONPATH=. srfm benchmark -s SCENARIOS -p tools.rl.study_planners:k0_seed1,... \\
         --seeds 0-99 --no-logs --no-figures --out runs/study-report
-    python tools/rl/study_report.py runs/study-report > tools/rl/study/report.md
+    python tools/rl/study_report.py runs/study-report [MORE ...] > tools/rl/study/report.md
+
+Several results folders (e.g. one per training seed, run as the seeds finish) are read
+as one table; a (scenario, planner, seed) episode found in two folders is an error.
 
 ``SCENARIOS`` are the report's: the five paper scenarios, the library's held-out set
 and corridor_flow (``python tools/rl/study_report.py --scenarios`` prints them
@@ -49,11 +52,18 @@ ALPHA = 0.05
 Table = dict[tuple[str, str], list[dict[str, str]]]
 
 
-def load(folder: Path) -> Table:
+def load(*folders: Path) -> Table:
+    """Every episode of the folders' episodes.csv, by (scenario, planner)."""
     table: Table = defaultdict(list)
-    with (folder / "episodes.csv").open() as fh:
-        for row in csv.DictReader(fh):
-            table[(row["scenario"], row["planner"])].append(row)
+    seen: dict[tuple[str, str, str], Path] = {}
+    for folder in folders:
+        with (folder / "episodes.csv").open() as fh:
+            for row in csv.DictReader(fh):
+                key = (row["scenario"], row["planner"], row["seed"])
+                if key in seen:
+                    raise ValueError(f"episode {key} is in both {seen[key]} and {folder}")
+                seen[key] = folder
+                table[(row["scenario"], row["planner"])].append(row)
     return table
 
 
@@ -172,10 +182,10 @@ def main(argv: list[str]) -> int:
     if argv == ["--scenarios"]:
         print(",".join(REPORT_SCENARIOS))
         return 0
-    if len(argv) != 1:
+    if not argv or any(a.startswith("-") for a in argv):
         print(__doc__, file=sys.stderr)
         return 2
-    table = load(Path(argv[0]))
+    table = load(*map(Path, argv))
     planners = sorted({p for _, p in table}, key=lambda p: (POLICY.fullmatch(p) is None, p))
     print("## Targets (seeds 0-99)\n")
     print("\n".join(targets(table, planners)))

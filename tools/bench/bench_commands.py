@@ -51,6 +51,8 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
+from bench_crowd_step import srfm_commit  # the same folder: one definition of the commit line
+
 ROOT = Path(__file__).resolve().parents[2]
 
 ROWS: dict[str, tuple[str, list[str]]] = {
@@ -72,24 +74,6 @@ ROWS: dict[str, tuple[str, list[str]]] = {
 }
 DEFAULT_ROWS = ("help", "simulate", "quick-bare", "quick", "cold")
 SIMULATED = re.compile(r"simulated (\d+) of (\d+) episodes in ([0-9.]+) s")
-
-
-def _commit(tree: Path) -> str:
-    try:
-        out = subprocess.run(
-            ["git", "-C", str(tree), "rev-parse", "--short", "HEAD"],
-            capture_output=True,
-            text=True,
-            check=True,
-        ).stdout.strip()
-        dirty = subprocess.run(
-            ["git", "-C", str(tree), "status", "--porcelain", "srfm"],
-            capture_output=True,
-            text=True,
-        ).stdout.strip()
-        return out + (" + uncommitted changes" if dirty else "")
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
 
 
 def _load() -> str:
@@ -244,7 +228,7 @@ def main() -> None:
     trees = [args.tree.resolve(), *([args.vs.resolve()] if args.vs else [])]
     print(f"date: {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC, cores {os.cpu_count()}")
     for k, tree in enumerate(trees):
-        print(f"tree {'AB'[k]}: {tree} (commit {_commit(tree)})")
+        print(f"tree {'AB'[k]}: {tree} (commit {srfm_commit(tree)})")
     print("figures: median (min–max) of the runs, seconds; CPU = the command and its workers")
     head = "| row | tree | wall | CPU | simulation phase | load before/after (1/5/15 min) |"
     print(head + ("" if args.vs is None else " A/B wall, CPU (medians) |"))

@@ -452,11 +452,13 @@ def machine_info() -> list[str]:
     ]
 
 
-def srfm_commit() -> str:
-    """The git commit of the imported srfm source, '+dirty' when srfm/ has local changes."""
-    import srfm
+def srfm_commit(root: Path | None = None) -> str:
+    """The git commit of the checkout ``root`` (default: the imported srfm's), '+dirty'
+    when its srfm/ has local changes."""
+    if root is None:
+        import srfm
 
-    root = Path(srfm.__file__).resolve().parent.parent
+        root = Path(srfm.__file__).resolve().parent.parent
     try:
         commit = subprocess.run(
             ["git", "-C", str(root), "rev-parse", "--short", "HEAD"],

@@ -884,7 +884,12 @@ def step_serial(
     integrate(crowd.pos, crowd.vel, force_buf, crowd.vmax, dt)
 
 
-@njit(cache=True, inline="always")
+# Not inline="always": numba's IR-level inlining of this step (twice per episode step, both twins)
+# made `advance_exact` the slowest kernel of a first run to compile (the crowd, robot
+# and metric kernels: 34.5 CPU-s with it, 13.9 without); as a compiled callee, which
+# LLVM may still inline, an episode runs 0-3 % slower (docs/performance.md, "First
+# run with an empty numba cache").
+@njit(cache=True)
 def step_exact(crowd: CrowdArrays, context: ForceContext, dt: float, force_buf: np.ndarray) -> None:
     """One crowd step with every pedestrian pair, in index order (the exact kernel),
     whatever ``context.cut[0]``; obstacles cut at ``context.cut[1]``.

@@ -1,4 +1,4 @@
-"""The robot's force on a pedestrian, in each of its forms (numba, ``inline="always"``).
+"""The robot's force on a pedestrian, in each of its forms (numba kernels).
 
 The one definition of the robot term f_robot(i) of the SRFM force (docs/model.md, "The
 robot's force: four forms"): the crowd step, the fitting predictor and the
@@ -313,7 +313,12 @@ def robot_strength(params: SRFMKernelParams) -> float:
     return params.a_robot
 
 
-@njit(cache=True, inline="always")
+# Not inline="always": numba's IR-level inlining of the four forms into every crowd step
+# made `advance_exact` the slowest kernel of a first run to compile (the crowd, robot
+# and metric kernels: 34.5 CPU-s with it, 13.9 without); as a compiled callee, which
+# LLVM may still inline, an episode runs 0-3 % slower (docs/performance.md, "First
+# run with an empty numba cache").
+@njit(cache=True)
 def robot_force(
     x: float,
     y: float,

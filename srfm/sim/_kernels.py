@@ -37,6 +37,7 @@ from srfm.models._kernels import mark_arrivals, step_exact, step_parallel, step_
 from srfm.models._primitives import FALSE
 from srfm.models._robot_kernels import (
     EVENT_NONE,
+    THETA,
     VX,
     VY,
     RobotLimits,
@@ -50,10 +51,13 @@ from srfm.models._robot_kernels import (
 __all__ = [
     "ArrivalFlags",
     "EpisodeArrays",
+    "Samples",
     "StepOptions",
     "advance_exact",
     "advance_parallel",
     "advance_serial",
+    "rest_exact",
+    "rest_serial",
 ]
 
 
@@ -82,6 +86,29 @@ class StepOptions(NamedTuple):
     dt_s: float
     ped_goal_radius_m: float
     counterfactual: bool
+
+
+class Samples(NamedTuple):
+    """An episode record's arrays of every sample k = 0..T (:func:`srfm.run_episode`),
+    for the kernels that step a robot at rest (:func:`rest_exact`) to write into.
+
+    Attributes:
+        factual_pos, factual_vel, counterfactual_pos, counterfactual_vel, factual_goal,
+            counterfactual_goal: (T + 1, N, 2) each twin's positions, velocities and
+            goals.
+        robot_pose: (T + 1, 3) x, y, θ. robot_vel: (T + 1, 2) vx, vy.
+        robot_active: (T + 1,) the robot's episode goes on.
+    """
+
+    factual_pos: np.ndarray
+    factual_vel: np.ndarray
+    counterfactual_pos: np.ndarray
+    counterfactual_vel: np.ndarray
+    factual_goal: np.ndarray
+    counterfactual_goal: np.ndarray
+    robot_pose: np.ndarray
+    robot_vel: np.ndarray
+    robot_active: np.ndarray
 
 
 _EPISODE_FIELDS: Final = (
@@ -280,3 +307,62 @@ def advance_parallel(
     """:func:`advance_serial` with the force pass over threads (:func:`step_parallel`);
     identical results."""
     return _advance(ep, c0, c1, active, step_index, step_parallel)
+
+
+# Once the robot's episode has ended, a step is the kernel's alone: nothing of it needs
+# Python (no command, no robot event) unless a pedestrian arrives, enters or follows a
+# route. The engine then runs these kernels (EpisodeEngine.rest) instead of one call and
+# the bookkeeping per step: in the paper's scenarios the robot is at rest for about
+# 60 % of the horizon, and the Python around each step cost more than the step itself
+# (docs/performance.md, "Full episodes").
+
+
+@njit(cache=True, inline="always")
+def _write_sample(ep: EpisodeArrays, samples: Samples, k: int) -> None:
+    """Sample k of both twins and of the robot (at rest) into ``samples``."""
+    f = ep.factual
+    c = ep.counterfactual
+    samples.factual_pos[k] = f.pos
+    samples.factual_vel[k] = f.vel
+    samples.counterfactual_pos[k] = c.pos
+    samples.counterfactual_vel[k] = c.vel
+    samples.factual_goal[k] = f.goal
+    samples.counterfactual_goal[k] = c.goal
+    robot = ep.robot
+    samples.robot_pose[k, 0] = robot[X]
+    samples.robot_pose[k, 1] = robot[Y]
+    samples.robot_pose[k, 2] = robot[THETA]
+    samples.robot_vel[k, 0] = robot[VX]
+    samples.robot_vel[k, 1] = robot[VY]
+    samples.robot_active[k] = False
+
+
+@njit(cache=True, inline="always")
+def _rest(
+    ep: EpisodeArrays, step_index: int, stop: int, samples: Samples, advance: Any
+) -> tuple[int, int]:
+    """Steps of a robot at rest with the step kernel ``advance`` (a compile-time constant
+    of each variant), from sample ``step_index`` on, each new sample written into
+    ``samples``, until sample ``stop`` or the first step with new arrivals (that
+    sample is left to the engine, whose arrivals may change goals). Returns (the
+    sample reached, new arrivals at it)."""
+    k = step_index
+    while k < stop:
+        n_new, _, _ = advance(ep, 0.0, 0.0, False, k)
+        k += 1
+        if n_new:
+            return k, n_new
+        _write_sample(ep, samples, k)
+    return k, 0
+
+
+@njit(cache=True)
+def rest_exact(ep: EpisodeArrays, step_index: int, stop: int, samples: Samples) -> tuple[int, int]:
+    """Steps of :func:`advance_exact` with the robot at rest (see :func:`_rest`)."""
+    return _rest(ep, step_index, stop, samples, advance_exact)
+
+
+@njit(cache=True)
+def rest_serial(ep: EpisodeArrays, step_index: int, stop: int, samples: Samples) -> tuple[int, int]:
+    """Steps of :func:`advance_serial` with the robot at rest (see :func:`_rest`)."""
+    return _rest(ep, step_index, stop, samples, advance_serial)

@@ -191,17 +191,22 @@ class EpisodeEngine:
             ped_goal_radius_m=float(scenario.ped_goal_radius_m),
             counterfactual=self._counterfactual,
         )
+        # The step kernel, and its run of steps with the robot at rest (none threaded).
+        self._rest_kernel: Callable[..., tuple[int, int]] | None = None
         if self._parallel:
             self._kernel = _k.advance_parallel
         elif math.isinf(self._cut[0]):
             self._kernel = _k.advance_exact  # no cell list to compile
+            self._rest_kernel = _k.rest_exact
         else:
             self._kernel = _k.advance_serial
+            self._rest_kernel = _k.rest_serial
         self._pack(self.n_present)
         # The step kernel is specialised at the first step, so that building an engine
         # and observing compiles neither the crowd step nor the robot's motion (the
         # benchmark's warm-up compiles a planner's kernels that way beside them).
         self._advance: Callable[..., tuple[int, int, int]] | None = None
+        self._rest: Callable[..., tuple[int, int]] | None = None
         # The engine makes every array and tuple it hands the kernels itself, so their
         # types are the same in every episode (srfm._jit.specialize_once).
         self._robot_event = specialize_once(_rk.robot_event, *self._event_args(), 0)
@@ -217,13 +222,14 @@ class EpisodeEngine:
         state = self.__dict__.copy()
         # Compiled functions do not pickle, and pickle copies views: the kernels'
         # arguments are made again on unpickling.
-        for name in ("_advance", "_robot_event", "arrays"):
+        for name in ("_advance", "_rest", "_robot_event", "arrays"):
             del state[name]
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
         self._advance = None
+        self._rest = None
         self._pack(self.n_present)
         self._robot_event = specialize_once(_rk.robot_event, *self._event_args(), 0)
 
@@ -334,6 +340,45 @@ class EpisodeEngine:
         )
         code, nearest = self.enter_sample(code, nearest)
         return self.apply_events(n_new, code, nearest)
+
+    @property
+    def can_rest(self) -> bool:
+        """:meth:`rest` applies: the robot's episode has ended, everyone is there and
+        nobody follows a route (so a step without arrivals needs no Python), and the
+        crowd step is not the threaded one."""
+        return (
+            not self.robot_active
+            and not self.has_routes
+            and self.n_present == self.factual.n
+            and self._rest_kernel is not None
+        )
+
+    def prepare_rest(self, samples: _k.Samples) -> None:
+        """Compile (or load) :meth:`rest`'s kernel for arrays like ``samples`` now: the
+        benchmark's warm-up episodes end before the robot does, and its workers would
+        otherwise each compile it (nothing without a kernel for it)."""
+        if self._rest is None and self._rest_kernel is not None:
+            self._rest = specialize_once(self._rest_kernel, self.arrays, 0, 0, samples)
+
+    def rest(self, stop: int, samples: _k.Samples) -> list[Event]:
+        """Steps with the robot at rest, in one kernel call (only where
+        :attr:`can_rest`): the same steps as :meth:`advance` without a command, up to
+        sample ``stop`` or the first step with new arrivals, whichever comes first.
+        The samples before the last one reached are written into ``samples``; the
+        last one (at ``stop``, or with its arrivals applied) is the caller's to record.
+
+        Returns:
+            The events of the last step reached (its arrivals).
+        """
+        if not self.can_rest:
+            raise SimulationError("rest() needs the robot at rest, no routes, and no entries")
+        if not self.step_index < stop <= self.scenario.horizon_steps:
+            raise SimulationError(f"rest() to sample {stop} from sample {self.step_index}")
+        self.prepare_rest(samples)
+        assert self._rest is not None
+        k, n_new = self._rest(self.arrays, self.step_index, stop, samples)
+        self.step_index = k
+        return self.apply_events(n_new, _rk.EVENT_NONE, -1)
 
     def enter_sample(self, code: int, nearest: int) -> tuple[int, int]:
         """Step 2: the episode is at the next sample, with the pedestrians that enter

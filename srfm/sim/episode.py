@@ -26,6 +26,7 @@ from srfm.models.params import SRFMParams
 from srfm.planners import Planner, check_planner, make_planner
 from srfm.planners._base import PRIVILEGED_HOOK
 from srfm.scenarios import Scenario, episode_setup, load_scenario
+from srfm.sim import _kernels as _sk
 from srfm.sim.record import EpisodeRecord, Event
 from srfm.sim.simulator import TwinSimulator
 
@@ -337,8 +338,16 @@ def run_episode(
         rvel[k] = robot[_VELOCITY]
         active[k] = engine.robot_active
 
+    samples = _sk.Samples(f_pos, f_vel, c_pos, c_vel, f_goal, c_goal, pose, rvel, active)
+    engine.prepare_rest(samples)
     sample(0)
-    for k in range(T):
+    k = 0
+    while k < T:
+        if engine.can_rest:  # the robot at rest: the steps up to the next arrival at once
+            events.extend(sim.rest(T, samples))
+            k = engine.step_index
+            sample(k)
+            continue
         if sim.robot_active:
             observation = sim.observe(detection)
             try:
@@ -354,7 +363,8 @@ def run_episode(
             cmd[k, 1] = command[1]
         else:
             events.extend(sim.step())
-        sample(k + 1)
+        k += 1
+        sample(k)
 
     assert sim.outcome is not None
     return EpisodeRecord(

@@ -163,6 +163,16 @@ class TwinSimulator:
             obstacles=self.scenario.obstacles,
         )
 
+    def rest(self, stop: int, samples: Any) -> list[Event]:
+        """Steps with the robot at rest in one kernel call, where the engine allows it
+        (:attr:`srfm.sim.engine.EpisodeEngine.can_rest`; see
+        :meth:`~srfm.sim.engine.EpisodeEngine.rest`): up to sample ``stop`` or the first
+        step with arrivals; the samples before the last are written into ``samples``
+        (:class:`srfm.sim._kernels.Samples`)."""
+        events = self.engine.rest(stop, samples)
+        self.robot = self.engine.robot_state
+        return events
+
     def step(self, command: Any = None) -> list[Event]:
         """Advance both crowds and the robot by one step; return the events detected.
 

@@ -8,6 +8,7 @@ import subprocess
 import sys
 import tomllib
 from pathlib import Path
+from typing import Any
 
 import attrs
 import numpy as np
@@ -17,6 +18,8 @@ import srfm
 from srfm.models.state import Obstacles
 from srfm.planners import Observation, PlannerContext
 from srfm.scenarios import BUILTIN_SCENARIOS, episode_setup, load_scenario
+from srfm.sim.engine import EpisodeEngine
+from srfm.sim.record import Event
 from srfm.sim.simulator import TwinSimulator
 from tests.conftest import REPO, record_digest, write_scenario
 
@@ -400,3 +403,37 @@ def test_planner_from_module_and_attribute() -> None:
 
 class NotAPlanner:
     pass
+
+
+@pytest.mark.parametrize("name", ["circle", "random", "concert", "intersection_open"])
+def test_robot_at_rest_in_one_kernel_call_gives_the_same_record(
+    name: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The steps after the robot's episode ends run in one kernel call up to each
+    arrival (EpisodeEngine.rest): the record is the one of a call per step, with
+    arrivals (circle), new goals (random) and a robot that stopped early."""
+    calls: list[int] = []
+    rest = EpisodeEngine.rest
+
+    def counted(self: EpisodeEngine, stop: int, samples: Any) -> list[Event]:
+        calls.append(self.step_index)
+        return rest(self, stop, samples)
+
+    monkeypatch.setattr(EpisodeEngine, "rest", counted)
+    at_rest = srfm.run_episode(name, 3, "dwa")
+    monkeypatch.setattr(EpisodeEngine, "can_rest", property(lambda self: False))
+    per_step = srfm.run_episode(name, 3, "dwa")
+    assert calls
+    assert calls[0] == at_rest.end_step
+    assert record_digest(at_rest) == record_digest(per_step)
+
+
+def test_rest_refuses_an_active_robot_and_a_bad_stop() -> None:
+    sim = TwinSimulator(episode_setup(load_scenario("crosswalk"), 0))
+    samples = None  # not reached: the checks come first
+    assert not sim.engine.can_rest
+    with pytest.raises(srfm.SimulationError, match="robot at rest"):
+        sim.engine.rest(10, samples)  # type: ignore[arg-type]
+    sim.engine.robot_active = False
+    with pytest.raises(srfm.SimulationError, match="to sample 0 from sample 0"):
+        sim.engine.rest(0, samples)  # type: ignore[arg-type]

@@ -320,14 +320,18 @@ def advance_parallel(
 @njit(cache=True, inline="always")
 def _write_sample(ep: EpisodeArrays, samples: Samples, k: int) -> None:
     """Sample k of both twins and of the robot (at rest) into ``samples``."""
+    # Element by element: an array slice assignment compiles numba's shape-mismatch
+    # error with its message formatting, 3.4 s of a first run (profile_compile.py).
     f = ep.factual
     c = ep.counterfactual
-    samples.factual_pos[k] = f.pos
-    samples.factual_vel[k] = f.vel
-    samples.counterfactual_pos[k] = c.pos
-    samples.counterfactual_vel[k] = c.vel
-    samples.factual_goal[k] = f.goal
-    samples.counterfactual_goal[k] = c.goal
+    for i in range(f.pos.shape[0]):
+        for d in range(2):
+            samples.factual_pos[k, i, d] = f.pos[i, d]
+            samples.factual_vel[k, i, d] = f.vel[i, d]
+            samples.counterfactual_pos[k, i, d] = c.pos[i, d]
+            samples.counterfactual_vel[k, i, d] = c.vel[i, d]
+            samples.factual_goal[k, i, d] = f.goal[i, d]
+            samples.counterfactual_goal[k, i, d] = c.goal[i, d]
     robot = ep.robot
     samples.robot_pose[k, 0] = robot[X]
     samples.robot_pose[k, 1] = robot[Y]
@@ -348,7 +352,7 @@ def _rest(
     sample reached, new arrivals at it)."""
     k = step_index
     while k < stop:
-        n_new, _, _ = advance(ep, 0.0, 0.0, False, k)
+        n_new, _, _ = advance(ep, 0.0, 0.0, FALSE, k)
         k += 1
         if n_new:
             return k, n_new

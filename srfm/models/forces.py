@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from typing import Final, Literal
+from typing import Any, Final, Literal
 
 import attrs
 import numpy as np
@@ -54,6 +54,9 @@ Cutoff = float | Literal["auto", "exact"]
 MAX_DT_S: Final = 1.0
 
 _NO_OBSTACLES: Final = Obstacles()
+# The parameters when none are given: the agrawal2024 preset (frozen, so one instance
+# serves every call and its kernel tuple is built once).
+_DEFAULT_PARAMS: Final = SRFMParams()
 # The kernels' robot argument when there is no robot (never read then, never written).
 _NO_ROBOT: Final = np.zeros(5)
 
@@ -138,8 +141,11 @@ def kernel_cutoffs(
     Raises:
         SimulationError: an unknown mode or a cut-off that is not a positive number.
     """
-    n = radius.shape[0]
-    r_max = float(radius.max()) if n else 0.0
+    return _shared_cut(cutoff, params, radius).copy()
+
+
+def _cut(cutoff: Cutoff, params: SRFMParams, r_max: float, n: int) -> NDArray[np.float64]:
+    """:func:`kernel_cutoffs` for ``n`` pedestrians of largest radius ``r_max``."""
     if isinstance(cutoff, str):
         if cutoff == "exact" or (cutoff == "auto" and n < CELL_LIST_MIN_AGENTS):
             return np.array([np.inf, np.inf])
@@ -152,6 +158,38 @@ def kernel_cutoffs(
     if not (value > 0.0 and math.isfinite(value)):
         raise SimulationError(f"cutoff must be a finite distance > 0 m, got {cutoff!r}")
     return np.array([value, interaction_cutoffs(params, r_max)[1]])
+
+
+# The cut arrays of the calls so far, by what they are computed from: the cut-off mode
+# or distance, the parameters (their kernel tuple: equal values, equal cut-offs), the
+# largest radius and whether the crowd is below CELL_LIST_MIN_AGENTS. Shared by the
+# calls (the kernels only read ``cut``), never handed out (kernel_cutoffs copies);
+# emptied when full.
+_CUTS: dict[tuple[Any, ...], NDArray[np.float64]] = {}
+_MAX_CUTS: Final = 256
+
+
+def _shared_cut(
+    cutoff: Cutoff, params: SRFMParams, radius: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """:func:`kernel_cutoffs`, computed once per distinct input: the array is shared,
+    read it only."""
+    n = radius.shape[0]
+    r_max = float(radius.max()) if n else 0.0
+    if isinstance(cutoff, str):
+        mode: Any = cutoff
+    elif isinstance(cutoff, bool) or not isinstance(cutoff, int | float | np.floating | np.integer):
+        mode = None  # an error: _cut raises it
+    else:
+        mode = float(cutoff)
+    key = (mode, params.for_kernels(), r_max, n < CELL_LIST_MIN_AGENTS)
+    cut = _CUTS.get(key) if mode is not None else None
+    if cut is None:
+        cut = _cut(cutoff, params, r_max, n)
+        if len(_CUTS) >= _MAX_CUTS:
+            _CUTS.clear()
+        _CUTS[key] = cut
+    return cut
 
 
 def force_components(
@@ -174,10 +212,10 @@ def force_components(
     Returns:
         The goal, pedestrian, robot and obstacle components, each (N, 2) in m/s².
     """
-    params = params or SRFMParams()
-    obstacles = obstacles or _NO_OBSTACLES
+    params = _DEFAULT_PARAMS if params is None else params
+    obstacles = _NO_OBSTACLES if obstacles is None else obstacles
     robot_arr, robot_on = _robot_args(robot)
-    cut = kernel_cutoffs(cutoff, params, crowd.radius)
+    cut = _shared_cut(cutoff, params, crowd.radius)
     out = np.zeros((4, crowd.n, 2))
     context = ForceContext(params.for_kernels(), robot_arr, robot_on, obstacles.for_kernels(), cut)
     args = (crowd.for_kernels(), context, out)
@@ -209,10 +247,10 @@ def step_crowd(
     """
     if not 0.0 < dt <= MAX_DT_S:  # also false for NaN
         raise SimulationError(f"dt must be in (0, {MAX_DT_S:g}] s, got {dt!r}")
-    params = params or SRFMParams()
-    obstacles = obstacles or _NO_OBSTACLES
+    params = _DEFAULT_PARAMS if params is None else params
+    obstacles = _NO_OBSTACLES if obstacles is None else obstacles
     robot_arr, robot_on = _robot_args(robot)
-    cut = kernel_cutoffs(cutoff, params, crowd.radius)
+    cut = _shared_cut(cutoff, params, crowd.radius)
     if parallel:
         kernel = _kernels.step_parallel
     elif math.isinf(cut[0]):

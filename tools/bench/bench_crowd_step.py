@@ -53,7 +53,17 @@ Usage::
     .venv/bin/python tools/bench/bench_crowd_step.py --sizes 10 100 1000 --seconds 2
     .venv/bin/python tools/bench/bench_crowd_step.py --sizes 50 100 200 400 --no-pysocialforce
     .venv/bin/python tools/bench/bench_crowd_step.py --busy --no-pysocialforce --no-jupedsim
+    .venv/bin/python tools/bench/bench_crowd_step.py --side-by-side --sizes 100 1000 10000 \
+        --no-pysocialforce --memory-n 0
     .venv/bin/python tools/bench/bench_crowd_step.py --robot-forms --sizes 10 1000 --cpu-time
+
+``--side-by-side`` adds the side-by-side protocol by which the project's scale target
+against JuPedSim is judged: its own start state (N random cells of a lattice of 2 m
+cells, ±0.5 m jitter), JuPedSim's walkable square with a margin of the crowd's side,
+a fresh start per run (built untimed) after one untimed step, the window of simulated
+time (``--window-s``, 2 s by default) timed as a whole, best of
+``--side-by-side-repeats`` (3); srfm through ``srfm.step_crowd(crowd, 1/15)``. Few,
+short runs: noisier than the main table, which times chunks until a budget is spent.
 
 ``--robot-forms`` times srfm's default step (``parallel=False``, ``cutoff="auto"``) with
 a robot in the middle of the crowd, walking at 1 m/s, in each form of the robot force
@@ -124,12 +134,30 @@ def initial_state(n: int, seed: int) -> tuple[FloatArray, FloatArray]:
 JUPEDSIM_DT_S = 0.01
 
 
-def jupedsim_bench(pos: FloatArray, goal: FloatArray) -> Bench:
-    """JuPedSim's social force model, one direct-steering target per agent."""
+def side_by_side_state(n: int, seed: int = 0) -> tuple[FloatArray, FloatArray, float]:
+    """(pos, goal, side) of the side-by-side protocol (``--side-by-side``): N random cells
+    of a ⌈√N⌉ × ⌈√N⌉ lattice of 2 m cells (0.25 ped/m²), each pedestrian uniform within
+    ±0.5 m of its cell's centre, goals mirrored through the square's centre."""
+    rng = np.random.default_rng(seed)
+    k = math.ceil(math.sqrt(n))
+    side = 2.0 * k
+    cells = rng.permutation(k * k)[:n]
+    lattice = np.stack([cells % k, cells // k], axis=1) * 2.0 + 1.0
+    pos = lattice + rng.uniform(-0.5, 0.5, size=(n, 2))
+    return pos, side - pos, side
+
+
+def jupedsim_bench(
+    pos: FloatArray, goal: FloatArray, margin: float = 1.0, side: float | None = None
+) -> Bench:
+    """JuPedSim's social force model, one direct-steering target per agent, in a square
+    walkable area ``margin`` m larger than the crowd's square (of ``side`` m, by default
+    the side at DENSITY_PER_M2) on every side."""
     import jupedsim
 
-    side = math.sqrt(pos.shape[0] / DENSITY_PER_M2)
-    area = [(-1.0, -1.0), (side + 1.0, -1.0), (side + 1.0, side + 1.0), (-1.0, side + 1.0)]
+    side = math.sqrt(pos.shape[0] / DENSITY_PER_M2) if side is None else side
+    lo, hi = -margin, side + margin
+    area = [(lo, lo), (hi, lo), (hi, hi), (lo, hi)]
 
     def make() -> Any:
         sim = jupedsim.Simulation(
@@ -214,15 +242,16 @@ def srfm_bench(
     parallel: bool | None,
     robot_form: str | None = None,
 ) -> Bench:
-    """srfm's ``step_crowd`` with the given kernel choice (None = default); with a
-    ``robot_form``, a robot in the crowd's centre (radius 0.3 m, walking at 1 m/s along
-    x) that the crowd feels in that form of the robot force (default parameters)."""
+    """srfm's public ``step_crowd`` with the given kernel choice (None = default) and
+    the default parameters (``params=None``, as a user calls it); with a ``robot_form``,
+    a robot in the crowd's centre (radius 0.3 m, walking at 1 m/s along x) that the
+    crowd feels in that form of the robot force (default parameters otherwise)."""
     import srfm
 
-    params = srfm.SRFMParams()
+    params = None
     robot = None
     if robot_form is not None:
-        params = params.replace(robot_form=robot_form)
+        params = srfm.SRFMParams(robot_form=robot_form)
         centre = (pos.min(axis=0) + pos.max(axis=0)) / 2.0
         robot = srfm.RobotBody(
             x=float(centre[0]), y=float(centre[1]), radius=0.3, vx=ROBOT_SPEED_MPS, vy=0.0
@@ -236,7 +265,10 @@ def srfm_bench(
 
     def run(k: int) -> None:
         for _ in range(k):
-            srfm.step_crowd(crowd, DT_S, params, robot, parallel=parallel)
+            if parallel is None:
+                srfm.step_crowd(crowd, DT_S, params, robot)
+            else:
+                srfm.step_crowd(crowd, DT_S, params, robot, parallel=parallel)
 
     return Bench(reset, run)
 
@@ -378,6 +410,45 @@ def measure(bench: Bench, n: int, budget_s: float, repeats: int, window_steps: i
             since_reset += chunk
         best = max(best, steps * n / elapsed)
     return Result(best, first)
+
+
+def side_by_side_rate(bench: Bench, n: int, steps: int, repeats: int) -> float:
+    """The side-by-side protocol's figure, agent-steps/s: one untimed step from a fresh
+    start (compilation), then the best of ``repeats`` runs of ``steps`` steps, each from
+    a fresh start (built untimed) and timed as a whole."""
+    bench.reset()
+    bench.run(1)
+    best = 0.0
+    for _ in range(repeats):
+        bench.reset()
+        t0 = CLOCK()
+        bench.run(steps)
+        best = max(best, n * steps / (CLOCK() - t0))
+    return best
+
+
+def side_by_side_rows(
+    sizes: list[int], seed: int, window_s: float, repeats: int
+) -> list[tuple[int, float, float]]:
+    """Per N, (N, srfm, JuPedSim) agent-steps/s by the side-by-side protocol: its start
+    state (:func:`side_by_side_state`), srfm's public ``step_crowd(crowd, 1/15)`` with
+    its defaults, JuPedSim in a walkable square whose margin is the crowd's side, both
+    over the first ``window_s`` seconds of simulated time."""
+    rows = []
+    for n in sizes:
+        pos, goal, side = side_by_side_state(n, seed)
+        ours = side_by_side_rate(
+            srfm_bench(pos, goal, None), n, window_steps(window_s, DT_S), repeats
+        )
+        theirs = side_by_side_rate(
+            jupedsim_bench(pos, goal, margin=side, side=side),
+            n,
+            window_steps(window_s, JUPEDSIM_DT_S),
+            repeats,
+        )
+        rows.append((n, ours, theirs))
+        print(f"  measured the side-by-side protocol at N = {n}", file=sys.stderr)
+    return rows
 
 
 def window_steps(window_s: float, dt_s: float) -> int:
@@ -547,6 +618,18 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
         " (srfm.models.params.ROBOT_FORMS) instead of the comparison with other simulators",
     )
     parser.add_argument(
+        "--side-by-side",
+        action="store_true",
+        help="also time srfm and JuPedSim by the side-by-side protocol (its start state,"
+        " fresh starts, the window timed as a whole, best of --side-by-side-repeats)",
+    )
+    parser.add_argument(
+        "--side-by-side-repeats",
+        type=int,
+        default=3,
+        help="runs per simulator and size of the side-by-side protocol; best kept",
+    )
+    parser.add_argument(
         "--cold-cache",
         action="store_true",
         help="use an empty numba cache so srfm's first calls include a full JIT compile",
@@ -554,6 +637,8 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     args = parser.parse_args(argv)
     if any(n < 2 for n in args.sizes) or args.seconds <= 0 or args.repeats < 1:
         parser.error("sizes must be >= 2, --seconds > 0 and --repeats >= 1")
+    if args.side_by_side and (args.no_jupedsim or args.side_by_side_repeats < 1):
+        parser.error("--side-by-side needs JuPedSim and --side-by-side-repeats >= 1")
     if not math.isfinite(args.window_s) or args.window_s < 0:
         parser.error(f"--window-s must be a finite number >= 0, got {args.window_s}")
     return args
@@ -645,6 +730,16 @@ def main(argv: list[str] | None = None) -> int:
                 default_kernel = "serial"
                 rows.append((n, default_kernel, rates))
                 print(f"  measured N = {n}", file=sys.stderr)
+            sbs = (
+                side_by_side_rows(
+                    args.sizes,
+                    args.seed,
+                    args.window_s or 2.0,
+                    args.side_by_side_repeats,
+                )
+                if args.side_by_side
+                else []
+            )
             other_percent = other.percent()
 
         print(
@@ -665,6 +760,21 @@ def main(argv: list[str] | None = None) -> int:
         print("|---:|---:|---:|---:|---:|---:|")
         for n, _, rates in rows:
             print(f"| {n} | " + " | ".join(fmt_step_us(r, n) for r in rates) + " |")
+
+        if sbs:
+            print(
+                "\nThe side-by-side protocol (its start state, a fresh start per run, the"
+                f" first {args.window_s or 2.0:g} s of simulated time timed as a whole, best of"
+                f" {args.side_by_side_repeats}; srfm `step_crowd(crowd, 1/15)` with its"
+                " defaults):\n"
+            )
+            print("| N | srfm | jupedsim | srfm / jupedsim | srfm µs per step |")
+            print("|---:|---:|---:|---:|---:|")
+            for n, ours, theirs in sbs:
+                print(
+                    f"| {n} | {fmt_rate(ours)} | {fmt_rate(theirs)} | {ours / theirs:,.2f}×"
+                    f" | {fmt_step_us(ours, n)} |"
+                )
 
         print("\nFirst call (s; JIT compile, or a load from numba's on-disk cache):\n")
         print(f"- import srfm: {import_s:.2f}")

@@ -49,7 +49,8 @@ from numpy.typing import NDArray
 from srfm._io import atomic_write_bytes
 from srfm.errors import LogError, SrfmError
 from srfm.logs._foxglove import scene_messages
-from srfm.logs._schemas import CHANNELS, SCHEMA_VERSION
+from srfm.logs._planes import from_planes, to_planes
+from srfm.logs._schemas import CHANNELS, READ_VERSIONS, SCHEMA_VERSION
 from srfm.metrics import EpisodeMetrics
 from srfm.models.params import SRFMParams
 from srfm.scenarios import Scenario, episode_setup
@@ -215,15 +216,21 @@ def npy_bytes(array: NDArray[Any]) -> bytes:
 
 def _trajectories(group: str, samples: int, arrays: Mapping[str, NDArray[Any]]) -> bytes:
     """The ``/srfm/trajectories`` message of one group: the base64 text of each array's
-    ``.npy`` file. Formatted directly rather than by :func:`json.dumps`, which scans the
-    base64 text for characters to escape (it has none): 3.0 ms against 0.6 ms for a
-    compact episode's 320 kB of text (measured on this machine)."""
+    ``.npy`` file, every float64 array but the goals in its bit-plane form
+    (:mod:`srfm.logs._planes`; ``"planes"`` gives their shapes). Formatted directly
+    rather than by :func:`json.dumps`, which scans the base64 text for characters to
+    escape (it has none): 3.0 ms against 0.6 ms for a compact episode's 320 kB of text
+    (measured on this machine)."""
     head = f'{{"schema_version":{SCHEMA_VERSION},"group":"{group}","samples":{int(samples)},'
     parts = [head.encode("ascii"), b'"arrays":{']
+    shapes: dict[str, list[int]] = {}
     for i, (name, array) in enumerate(arrays.items()):
+        if array.dtype == np.float64 and name != "goal":
+            shapes[name] = list(array.shape)
+            array = to_planes(array)
         parts += [b',"' if i else b'"', name.encode("ascii"), b'":"']
         parts += [base64.b64encode(npy_bytes(array)), b'"']
-    parts.append(b"}}")
+    parts += [b'},"planes":', _json(shapes), b"}"]
     return b"".join(parts)
 
 
@@ -500,6 +507,7 @@ _READ_TOPICS: Final = {
 }
 
 
+_PLANES_SINCE: Final = 5  # the first log schema version with bit-plane arrays
 _MAGIC: Final = b"\x89MCAP0\r\n"
 _FOOTER_BYTES: Final = 1 + 8 + 8 + 8 + 4  # opcode, length, two offsets, summary CRC
 _SRFM_SCHEMA: Final = re.compile(r"^srfm\.logs\.[A-Za-z]+\.v(\d+)$")
@@ -599,44 +607,50 @@ def _writer_of(contents: _Contents) -> str:
     return f"srfm {version}" if version else "an unknown srfm version"
 
 
-def _check_version(path: Path, contents: _Contents) -> None:
-    """Refuse a file of another log schema version, naming it and its writer."""
+def _check_version(path: Path, contents: _Contents) -> int:
+    """The file's log schema version; refuse one this srfm does not read, naming it and
+    its writer."""
     versions = {
         int(m.group(1)) for name in contents.schema_names if (m := _SRFM_SCHEMA.match(name))
     }
     declared = contents.meta.get("schema_version", "")
     if declared.isdigit():
         versions.add(int(declared))
-    other = sorted(versions - {SCHEMA_VERSION})
+    other = sorted(versions - set(READ_VERSIONS))
     if other:
+        readable = " or ".join(str(v) for v in READ_VERSIONS)
         raise LogError(
             f"{path}: log schema version {other[0]}, written by {_writer_of(contents)}; "
-            f"this srfm ({_version()}) reads version {SCHEMA_VERSION} only: read the file "
+            f"this srfm ({_version()}) reads version {readable} only: read the file "
             "with the srfm release that wrote it, or run the episode again to log it anew"
         )
+    if len(versions) > 1:
+        raise LogError(f"{path}: mixes log schema versions {sorted(versions)}")
+    return versions.pop() if versions else SCHEMA_VERSION
 
 
-def _decode(path: Path, key: str, schema: str, payload: bytes) -> dict[str, Any]:
-    expected = CHANNELS[key].schema_name
+def _decode(path: Path, key: str, schema: str, payload: bytes, version: int) -> dict[str, Any]:
+    expected = CHANNELS[key].schema_name.removesuffix(f".v{SCHEMA_VERSION}") + f".v{version}"
     if schema != expected:
         raise LogError(f"{path}: {CHANNELS[key].topic} has schema {schema!r}, not srfm's")
     try:
         doc = json.loads(payload)
     except (UnicodeDecodeError, ValueError) as exc:
         raise LogError(f"{path}: a {CHANNELS[key].topic} message is not JSON: {exc}") from None
-    if not isinstance(doc, dict) or doc.get("schema_version") != SCHEMA_VERSION:
-        raise LogError(
-            f"{path}: a {CHANNELS[key].topic} message has no schema_version {SCHEMA_VERSION}"
-        )
+    if not isinstance(doc, dict) or doc.get("schema_version") != version:
+        raise LogError(f"{path}: a {CHANNELS[key].topic} message has no schema_version {version}")
     return doc
 
 
-def array_from_npy(text: Any, where: str) -> NDArray[Any]:
-    """Decode the base64 text of a ``.npy`` file holding a float64 or bool array.
+def array_from_npy(text: Any, where: str, planes: Any = None) -> NDArray[Any]:
+    """Decode the base64 text of a ``.npy`` file holding a float64 or bool array, or,
+    with ``planes`` (the array's shape), the uint8 bit planes of a float64 array
+    (:mod:`srfm.logs._planes`).
 
     Raises:
         LogError: ``where`` names the array; the text is not base64, not a ``.npy``
-            file, or holds another type (object arrays are never unpickled).
+            file, or holds another type (object arrays are never unpickled), or the
+            planes do not fit the shape.
     """
     if not isinstance(text, str):
         raise LogError(f"{where}: expected the base64 text of a .npy file")
@@ -645,6 +659,14 @@ def array_from_npy(text: Any, where: str) -> NDArray[Any]:
         array = np.lib.format.read_array(io.BytesIO(raw), allow_pickle=False)
     except (binascii.Error, ValueError, EOFError, OSError) as exc:
         raise LogError(f"{where}: not a base64 .npy array ({exc})") from None
+    if planes is not None:
+        ok = isinstance(planes, list) and all(type(n) is int and n >= 0 for n in planes)
+        try:
+            if not ok:
+                raise ValueError(f"the shape {planes!r:.100} is not a list of sizes")
+            return from_planes(array, tuple(planes))
+        except ValueError as exc:
+            raise LogError(f"{where}: {exc}") from None
     if array.dtype.kind == "f" and array.dtype.itemsize == 8:
         return np.array(array, dtype=np.float64, order="C")
     if array.dtype.kind == "b":
@@ -668,7 +690,7 @@ def read_log(path: str | Path) -> LogFile:
     if not data.startswith(_MAGIC):
         raise LogError(f"{path}: not an MCAP file (no MCAP magic bytes)")
     contents = _contents(path, data)
-    _check_version(path, contents)
+    version = _check_version(path, contents)
     info: dict[str, Any] | None = None
     groups: dict[str, dict[str, NDArray[Any]]] = {}
     lists: dict[str, list[dict[str, Any]]] = {
@@ -678,7 +700,7 @@ def read_log(path: str | Path) -> LogFile:
     }
     metrics: dict[str, Any] | None = None
     for key, schema, payload in contents.messages:
-        doc = _decode(path, key, schema, payload)
+        doc = _decode(path, key, schema, payload, version)
         if key == "episode":
             if info is not None:
                 raise LogError(f"{path}: more than one /srfm/episode message")
@@ -686,10 +708,17 @@ def read_log(path: str | Path) -> LogFile:
         elif key == "trajectories":
             group = str(doc.get("group"))
             arrays = doc.get("arrays")
-            if not isinstance(arrays, dict) or group in groups or group not in _GROUPS:
+            planes = doc.get("planes") if version >= _PLANES_SINCE else {}
+            if (
+                not isinstance(arrays, dict)
+                or not isinstance(planes, dict)
+                or not set(planes) <= set(arrays)
+                or group in groups
+                or group not in _GROUPS
+            ):
                 raise LogError(f"{path}: malformed or repeated trajectory group {group!r}")
             groups[group] = {
-                name: array_from_npy(text, f"{path}: {group}.{name}")
+                name: array_from_npy(text, f"{path}: {group}.{name}", planes.get(name))
                 for name, text in arrays.items()
             }
         elif key in lists:

@@ -19,12 +19,16 @@ import attrs
 
 __all__ = [
     "CHANNELS",
+    "READ_VERSIONS",
     "SCHEMA_VERSION",
     "ChannelSpec",
     "schema_bytes",
 ]
 
-SCHEMA_VERSION: Final = 4
+SCHEMA_VERSION: Final = 5
+READ_VERSIONS: Final = (4, 5)
+"""The log schema versions :func:`srfm.logs.read_log` reads: 4 (every array a plain
+``.npy`` file) and 5 (the float64 trajectories, goals excepted, as bit planes)."""
 NPY_MEDIA_TYPE: Final = "application/x-npy"
 _DRAFT: Final = "https://json-schema.org/draft/2020-12/schema"
 
@@ -86,8 +90,9 @@ _NPY: Final = {
     "type": "string",
     "contentEncoding": "base64",
     "contentMediaType": NPY_MEDIA_TYPE,
-    "description": "a NumPy .npy file (format 1.0: little-endian float64 or bool, C "
-    "order, shape in its header), base64: numpy.load(io.BytesIO(base64.b64decode(s)))",
+    "description": "a NumPy .npy file (format 1.0: little-endian float64, bool or uint8, "
+    "C order, shape in its header), base64: numpy.load(io.BytesIO(base64.b64decode(s))); "
+    "uint8 when the array is in bit-plane form (see planes)",
 }
 
 EPISODE: Final = _srfm_schema(
@@ -243,6 +248,14 @@ TRAJECTORIES: Final = _srfm_schema(
             "logs, vel; robot: pose (T + 1, 3) as (x, y, theta), vel (T + 1, 2), active "
             "(T + 1,) bool, cmd (T, 2) (NaN where the planner was not asked)",
             "additionalProperties": _NPY,
+        },
+        "planes": {
+            "type": "object",
+            "description": "the arrays stored in bit-plane form (every float64 array but "
+            "the goals), with their shapes: the .npy file holds the (64, ceil(M / 8)) "
+            "uint8 bit planes of the zigzagged second differences in time of the M "
+            "values' IEEE-754 bit patterns, time last (docs/logging.md#exact-arrays)",
+            "additionalProperties": {"type": "array", "items": {"type": "integer"}},
         },
     },
 )

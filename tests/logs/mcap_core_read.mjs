@@ -94,6 +94,7 @@ async function readFile(file) {
     const counts = {};
     const scene = [];
     const arrays = {};
+    const planes = {};
     let previous = -1n;
     let ordered = true;
     for await (const message of reader.readMessages()) {
@@ -111,6 +112,7 @@ async function readFile(file) {
         arrays[doc.group] = Object.fromEntries(
           Object.entries(doc.arrays).map(([name, text]) => [name, npyHeader(text)]),
         );
+        planes[doc.group] = doc.planes ?? {};
       }
     }
     const metadata = {};
@@ -140,6 +142,7 @@ async function readFile(file) {
       metadata,
       scene,
       arrays,
+      planes,
     };
   } catch (error) {
     return { file, ok: false, error: String(error?.message ?? error) };

@@ -412,8 +412,8 @@ def test_a_file_of_the_previous_schema_version_is_refused_naming_it() -> None:
     path = DATA / "schema-v2-episode.mcap"
     with pytest.raises(
         LogError,
-        match=rf"schema-v2-episode\.mcap: log schema version 2, written by srfm 0\.1\.0; "
-        rf"this srfm \(.+\) reads version {SCHEMA_VERSION} only",
+        match=r"schema-v2-episode\.mcap: log schema version 2, written by srfm 0\.1\.0; "
+        r"this srfm \(.+\) reads version 4 or 5 only",
     ):
         load_episode(path)
 
@@ -590,12 +590,21 @@ def test_mcap_core_reads_every_kind_of_file(every_kind, mcap_core) -> None:  # t
             encoding = "protobuf" if topic == "/foxglove/scene" else "json"
             assert channel["messageEncoding"] == encoding
         # The arrays are .npy files that a reader in another language parses.
+        # Float64 arrays but the goals are uint8 bit planes of the shape in "planes".
         for group, arrays in r["arrays"].items():
+            planes = r["planes"][group]
+            assert set(planes) == {n for n in arrays if n not in ("goal", "active")}
             for name, header in arrays.items():
-                assert header["descr"] in ("<f8", "|b1"), (group, name)
                 assert header["dataBytes"] == header["expectedBytes"], (group, name)
+                if name in planes:
+                    m = math.prod(planes[name])
+                    assert header["descr"] == "|u1", (group, name)
+                    assert header["shape"] == [64, (m + 7) // 8], (group, name)
+                else:
+                    assert header["descr"] in ("<f8", "|b1"), (group, name)
     compact = results[files["compact"].name]
-    assert compact["arrays"]["factual"]["pos"]["shape"] == list(record.factual_pos.shape)
+    assert compact["planes"]["factual"]["pos"] == list(record.factual_pos.shape)
+    assert compact["arrays"]["factual"]["goal"]["shape"] == list(record.factual_goal.shape)
     # Compact scenes leave the velocity arrows out.
     peds = [e for m in compact["scene"] for e in m["entities"] if e["id"] == "pedestrians"]
     assert len(peds) == len(_frames(record, 15))
@@ -618,20 +627,120 @@ def test_round_trip_of_every_profile(every_kind, kind: str) -> None:  # type: ig
     assert (logged.counterfactual_path is not None) is (kind == "compact-shared")
 
 
+def _from_planes_by_hand(planes: np.ndarray, shape: list[int]) -> np.ndarray:
+    """docs/logging.md's decoder of the bit-plane form, written from its definition
+    (unpackbits, not srfm's 8 x 8 bit transposes)."""
+    m = math.prod(shape)
+    bits = np.unpackbits(planes, axis=1, count=m, bitorder="little")  # (64, M)
+    z = np.packbits(bits.T.copy(), axis=1, bitorder="little").view("<u8").reshape(-1)
+    z = np.moveaxis(z.reshape(*shape[1:], shape[0]), -1, 0)  # time first again
+    d = (z >> np.uint64(1)) ^ (np.uint64(0) - (z & np.uint64(1)))  # undo the zigzag
+    u = np.cumsum(np.cumsum(d, axis=0), axis=0)  # undo the differences (modulo 2**64)
+    return np.ascontiguousarray(u).view("<f8")
+
+
 def test_arrays_read_without_srfm(every_kind) -> None:  # type: ignore[no-untyped-def]
-    """The exact arrays with the mcap library, json, base64 and numpy alone."""
+    """The exact arrays with the mcap library, json, base64 and numpy alone, the
+    bit-plane form decoded as docs/logging.md says."""
     files, record, _ = every_kind
     with files["full"].open("rb") as fh:
         found = {}
         for _, _, message in make_reader(fh).iter_messages(topics=["/srfm/trajectories"]):
             doc = json.loads(message.data)
             for name, text in doc["arrays"].items():
-                found[f"{doc['group']}.{name}"] = np.load(io.BytesIO(base64.b64decode(text)))
+                array = np.load(io.BytesIO(base64.b64decode(text)))
+                if name in doc["planes"]:
+                    array = _from_planes_by_hand(array, doc["planes"][name])
+                found[f"{doc['group']}.{name}"] = array
     assert same_bits(found["factual.pos"], record.factual_pos)
+    assert same_bits(found["factual.goal"], record.factual_goal)
     assert same_bits(found["counterfactual.vel"], record.counterfactual_vel)
     assert same_bits(found["robot.pose"], record.robot_pose)
     assert same_bits(found["robot.active"], record.robot_active)
     assert same_bits(found["robot.cmd"], record.robot_cmd)  # NaN payloads included
+
+
+def test_bit_planes_are_exact_and_smaller(episode) -> None:  # type: ignore[no-untyped-def]
+    """Every bit comes back (NaN payloads, signed zeros, infinities, one sample, sizes
+    that are not a multiple of 8), and a real episode's positions take at most 70 % of
+    the bytes of the plain .npy file once zstd (level 3, as the MCAP chunks) has
+    compressed them."""
+    import zstandard
+
+    from srfm.logs._planes import from_planes, to_planes
+
+    rng = np.random.default_rng(5)
+    odd = rng.normal(size=(9, 3, 2)) * 100.0
+    flat = odd.reshape(-1)
+    flat[:3] = (np.nan, -0.0, -np.inf)
+    flat[3:4].view(np.uint64)[:] = 0xFFF0_0000_0000_0ABC  # a NaN with a payload
+    for a in (odd, odd[:1], odd[:2, 0, :1], rng.normal(size=(1,)), rng.normal(size=(13,))):
+        planes = to_planes(a)
+        assert planes.dtype == np.uint8
+        assert planes.shape == (64, (a.size + 7) // 8)
+        assert same_bits(from_planes(planes, a.shape), np.ascontiguousarray(a))
+        assert same_bits(_from_planes_by_hand(planes, list(a.shape)), np.ascontiguousarray(a))
+    _, record, _ = episode("concert", 0, "straight")
+    zstd = zstandard.ZstdCompressor(level=3)
+    plain = len(zstd.compress(_mcap.npy_bytes(record.factual_pos)))
+    planes = len(zstd.compress(_mcap.npy_bytes(to_planes(record.factual_pos))))
+    assert planes < 0.7 * plain, (planes, plain)
+
+
+@pytest.mark.parametrize(
+    ("planes", "shape", "match"),
+    [
+        (
+            np.zeros((64, 2), np.uint8),
+            [3, 3, 2],
+            r"do not hold a float64 array of shape \(3, 3, 2\)",
+        ),
+        (np.zeros((64, 1), np.float64), [2, 2], r"expected uint8 \(64, 1\)"),
+        (np.zeros((64, 1), np.uint8), [2, "2"], r"not a list of sizes"),
+        (np.zeros((64, 1), np.uint8), 4, r"not a list of sizes"),
+    ],
+)
+def test_malformed_bit_planes_are_named(planes: np.ndarray, shape: Any, match: str) -> None:
+    text = base64.b64encode(_mcap.npy_bytes(planes)).decode()
+    with pytest.raises(LogError, match=rf"^f\.mcap: factual\.pos: .*{match}"):
+        _mcap.array_from_npy(text, "f.mcap: factual.pos", shape)
+
+
+def test_a_file_of_log_schema_4_still_reads() -> None:
+    """A real compact file of log schema 4 (every array a plain .npy file), written by
+    srfm before the bit planes: read, its arrays as stored, its metrics recomputed
+    from it bit for bit."""
+    path = DATA / "schema-v4-compact-episode.mcap"
+    logged = load_episode(path)
+    assert logged.info["schema_version"] == 4
+    with path.open("rb") as fh:
+        for _, _, message in make_reader(fh).iter_messages(topics=["/srfm/trajectories"]):
+            doc = json.loads(message.data)
+            assert "planes" not in doc
+            if doc["group"] == "factual":
+                pos = np.load(io.BytesIO(base64.b64decode(doc["arrays"]["pos"])))
+    assert same_bits(logged.record.factual_pos, pos)
+    again = episode_metrics(logged.record)
+    assert logged.online_metrics is not None
+    for name, value in logged.online_metrics.values.items():
+        assert np.float64(again.values[name]).tobytes() == np.float64(value).tobytes(), name
+
+
+def test_a_file_mixing_schema_versions_is_refused(tmp_path: Path) -> None:
+    buf = io.BytesIO()
+    w = Writer(buf)
+    w.start(library="srfm 0.1.0")
+    w.add_metadata("srfm", {"schema_version": "4"})
+    sid = w.register_schema(
+        name=f"srfm.logs.Episode.v{SCHEMA_VERSION}", encoding="jsonschema", data=b"{}"
+    )
+    cid = w.register_channel(topic="/srfm/episode", message_encoding="json", schema_id=sid)
+    w.add_message(channel_id=cid, log_time=0, publish_time=0, data=b"{}")
+    w.finish()
+    path = tmp_path / "mixed.mcap"
+    path.write_bytes(buf.getvalue())
+    with pytest.raises(LogError, match=r"mixed\.mcap: mixes log schema versions \[4, 5\]"):
+        load_episode(path)
 
 
 def test_every_crc_is_written_and_checked(every_kind, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]

@@ -61,10 +61,11 @@ def _timed(fn: Any) -> tuple[Any, float, float]:
 
 
 def _encodings(pos: Any, out: dict[str, list[float]]) -> None:
-    """zstd (level 3, as in MCAP chunks) bytes per value of exact positions, four ways:
-    decimal JSON text, the .npy file (what srfm stores since log schema 3, base64 in
-    JSON), and, for reference, a byte shuffle (the HDF5/Blosc filter) of the values
-    with time last, which is what the array codec of schema 2 improved on."""
+    """zstd (level 3, as in MCAP chunks) bytes per value of exact positions: decimal
+    JSON text, the .npy file (stored by log schemas 3 and 4, base64 in JSON), a byte
+    shuffle (the HDF5/Blosc filter) of the values with time last (reference), and the
+    bit planes of the second differences that log schema 5 stores (when the tree
+    measured has them)."""
     import base64
     import io
     import json
@@ -73,16 +74,28 @@ def _encodings(pos: Any, out: dict[str, list[float]]) -> None:
     import zstandard
 
     zc = zstandard.ZstdCompressor(level=3)
-    buf = io.BytesIO()
-    np.save(buf, pos, allow_pickle=False)
-    npy = buf.getvalue()
+
+    def npy_of(a: Any) -> bytes:
+        buf = io.BytesIO()
+        np.save(buf, a, allow_pickle=False)
+        return buf.getvalue()
+
+    npy = npy_of(pos)
     time_last = np.ascontiguousarray(np.moveaxis(pos, 0, -1))
     ways = {
         "decimal JSON, one message per step": "\n".join(json.dumps(p) for p in pos.tolist()),
         ".npy file": npy,
-        ".npy file, base64 (stored)": base64.b64encode(npy),
+        ".npy file, base64 (log schemas 3 and 4)": base64.b64encode(npy),
         "byte shuffle, time last (reference)": time_last.view(np.uint8).reshape(-1, 8).T.tobytes(),
     }
+    try:
+        from srfm.logs._planes import to_planes
+    except ImportError:  # a tree from before log schema 5
+        pass
+    else:
+        ways["bit planes of the second differences, .npy, base64 (log schema 5)"] = (
+            base64.b64encode(npy_of(to_planes(pos)))
+        )
     for name, data in ways.items():
         raw = data.encode() if isinstance(data, str) else data
         out[name].append(len(zc.compress(raw)) / pos.size)

@@ -86,8 +86,10 @@ def _version() -> str:
 
 
 def times_ns(n_samples: int, dt_s: float) -> list[int]:
-    """Message time (ns) of each sample: ``round(k * dt * 1e9)``."""
-    return [round(k * dt_s * 1e9) for k in range(n_samples)]
+    """Message time (ns) of each sample: ``round(k * dt * 1e9)`` (in float64, rounded
+    half to even like :func:`round`; NumPy does the same operations in the same order)."""
+    k = np.arange(n_samples, dtype=np.float64)
+    return np.rint(k * dt_s * 1e9).astype(np.int64).tolist()  # type: ignore[no-any-return]
 
 
 def counterfactual_digest(pos: FloatArray, goal: FloatArray) -> str:
@@ -100,23 +102,36 @@ def counterfactual_digest(pos: FloatArray, goal: FloatArray) -> str:
     return h.hexdigest()
 
 
+_ENCODER: Final = json.JSONEncoder(separators=_SEPARATORS, allow_nan=False)
+
+
 def _json(doc: Any) -> bytes:
-    return json.dumps(doc, separators=_SEPARATORS, allow_nan=False).encode("utf-8")
+    """Compact JSON, NaN refused (one encoder object: ``json.dumps`` with options
+    builds a new one per call)."""
+    return _ENCODER.encode(doc).encode("utf-8")
 
 
 def _nan_to_none(values: list[float]) -> list[float | None]:
     return [None if math.isnan(v) else v for v in values]
 
 
+@functools.lru_cache(maxsize=32)
+def _crowd_speeds(scenario: Scenario, seed: int) -> tuple[list[float], list[float]]:
+    """The desired and maximum speeds of a scenario's crowd for a seed (the planners of
+    a benchmark cell share them; scenarios are hashed by identity)."""
+    crowd = episode_setup(scenario, seed).crowd
+    return crowd.v0.tolist(), crowd.vmax.tolist()
+
+
 def _scenario_info(scenario: Scenario, record: EpisodeRecord) -> dict[str, Any]:
     """What a reader needs to know about the world and the agents (exact floats)."""
-    crowd = episode_setup(scenario, record.seed).crowd
+    v0, vmax = _crowd_speeds(scenario, record.seed)
     w = scenario.world
     robot = scenario.robot
     pedestrians: dict[str, Any] = {
         "radius_m": record.ped_radius.tolist(),
-        "desired_speed_mps": crowd.v0.tolist(),
-        "max_speed_mps": crowd.vmax.tolist(),
+        "desired_speed_mps": v0,
+        "max_speed_mps": vmax,
         "goal_radius_m": scenario.ped_goal_radius_m,
     }
     if record.ped_enter_step is not None:
@@ -285,6 +300,18 @@ def _pedestrian_states(record: EpisodeRecord, twin: str) -> Iterator[bytes]:
         )
 
 
+def _robot_state(k: int, pose: list[float], vel: list[float], active: bool) -> bytes:
+    """The ``/srfm/robot/state`` message of sample ``k``: what :func:`_json` makes of
+    the same fields (floats as their shortest ``repr``, which is JSON's), formatted
+    directly; the caller has checked that pose and velocity are finite."""
+    x, y, th = pose
+    vx, vy = vel
+    return (
+        f'{{"schema_version":{SCHEMA_VERSION},"step":{k},"x":{x!r},"y":{y!r},'
+        f'"theta":{th!r},"vx":{vx!r},"vy":{vy!r},"active":{"true" if active else "false"}}}'
+    ).encode("ascii")
+
+
 def write_episode_mcap(
     path: str | Path,
     record: EpisodeRecord,
@@ -381,19 +408,7 @@ def write_episode_mcap(
         for key, msgs in zip(("factual", "counterfactual"), peds, strict=False):
             w.add(key, t, msgs[k])
         if k in robot_at:
-            x, y, th = pose[k]
-            vx, vy = rvel[k]
-            state = {
-                "schema_version": SCHEMA_VERSION,
-                "step": k,
-                "x": x,
-                "y": y,
-                "theta": th,
-                "vx": vx,
-                "vy": vy,
-                "active": active[k],
-            }
-            w.add("robot_state", t, _json(state))
+            w.add("robot_state", t, _robot_state(k, pose[k], rvel[k], active[k]))
             if k < n_samples - 1 and active[k] and not math.isnan(cmd[k][0]):
                 command = {
                     "schema_version": SCHEMA_VERSION,

@@ -124,7 +124,8 @@ class _Builder:
 
     def discs(
         self,
-        xy_cm: list[list[int]],
+        xs: list[int],
+        ys: list[int],
         diameters: list[float],
         height: float,
         rgba: RGBA,
@@ -134,30 +135,25 @@ class _Builder:
         ``centre`` (default: standing on the ground).
 
         The hot loop of a scene (about 600 discs a compact episode, most of them at a
-        new position): no method call per disc, and the discs of one style (height,
-        colour, centre) are cached by (x, y, diameter) in a dictionary of their own."""
+        new position): no method call per new disc but for its size, and the discs of one
+        style (height, colour, centre) are cached by (x, y, diameter) in a dictionary of
+        their own, so that an agent standing still costs a look-up."""
         z = height / 2 if centre is None else centre
         style = (height, rgba, z)
         cache = self._discs.get(style)
         if cache is None:
             cache = self._discs[style] = {}
-        poses = self._poses
         fm = self.fm
+        cylinder, pose, vector = fm.CylinderPrimitive, fm.Pose, fm.Vector3
         color = self.colors[rgba]
         flat = self.yaw(0)
         out = []
-        for (x, y), d in zip(xy_cm, diameters, strict=False):
+        for x, y, d in zip(xs, ys, diameters, strict=False):
             key = (x, y, d)
             disc = cache.get(key)
             if disc is None:
-                where = (x, y, z, 0)
-                pose = poses.get(where)
-                if pose is None:
-                    pose = poses[where] = fm.Pose(
-                        position=fm.Vector3(x=x / 100, y=y / 100, z=z), orientation=flat
-                    )
-                disc = cache[key] = fm.CylinderPrimitive(
-                    pose=pose,
+                disc = cache[key] = cylinder(
+                    pose=pose(position=vector(x=x / 100, y=y / 100, z=z), orientation=flat),
                     size=self.size(d, height),
                     bottom_scale=1.0,
                     top_scale=1.0,
@@ -166,20 +162,10 @@ class _Builder:
             out.append(disc)
         return out
 
-    def ghosts(
-        self, ghosts_cm: list[list[int]], twins_cm: list[list[int]], diameters: list[float]
-    ) -> list[Any]:
-        """The counterfactual discs that differ from their factual twin's (rounded)
-        position: translucent, lower, centred like the pedestrians, so that where the
-        twins coincide the factual disc would cover the ghost anyway."""
-        drawn = [(g, d) for g, f, d in zip(ghosts_cm, twins_cm, diameters, strict=False) if g != f]
-        return self.discs(
-            [g for g, _ in drawn], [d for _, d in drawn], _GHOST_HEIGHT, _GHOST, _PED_HEIGHT / 2
-        )
-
     def arrows(
         self,
-        xy_cm: list[list[int]],
+        xs: list[int],
+        ys: list[int],
         yaw_steps: list[int],
         length_steps: list[int],
         z: float,
@@ -191,7 +177,7 @@ class _Builder:
         cache = self._primitives
         color = self.colors[rgba]
         out = []
-        for (x, y), k, n in zip(xy_cm, yaw_steps, length_steps, strict=True):
+        for x, y, k, n in zip(xs, ys, yaw_steps, length_steps, strict=True):
             if n <= 0:
                 continue
             key = (x, y, k, n, z, rgba)
@@ -248,9 +234,16 @@ class _Builder:
         return self.fm.SceneUpdate(entities=entities).encode()
 
 
-def _cm(xy: FloatArray) -> list[Any]:
-    """Coordinates (m) rounded to whole centimetres, as nested lists of ints."""
-    return np.rint(xy * 100.0).astype(np.int64).tolist()  # type: ignore[no-any-return]
+def _cm_array(xy: FloatArray) -> NDArray[np.int64]:
+    """Coordinates (m) rounded to whole centimetres."""
+    return np.rint(xy * 100.0).astype(np.int64)
+
+
+def _cm(xy: FloatArray) -> tuple[list[Any], list[Any]]:
+    """The x and the y of coordinates (m, last axis) rounded to whole centimetres, as
+    (nested) lists of ints."""
+    c = _cm_array(xy)
+    return c[..., 0].tolist(), c[..., 1].tolist()
 
 
 def _arrow_table(direction: FloatArray, length: FloatArray) -> tuple[list[Any], list[Any]]:
@@ -294,7 +287,7 @@ def _static(
     circles = obstacles.circles.tolist()
     pillars: list[Any] = []
     for cx, cy, r in circles:
-        pillars += b.discs(_cm(np.array([[cx, cy]])), [2 * r], 1.0, _GREY)
+        pillars += b.discs(*_cm(np.array([[cx, cy]])), [2 * r], 1.0, _GREY)
     world = b.entity(0, "world", cylinders=pillars, lines=lines)
     gx, gy = (float(v) for v in record.robot_goal)
     fm = b.fm
@@ -309,7 +302,7 @@ def _static(
     goal = b.entity(
         0,
         "robot_goal",
-        cylinders=b.discs(_cm(record.robot_goal[None, :]), [0.4], 0.02, _GREEN),
+        cylinders=b.discs(*_cm(record.robot_goal[None, :]), [0.4], 0.02, _GREEN),
         texts=[label],
     )
     path_xy = [(x, y) for x, y in _thinned(record.robot_pose[: record.end_step + 1, :2]).tolist()]
@@ -346,10 +339,14 @@ def scene_messages(
     frames = sorted({*range(0, n_samples, stride), n_samples - 1})
     idx = np.array(frames)
     # Per-frame tables, computed for the drawn samples only (row i is frames[i]).
-    peds = _cm(record.factual_pos[idx])
-    ghosts = _cm(record.counterfactual_pos[idx])
+    ped_cm = _cm_array(record.factual_pos[idx])
+    ghost_cm = _cm_array(record.counterfactual_pos[idx])
+    px, py = ped_cm[..., 0].tolist(), ped_cm[..., 1].tolist()
+    gx, gy = ghost_cm[..., 0].tolist(), ghost_cm[..., 1].tolist()
+    # The ghosts drawn: those apart from their factual twin (rounded), by frame.
+    apart = [np.flatnonzero(a).tolist() for a in np.any(ghost_cm != ped_cm, axis=2)]
     pose = record.robot_pose[idx]
-    robot = _cm(pose[:, None, :2])
+    rx, ry = _cm(pose[:, None, :2])
     vel = record.factual_vel[idx]
     ped_yaw, ped_len = _arrow_table(vel, np.linalg.norm(vel, axis=2))
     heading = np.stack([np.cos(pose[:, 2]), np.sin(pose[:, 2])], axis=1)[:, None, :]
@@ -371,32 +368,51 @@ def scene_messages(
         t = times_ns[k]
         m = counts[k]
         if k in goal_steps:
-            goals = b.discs(_cm(record.factual_goal[k, :m]), goal_d[:m], 0.01, _YELLOW)
+            goals = b.discs(*_cm(record.factual_goal[k, :m]), goal_d[:m], 0.01, _YELLOW)
             out.append((k, b.update([b.entity(t, "goals", cylinders=goals)])))
         i = row.get(k)
         if i is None:
             continue
+        ghosts = [j for j in apart[i] if j < m]
         entities = [
             b.entity(
                 t,
                 "pedestrians",
-                cylinders=b.discs(peds[i][:m], ped_d[:m], _PED_HEIGHT, _BLUE),
+                cylinders=b.discs(px[i][:m], py[i][:m], ped_d[:m], _PED_HEIGHT, _BLUE),
                 arrows=(
-                    b.arrows(peds[i][:m], ped_yaw[i][:m], ped_len[i][:m], _PED_HEIGHT + 0.02, _BLUE)
+                    b.arrows(
+                        px[i][:m],
+                        py[i][:m],
+                        ped_yaw[i][:m],
+                        ped_len[i][:m],
+                        _PED_HEIGHT + 0.02,
+                        _BLUE,
+                    )
                     if velocities
                     else None
                 ),
             ),
+            # Translucent, lower, centred like the pedestrians: where the twins coincide
+            # the factual disc would cover the ghost anyway.
             b.entity(
                 t,
                 "counterfactual",
-                cylinders=b.ghosts(ghosts[i][:m], peds[i][:m], ped_d[:m]),
+                cylinders=b.discs(
+                    [gx[i][j] for j in ghosts],
+                    [gy[i][j] for j in ghosts],
+                    [ped_d[j] for j in ghosts],
+                    _GHOST_HEIGHT,
+                    _GHOST,
+                    _PED_HEIGHT / 2,
+                ),
             ),
             b.entity(
                 t,
                 "robot",
-                cylinders=b.discs(robot[i], robot_d, _ROBOT_HEIGHT, _RED),
-                arrows=b.arrows(robot[i], robot_yaw[i], robot_len[i], _ROBOT_HEIGHT + 0.02, _RED),
+                cylinders=b.discs(rx[i], ry[i], robot_d, _ROBOT_HEIGHT, _RED),
+                arrows=b.arrows(
+                    rx[i], ry[i], robot_yaw[i], robot_len[i], _ROBOT_HEIGHT + 0.02, _RED
+                ),
             ),
         ]
         out.append((k, b.update(entities)))

@@ -19,7 +19,7 @@ The messages are built and encoded by the Foxglove SDK (``foxglove-sdk``,
 
 Positions are rounded to 1 cm, arrow directions to 5 degrees and lengths to 5 cm, so
 that primitives can be reused (an agent standing still costs a dictionary look-up
-rather than four SDK objects): the scene is for looking at, the exact numbers are on
+rather than three SDK objects): the scene is for looking at, the exact numbers are on
 the ``/srfm/...`` channels.
 """
 

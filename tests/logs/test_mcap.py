@@ -887,3 +887,32 @@ def test_official_readers_take_a_run_with_entering_pedestrians(
         assert np.abs(xy - record.factual_pos[k, :m]).max(initial=0) <= 0.005
         counts.append(m)
     assert counts[0] == 0 < counts[-1] == record.factual_pos.shape[1]
+
+
+@pytest.mark.parametrize("dt", [1 / 15, 0.0667, 0.1, 0.05, 0.01, 1 / 3, 0.125])
+def test_message_times_are_the_rounded_sample_times(dt: float) -> None:
+    """The vectorised message times equal ``round(k * dt * 1e9)`` sample by sample."""
+    got = _mcap.times_ns(20_000, dt)
+    assert got == [round(k * dt * 1e9) for k in range(20_000)]
+    assert all(type(t) is int for t in got[:3])
+
+
+def test_robot_state_text_is_the_json_of_its_fields() -> None:
+    """The directly formatted ``/srfm/robot/state`` message is byte for byte what the JSON
+    encoder makes of the same fields, for awkward floats too."""
+    rng = np.random.default_rng(5)
+    values = [0.0, -0.0, 1e-300, -5e-324, 1e22, 123456789.125, 1 / 3, *rng.normal(0, 50, 40)]
+    for k in range(len(values) - 5):
+        x, y, th, vx, vy = (float(v) for v in values[k : k + 5])
+        for active in (True, False):
+            doc = {
+                "schema_version": SCHEMA_VERSION,
+                "step": k,
+                "x": x,
+                "y": y,
+                "theta": th,
+                "vx": vx,
+                "vy": vy,
+                "active": active,
+            }
+            assert _mcap._robot_state(k, [x, y, th], [vx, vy], active) == _mcap._json(doc)

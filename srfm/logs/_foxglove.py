@@ -86,7 +86,7 @@ class _Builder:
         self.fm = fm
         self.identity = fm.Quaternion(x=0.0, y=0.0, z=0.0, w=1.0)
         self.colors = {rgba: _color(rgba) for rgba in (_BLUE, _GHOST, _RED, _GREEN, _YELLOW, _GREY)}
-        self._sizes: dict[tuple[float, float], Vector3] = {}
+        self._sizes: dict[float, dict[float, Vector3]] = {}  # by height, then diameter
         self._yaws: dict[int, Quaternion] = {}
         # Primitives by rounded position and style: standing agents (most of an
         # episode, once pedestrians have arrived) reuse the same objects.
@@ -94,12 +94,6 @@ class _Builder:
         self._poses: dict[tuple[int, int, float, int], Pose] = {}
         self._discs: dict[tuple[float, RGBA, float], dict[tuple[int, int, float], Any]] = {}
         self._stamp: tuple[int, Timestamp] = (0, fm.Timestamp(sec=0, nsec=0))
-
-    def size(self, diameter: float, height: float) -> Vector3:
-        key = (diameter, height)
-        if key not in self._sizes:
-            self._sizes[key] = self.fm.Vector3(x=diameter, y=diameter, z=height)
-        return self._sizes[key]
 
     def yaw(self, step: int) -> Quaternion:
         """The rotation about z by ``step`` × 5 degrees."""
@@ -135,14 +129,15 @@ class _Builder:
         ``centre`` (default: standing on the ground).
 
         The hot loop of a scene (about 600 discs a compact episode, most of them at a
-        new position): no method call per new disc but for its size, and the discs of one
-        style (height, colour, centre) are cached by (x, y, diameter) in a dictionary of
-        their own, so that an agent standing still costs a look-up."""
+        new position): no method call per disc but the SDK's constructors, and the discs
+        of one style (height, colour, centre) are cached by (x, y, diameter) in a
+        dictionary of their own, so that an agent standing still costs a look-up."""
         z = height / 2 if centre is None else centre
         style = (height, rgba, z)
         cache = self._discs.get(style)
         if cache is None:
             cache = self._discs[style] = {}
+        sizes = self._sizes.setdefault(height, {})
         fm = self.fm
         cylinder, pose, vector = fm.CylinderPrimitive, fm.Pose, fm.Vector3
         color = self.colors[rgba]
@@ -152,9 +147,12 @@ class _Builder:
             key = (x, y, d)
             disc = cache.get(key)
             if disc is None:
+                size = sizes.get(d)
+                if size is None:
+                    size = sizes[d] = vector(x=d, y=d, z=height)
                 disc = cache[key] = cylinder(
                     pose=pose(position=vector(x=x / 100, y=y / 100, z=z), orientation=flat),
-                    size=self.size(d, height),
+                    size=size,
                     bottom_scale=1.0,
                     top_scale=1.0,
                     color=color,
@@ -347,8 +345,11 @@ def scene_messages(
     apart = [np.flatnonzero(a).tolist() for a in np.any(ghost_cm != ped_cm, axis=2)]
     pose = record.robot_pose[idx]
     rx, ry = _cm(pose[:, None, :2])
-    vel = record.factual_vel[idx]
-    ped_yaw, ped_len = _arrow_table(vel, np.linalg.norm(vel, axis=2))
+    ped_yaw: list[Any] = []
+    ped_len: list[Any] = []
+    if velocities:
+        vel = record.factual_vel[idx]
+        ped_yaw, ped_len = _arrow_table(vel, np.linalg.norm(vel, axis=2))
     heading = np.stack([np.cos(pose[:, 2]), np.sin(pose[:, 2])], axis=1)[:, None, :]
     robot_yaw, robot_len = _arrow_table(
         heading, np.full((len(frames), 1), max(0.4, 2 * record.robot_radius))

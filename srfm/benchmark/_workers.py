@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import ctypes
 import ctypes.util
+import gc
 import os
 import signal
 import sys
@@ -35,6 +36,11 @@ def init_worker() -> None:
     (e.g. torch for a policy) and spawned workers.
     """
     one_thread()
+    # What the worker inherits (numba's compiled kernels and their objects, the parent's
+    # imports) lives as long as the process: left out of the garbage collector's passes
+    # (0.39 -> 0.15 ms of collections an episode, history/performance.md), and their
+    # pages are not written by the collector's bookkeeping after the fork.
+    gc.freeze()
     # Ctrl-C reaches the whole process group: the parent stops the pool, the workers
     # should not each print a traceback.
     signal.signal(signal.SIGINT, signal.SIG_IGN)

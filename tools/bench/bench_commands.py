@@ -14,8 +14,9 @@ Rows (``--rows``, default all but ``full`` and ``crowd``):
   for every run (a fresh clone's first run);
 - ``full``: ``srfm benchmark`` (seeds 0-99, every planner, default logs): minutes a run;
   also prints the MCAP bytes per episode;
-- ``crowd``: ``tools/bench/bench_crowd_step.py`` at N = 1000 against JuPedSim (needs the
-  ``bench`` extra), its own table;
+- ``crowd``: ``tools/bench/bench_crowd_step.py`` at N = 1000 against JuPedSim by both
+  protocols (its own and, ``--side-by-side``, the side-by-side one; needs the ``bench``
+  extra), its own tables;
 - ``stages``: where the quick benchmark's time goes, in this process (``--tree`` only):
   CPU ms per episode by planner and stage (set-up and simulation, metrics, MCAP, Rerun,
   the figure episode) over the 5 scenarios × seeds 0-2 after one untimed episode each,
@@ -294,6 +295,7 @@ def main() -> None:
                     str(tree / "tools/bench/bench_crowd_step.py"),
                     "--cpu-time",
                     "--no-pysocialforce",
+                    "--side-by-side",
                     "--sizes",
                     "1000",
                     "--seconds",

@@ -261,8 +261,8 @@ ROW_SPLIT = 3
 #   the PAIR_BLOCK pedestrians of a block: four independent pair terms. The vectoriser
 #   puts consecutive q side by side in a vector register (4 per AVX2 instruction, 8 with
 #   AVX-512): a vector lane is one candidate, and each lane carries the block's four
-#   chains. A run is walked in whole multiples of LANE_PAD candidates, so that no scalar
-#   remainder loop runs; dat, acc_x and acc_y have LANE_PAD padding columns after the n
+#   chains. A run is walked in whole multiples of RUN_STEP candidates, so that no scalar
+#   remainder loop runs with AVX2; dat, acc_x and acc_y have LANE_PAD padding columns after the n
 #   agents (x = 1e30, far from everyone; r, h and c zero). A candidate past the run's
 #   end, not after the pedestrian in pair-once order, beyond the cut-off or closer than
 #   EPS gets the weight 0 by a select, never a branch. A block short of PAIR_BLOCK
@@ -271,7 +271,8 @@ ROW_SPLIT = 3
 #   exactly where _fma says so (LLVM's llvm.fma, one rounding, one instruction on a CPU
 #   with FMA), and each pedestrian's force is summed lane by lane: lane j of ``lanes``
 #   takes the candidates q ≡ j (mod LANE_PAD) in increasing q, then the LANE_PAD lanes
-#   are added in a fixed tree (_lane_total). Nothing is left to LLVM to choose: the bits
+#   are added in a fixed tree (_lane_total, the same sums whichever lane a run ends
+#   on). Nothing is left to LLVM to choose: the bits
 #   do not depend on the vector width, on which iterations run as vector or as scalar
 #   code, nor on the caller. numba re-optimises a copy of _pair_block inside every
 #   caller's module and a process runs the copy it loaded first; with the flags
@@ -295,10 +296,13 @@ ROW_SPLIT = 3
 #   byte for byte the same compiled and loaded from the cache
 #   (test_cutoff_episode_is_identical_compiled_and_cached).
 #
-# The pair loop runs over whole multiples of LANE_PAD candidates (the vector width of
-# AVX-512 in float64; a multiple of AVX2's 4): a short run costs one vector iteration,
-# not up to 7 scalar ones.
+# The lanes a pedestrian's force is summed in (the vector width of AVX-512 in float64).
 LANE_PAD = 8
+# The pair loop runs over whole multiples of RUN_STEP candidates (AVX2's vector width in
+# float64; with AVX-512 a run may end with up to 4 scalar iterations, the same bits): a
+# short run costs one vector iteration, and no more than 3 padding candidates (with
+# LANE_PAD, 8 % fewer pair terms at N = 1000 on the protocol's crowd).
+RUN_STEP = 4
 # Pedestrians of a row that share one window per row in the pair loop (_pair_block):
 # four independent chains per vector lane, and a quarter of the runs.
 PAIR_BLOCK = 4
@@ -473,7 +477,10 @@ def _pair_end(
 
 @njit(cache=True, inline="always")
 def _lane_total(lanes: np.ndarray, at: int) -> float:
-    """The sum of the LANE_PAD lanes ``lanes[at : at + LANE_PAD]``, in a fixed tree."""
+    """The sum of the LANE_PAD lanes ``lanes[at : at + LANE_PAD]``, in a fixed tree: the
+    lanes 4 apart, then those sums 2 apart, then the two halves. Whatever ``at`` (lane j
+    of the pair loop sits at the position ≡ j mod LANE_PAD), these are the same pairs of
+    lanes, so the same sums (each addition commutes)."""
     total: float = ((lanes[at] + lanes[at + 4]) + (lanes[at + 2] + lanes[at + 6])) + (
         (lanes[at + 1] + lanes[at + 5]) + (lanes[at + 3] + lanes[at + 7])
     )
@@ -497,7 +504,7 @@ def _pair_block(
     (hx', hy')·u, see :func:`cell_pair_forces`), each share added into ``acc_x`` and
     ``acc_y``; ``lanes`` (2 PAIR_BLOCK LANE_ROW,) is scratch.
 
-    The loop runs over q, a whole number of LANE_PAD lanes past ``lo``, the force on
+    The loop runs over q, a whole number of RUN_STEP candidates past ``lo``, the force on
     each k[j] summed lane by lane (the comment above LANE_PAD says what the lanes are,
     why the sums are written out and what keeps the loop vectorised): without a scalar
     remainder and with the PAIR_BLOCK agents' independent chains in every lane it
@@ -545,7 +552,7 @@ def _pair_block(
         for j in range(LANE_PAD):
             lanes[r * LANE_ROW + j] = 0.0
     m = hi - lo
-    end = (m + LANE_PAD - 1) & -LANE_PAD
+    end = (m + RUN_STEP - 1) & -RUN_STEP
     at = 0  # where the lane sums of the candidates so far are
     for s in range(0, end, LANE_SEGMENT):
         if at > 0:  # a further segment: its lane sums start from the last one's

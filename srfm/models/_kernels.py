@@ -490,8 +490,8 @@ def _lane_total(lanes: np.ndarray, at: int) -> float:
 @njit(cache=True)
 def _pair_block(
     k: np.ndarray,
-    runs: np.ndarray,
-    count: int,
+    lo: int,
+    hi: int,
     dat: np.ndarray,
     cut2: float,
     inv_b: float,
@@ -499,11 +499,10 @@ def _pair_block(
     acc_y: np.ndarray,
     lanes: np.ndarray,
 ) -> None:
-    """The pairs (k[j], q) for the PAIR_BLOCK agents ``k`` and q with q > k[j] in each run
-    [lo, hi) = ``[runs[0, o], runs[1, o])`` for o below ``count`` (:func:`_row_windows`),
+    """The pairs (k[j], q) for the PAIR_BLOCK agents ``k`` and q in [lo, hi) with q > k[j]
     of the row-ordered agents ``dat`` (columns x, y, r / B, hx', hy', c: A ψ = c ±
     (hx', hy')·u, see :func:`cell_pair_forces`), each share added into ``acc_x`` and
-    ``acc_y`` run by run; ``lanes`` (2 PAIR_BLOCK LANE_ROW,) is scratch.
+    ``acc_y``; ``lanes`` (2 PAIR_BLOCK LANE_ROW,) is scratch.
 
     The loop runs over q, a whole number of RUN_STEP candidates past ``lo``, the force on
     each k[j] summed lane by lane (the comment above LANE_PAD says what the lanes are,
@@ -547,91 +546,78 @@ def _pair_block(
         dat[4, k3],
         dat[5, k3],
     )
-    # the runs one after the other, each summed on its own (one call per block: the
-    # call and the set-up above cost about as much as a vector iteration)
-    for o in range(count):
-        lo = runs[0, o]
-        hi = runs[1, o]
-        # lane row r (x and y of k[0], then of k[1], ...) at lanes[r * LANE_ROW:]; the lane
-        # sums of the candidates before q at [q, q + LANE_PAD), starting from zero
-        for r in range(2 * PAIR_BLOCK):
-            for j in range(LANE_PAD):
-                lanes[r * LANE_ROW + j] = 0.0
-        m = hi - lo
-        end = (m + RUN_STEP - 1) & -RUN_STEP
-        at = 0  # where the lane sums of the candidates so far are
-        for s in range(0, end, LANE_SEGMENT):
-            if at > 0:  # a further segment: its lane sums start from the last one's
-                for r in range(2 * PAIR_BLOCK):
-                    for j in range(LANE_PAD):
-                        lanes[r * LANE_ROW + j] = lanes[r * LANE_ROW + at + j]
-            at = min(LANE_SEGMENT, end - s)
-            # the segment's slices, indexed from 0: a loop index known to be >= 0 lets LLVM
-            # drop numba's negative-index wraparound and vectorise the loop
-            start = lo + s
-            xs = dat[0, start:]
-            ys = dat[1, start:]
-            rs = dat[2, start:]
-            hxs = dat[3, start:]
-            hys = dat[4, start:]
-            cs = dat[5, start:]
-            ax = acc_x[start:]
-            ay = acc_y[start:]
-            # q (from start) must be before hi and past k[j]: q > k[j] − start
-            left = hi - start
-            m0 = k0 - start
-            m1 = k1 - start
-            m2 = k2 - start
-            m3 = k3 - start
-            for q in range(at):
-                xq = xs[q]
-                yq = ys[q]
-                rq = rs[q]
-                hxq = hxs[q]
-                hyq = hys[q]
-                cq = cs[q]
-                inside = q < left
-                # the four pairs side by side up to and through the exponentials (see fast_exp4)
-                dx0, dy0, d20, id0, g0 = _pair_start(x0, y0, r0, xq, yq, rq, inv_b)
-                dx1, dy1, d21, id1, g1 = _pair_start(x1, y1, r1, xq, yq, rq, inv_b)
-                dx2, dy2, d22, id2, g2 = _pair_start(x2, y2, r2, xq, yq, rq, inv_b)
-                dx3, dy3, d23, id3, g3 = _pair_start(x3, y3, r3, xq, yq, rq, inv_b)
-                e0, e1, e2, e3 = fast_exp4(g0, g1, g2, g3)
-                live0 = inside & (q > m0)
-                live1 = inside & (q > m1)
-                live2 = inside & (q > m2)
-                live3 = inside & (q > m3)
-                mk0, mq0 = _pair_end(
-                    e0, dx0, dy0, d20, id0, hx0, hy0, c0, hxq, hyq, cq, live0, cut2
-                )
-                mk1, mq1 = _pair_end(
-                    e1, dx1, dy1, d21, id1, hx1, hy1, c1, hxq, hyq, cq, live1, cut2
-                )
-                mk2, mq2 = _pair_end(
-                    e2, dx2, dy2, d22, id2, hx2, hy2, c2, hxq, hyq, cq, live2, cut2
-                )
-                mk3, mq3 = _pair_end(
-                    e3, dx3, dy3, d23, id3, hx3, hy3, c3, hxq, hyq, cq, live3, cut2
-                )
-                p = q + LANE_PAD
-                lanes[p] = _fma(mk0, dx0, lanes[q])
-                lanes[LANE_ROW + p] = _fma(mk0, dy0, lanes[LANE_ROW + q])
-                lanes[2 * LANE_ROW + p] = _fma(mk1, dx1, lanes[2 * LANE_ROW + q])
-                lanes[3 * LANE_ROW + p] = _fma(mk1, dy1, lanes[3 * LANE_ROW + q])
-                lanes[4 * LANE_ROW + p] = _fma(mk2, dx2, lanes[4 * LANE_ROW + q])
-                lanes[5 * LANE_ROW + p] = _fma(mk2, dy2, lanes[5 * LANE_ROW + q])
-                lanes[6 * LANE_ROW + p] = _fma(mk3, dx3, lanes[6 * LANE_ROW + q])
-                lanes[7 * LANE_ROW + p] = _fma(mk3, dy3, lanes[7 * LANE_ROW + q])
-                ax[q] -= _fma(mq3, dx3, _fma(mq2, dx2, _fma(mq1, dx1, mq0 * dx0)))
-                ay[q] -= _fma(mq3, dy3, _fma(mq2, dy2, _fma(mq1, dy1, mq0 * dy0)))
-        acc_x[k0] += _lane_total(lanes, at)
-        acc_y[k0] += _lane_total(lanes, LANE_ROW + at)
-        acc_x[k1] += _lane_total(lanes, 2 * LANE_ROW + at)
-        acc_y[k1] += _lane_total(lanes, 3 * LANE_ROW + at)
-        acc_x[k2] += _lane_total(lanes, 4 * LANE_ROW + at)
-        acc_y[k2] += _lane_total(lanes, 5 * LANE_ROW + at)
-        acc_x[k3] += _lane_total(lanes, 6 * LANE_ROW + at)
-        acc_y[k3] += _lane_total(lanes, 7 * LANE_ROW + at)
+    # lane row r (x and y of k[0], then of k[1], ...) at lanes[r * LANE_ROW:]; the lane
+    # sums of the candidates before q at [q, q + LANE_PAD), starting from zero
+    for r in range(2 * PAIR_BLOCK):
+        for j in range(LANE_PAD):
+            lanes[r * LANE_ROW + j] = 0.0
+    m = hi - lo
+    end = (m + RUN_STEP - 1) & -RUN_STEP
+    at = 0  # where the lane sums of the candidates so far are
+    for s in range(0, end, LANE_SEGMENT):
+        if at > 0:  # a further segment: its lane sums start from the last one's
+            for r in range(2 * PAIR_BLOCK):
+                for j in range(LANE_PAD):
+                    lanes[r * LANE_ROW + j] = lanes[r * LANE_ROW + at + j]
+        at = min(LANE_SEGMENT, end - s)
+        # the segment's slices, indexed from 0: a loop index known to be >= 0 lets LLVM
+        # drop numba's negative-index wraparound and vectorise the loop
+        start = lo + s
+        xs = dat[0, start:]
+        ys = dat[1, start:]
+        rs = dat[2, start:]
+        hxs = dat[3, start:]
+        hys = dat[4, start:]
+        cs = dat[5, start:]
+        ax = acc_x[start:]
+        ay = acc_y[start:]
+        # q (from start) must be before hi and past k[j]: q > k[j] − start
+        left = hi - start
+        m0 = k0 - start
+        m1 = k1 - start
+        m2 = k2 - start
+        m3 = k3 - start
+        for q in range(at):
+            xq = xs[q]
+            yq = ys[q]
+            rq = rs[q]
+            hxq = hxs[q]
+            hyq = hys[q]
+            cq = cs[q]
+            inside = q < left
+            # the four pairs side by side up to and through the exponentials (see fast_exp4)
+            dx0, dy0, d20, id0, g0 = _pair_start(x0, y0, r0, xq, yq, rq, inv_b)
+            dx1, dy1, d21, id1, g1 = _pair_start(x1, y1, r1, xq, yq, rq, inv_b)
+            dx2, dy2, d22, id2, g2 = _pair_start(x2, y2, r2, xq, yq, rq, inv_b)
+            dx3, dy3, d23, id3, g3 = _pair_start(x3, y3, r3, xq, yq, rq, inv_b)
+            e0, e1, e2, e3 = fast_exp4(g0, g1, g2, g3)
+            live0 = inside & (q > m0)
+            live1 = inside & (q > m1)
+            live2 = inside & (q > m2)
+            live3 = inside & (q > m3)
+            mk0, mq0 = _pair_end(e0, dx0, dy0, d20, id0, hx0, hy0, c0, hxq, hyq, cq, live0, cut2)
+            mk1, mq1 = _pair_end(e1, dx1, dy1, d21, id1, hx1, hy1, c1, hxq, hyq, cq, live1, cut2)
+            mk2, mq2 = _pair_end(e2, dx2, dy2, d22, id2, hx2, hy2, c2, hxq, hyq, cq, live2, cut2)
+            mk3, mq3 = _pair_end(e3, dx3, dy3, d23, id3, hx3, hy3, c3, hxq, hyq, cq, live3, cut2)
+            p = q + LANE_PAD
+            lanes[p] = _fma(mk0, dx0, lanes[q])
+            lanes[LANE_ROW + p] = _fma(mk0, dy0, lanes[LANE_ROW + q])
+            lanes[2 * LANE_ROW + p] = _fma(mk1, dx1, lanes[2 * LANE_ROW + q])
+            lanes[3 * LANE_ROW + p] = _fma(mk1, dy1, lanes[3 * LANE_ROW + q])
+            lanes[4 * LANE_ROW + p] = _fma(mk2, dx2, lanes[4 * LANE_ROW + q])
+            lanes[5 * LANE_ROW + p] = _fma(mk2, dy2, lanes[5 * LANE_ROW + q])
+            lanes[6 * LANE_ROW + p] = _fma(mk3, dx3, lanes[6 * LANE_ROW + q])
+            lanes[7 * LANE_ROW + p] = _fma(mk3, dy3, lanes[7 * LANE_ROW + q])
+            ax[q] -= _fma(mq3, dx3, _fma(mq2, dx2, _fma(mq1, dx1, mq0 * dx0)))
+            ay[q] -= _fma(mq3, dy3, _fma(mq2, dy2, _fma(mq1, dy1, mq0 * dy0)))
+    acc_x[k0] += _lane_total(lanes, at)
+    acc_y[k0] += _lane_total(lanes, LANE_ROW + at)
+    acc_x[k1] += _lane_total(lanes, 2 * LANE_ROW + at)
+    acc_y[k1] += _lane_total(lanes, 3 * LANE_ROW + at)
+    acc_x[k2] += _lane_total(lanes, 4 * LANE_ROW + at)
+    acc_y[k2] += _lane_total(lanes, 5 * LANE_ROW + at)
+    acc_x[k3] += _lane_total(lanes, 6 * LANE_ROW + at)
+    acc_y[k3] += _lane_total(lanes, 7 * LANE_ROW + at)
 
 
 @njit(cache=True)
@@ -860,8 +846,10 @@ def cell_pair_forces(crowd: CrowdArrays, params: SRFMKernelParams, cutoff: float
                 # a block short of PAIR_BLOCK agents is filled with the first padding
                 # column, far from everyone
                 block[j] = first + j if first + j <= last else n
-            count = _row_windows(first, last, row, xs, ys, starts, grid, reach, chord, lo, hi, run)
-            _pair_block(block, run, count, dat, cut2, inv_b, acc_x, acc_y, lanes)
+            for o in range(
+                _row_windows(first, last, row, xs, ys, starts, grid, reach, chord, lo, hi, run)
+            ):
+                _pair_block(block, run[0, o], run[1, o], dat, cut2, inv_b, acc_x, acc_y, lanes)
     out = np.empty((n, 2))
     for k in range(n):
         i = order[k]

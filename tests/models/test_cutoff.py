@@ -324,8 +324,7 @@ def test_pair_loop_is_vectorised() -> None:
     acc_x = np.zeros(m + _kernels.LANE_PAD)
     acc_y = np.zeros(m + _kernels.LANE_PAD)
     lanes = np.empty(2 * _kernels.PAIR_BLOCK * _kernels.LANE_ROW)
-    runs = np.array([[0], [m]])
-    pair_block(np.arange(4), runs, 1, dat, 4.0, 1.0, acc_x, acc_y, lanes)
+    pair_block(np.arange(4), 0, m, dat, 4.0, 1.0, acc_x, acc_y, lanes)
     (llvm_ir,) = pair_block.inspect_llvm().values()
     assert re.search(r"@llvm\.sqrt\.v\d+f64\(", llvm_ir)
 

@@ -240,13 +240,36 @@ def _sort_by_x(order: np.ndarray, a: int, b: int, pos: np.ndarray) -> None:
                 j -= 1
             order[j] = i
         return
-    xs = np.empty(b - a)
-    for k in range(a, b):
-        xs[k - a] = pos[order[k], 0]
-    run = order[a:b].copy()
-    by_x = np.argsort(xs, kind="mergesort")
-    for k in range(b - a):
-        order[a + k] = run[by_x[k]]
+    # bottom-up merge sort (np.argsort(kind="mergesort") gives the same order but took
+    # 1.7 s of numba's compile time of build_rows)
+    m = b - a
+    src = order[a:b].copy()
+    key = np.empty(m)
+    for k in range(m):
+        key[k] = pos[src[k], 0]
+    dst = np.empty(m, dtype=np.int64)
+    dkey = np.empty(m)
+    width = 1
+    while width < m:
+        for lo in range(0, m, 2 * width):
+            mid = min(lo + width, m)
+            hi = min(lo + 2 * width, m)
+            i = lo
+            j = mid
+            for k in range(lo, hi):
+                if j >= hi or (i < mid and key[i] <= key[j]):  # a tie: the earlier first
+                    dst[k] = src[i]
+                    dkey[k] = key[i]
+                    i += 1
+                else:
+                    dst[k] = src[j]
+                    dkey[k] = key[j]
+                    j += 1
+        src, dst = dst, src
+        key, dkey = dkey, key
+        width *= 2
+    for k in range(m):
+        order[a + k] = src[k]
 
 
 # Rows per cut-off: the rows are cut-off / ROW_SPLIT tall. Thinner rows follow the
@@ -254,15 +277,15 @@ def _sort_by_x(order: np.ndarray, a: int, b: int, pos: np.ndarray) -> None:
 # shorter runs per pedestrian (3 was the fastest of 2, 3, 4 and 6 at N = 1000 and 10,000).
 ROW_SPLIT = 3
 
-# The pair pass (_pair_block, _pair_terms, fast_exp) is written for LLVM's loop
+# The pair pass (_pair_block, _pair_start, fast_exp4, _pair_end) is written for LLVM's loop
 # vectoriser, and its bits are fixed by this source alone. What to keep when changing it:
 #
 # * The lanes. One iteration of the loop over q takes one candidate q of a run against
 #   the PAIR_BLOCK pedestrians of a block: four independent pair terms. The vectoriser
 #   puts consecutive q side by side in a vector register (4 per AVX2 instruction, 8 with
 #   AVX-512): a vector lane is one candidate, and each lane carries the block's four
-#   chains. A run is walked in whole multiples of LANE_PAD candidates, so that no scalar
-#   remainder loop runs; dat, acc_x and acc_y have LANE_PAD padding columns after the n
+#   chains. A run is walked in whole multiples of RUN_STEP candidates, so that no scalar
+#   remainder loop runs with AVX2; dat, acc_x and acc_y have LANE_PAD padding columns after the n
 #   agents (x = 1e30, far from everyone; r, h and c zero). A candidate past the run's
 #   end, not after the pedestrian in pair-once order, beyond the cut-off or closer than
 #   EPS gets the weight 0 by a select, never a branch. A block short of PAIR_BLOCK
@@ -271,7 +294,8 @@ ROW_SPLIT = 3
 #   exactly where _fma says so (LLVM's llvm.fma, one rounding, one instruction on a CPU
 #   with FMA), and each pedestrian's force is summed lane by lane: lane j of ``lanes``
 #   takes the candidates q ≡ j (mod LANE_PAD) in increasing q, then the LANE_PAD lanes
-#   are added in a fixed tree (_lane_total). Nothing is left to LLVM to choose: the bits
+#   are added in a fixed tree (_lane_total, the same sums whichever lane a run ends
+#   on). Nothing is left to LLVM to choose: the bits
 #   do not depend on the vector width, on which iterations run as vector or as scalar
 #   code, nor on the caller. numba re-optimises a copy of _pair_block inside every
 #   caller's module and a process runs the copy it loaded first; with the flags
@@ -295,10 +319,13 @@ ROW_SPLIT = 3
 #   byte for byte the same compiled and loaded from the cache
 #   (test_cutoff_episode_is_identical_compiled_and_cached).
 #
-# The pair loop runs over whole multiples of LANE_PAD candidates (the vector width of
-# AVX-512 in float64; a multiple of AVX2's 4): a short run costs one vector iteration,
-# not up to 7 scalar ones.
+# The lanes a pedestrian's force is summed in (the vector width of AVX-512 in float64).
 LANE_PAD = 8
+# The pair loop runs over whole multiples of RUN_STEP candidates (AVX2's vector width in
+# float64; with AVX-512 a run may end with up to 4 scalar iterations, the same bits): a
+# short run costs one vector iteration, and no more than 3 padding candidates (with
+# LANE_PAD, 8 % fewer pair terms at N = 1000 on the protocol's crowd).
+RUN_STEP = 4
 # Pedestrians of a row that share one window per row in the pair loop (_pair_block):
 # four independent chains per vector lane, and a quarter of the runs.
 PAIR_BLOCK = 4
@@ -355,81 +382,128 @@ _LN2_LO = 1.90821492927058770002e-10
 _ROUND_SHIFT = 6755399441055744.0  # 1.5·2^52: an integer added to it lands in the low bits
 
 
+# the Taylor coefficients of e^t after the leading 1 / 12!, from t^11 down to t^0
+_EXP_TAYLOR = (
+    1.0 / 39916800.0,
+    1.0 / 3628800.0,
+    1.0 / 362880.0,
+    1.0 / 40320.0,
+    1.0 / 5040.0,
+    1.0 / 720.0,
+    1.0 / 120.0,
+    1.0 / 24.0,
+    1.0 / 6.0,
+    0.5,
+    1.0,
+    1.0,
+)
+
+
 @njit(cache=True)
-def fast_exp(arg: float) -> float:
-    """exp(arg), arg clipped to [−EXP_ARG_MAX, EXP_ARG_MAX], branch-free so that the pair
-    loop vectorises (numba's math.exp is a libm call per element).
+def _exp_reduce(arg: float) -> tuple[float, float]:
+    """``(nf, t)`` of :func:`fast_exp4`'s argument reduction: arg, clipped, = nf ln 2 + t."""
+    x = min(max(arg, -EXP_ARG_MAX), EXP_ARG_MAX)
+    nf = np.floor(_fma(x, _LOG2E, 0.5))  # a float: no float-to-int conversion per lane
+    t = _fma(-nf, _LN2_LO, _fma(-nf, _LN2_HI, x))
+    return nf, t
+
+
+@njit(cache=True)
+def _exp_scale(nf: float) -> float:
+    """2^nf for an integral float ``nf`` in the exponent's range, written into the bits."""
+    # nf + 1.5·2^52 is exact and holds nf in its low bits: n without a float-to-int64
+    # conversion (AVX2 has none)
+    n = _float_bits(nf + _ROUND_SHIFT) - _float_bits(_ROUND_SHIFT)
+    return _bits_float((n + 1023) << 52)
+
+
+# inlined by numba: LLVM does not inline a function this long into the pair loop by
+# itself, and the loop does not vectorise around a call
+@njit(cache=True, inline="always")
+def fast_exp4(a0: float, a1: float, a2: float, a3: float) -> tuple[float, float, float, float]:
+    """exp of four arguments, each clipped to [−EXP_ARG_MAX, EXP_ARG_MAX], branch-free so
+    that the pair loop vectorises (numba's math.exp is a libm call per element).
 
     arg = n ln 2 + t with n = round(arg / ln 2) and |t| <= ln 2 / 2; e^t from its Taylor
     polynomial of degree 12 (truncation below 2e-17 relative) in Horner form with fused
     multiply-adds, 2^n written straight into the exponent bits. Within 2.3e-16 relative
     of math.exp over [−60, 60]. No fastmath (see the pair pass's comment above
     LANE_PAD): reassociation would fold the two-part ln 2 into one product.
+
+    Four at a time, step by step side by side, each the same operations as alone
+    (:func:`fast_exp`): the Horner chain is 12 dependent fused multiply-adds, and a
+    pair-loop iteration is longer than the CPU's reordering window, so written one after
+    the other the four chains ran mostly one at a time (the pair pass 25 % slower).
     """
-    x = min(max(arg, -EXP_ARG_MAX), EXP_ARG_MAX)
-    nf = np.floor(_fma(x, _LOG2E, 0.5))  # a float: no float-to-int conversion per lane
-    t = _fma(-nf, _LN2_LO, _fma(-nf, _LN2_HI, x))
-    p = 1.0 / 479001600.0
-    p = _fma(p, t, 1.0 / 39916800.0)
-    p = _fma(p, t, 1.0 / 3628800.0)
-    p = _fma(p, t, 1.0 / 362880.0)
-    p = _fma(p, t, 1.0 / 40320.0)
-    p = _fma(p, t, 1.0 / 5040.0)
-    p = _fma(p, t, 1.0 / 720.0)
-    p = _fma(p, t, 1.0 / 120.0)
-    p = _fma(p, t, 1.0 / 24.0)
-    p = _fma(p, t, 1.0 / 6.0)
-    p = _fma(p, t, 0.5)
-    p = _fma(p, t, 1.0)
-    p = _fma(p, t, 1.0)
-    # nf + 1.5·2^52 is exact and holds nf in its low bits: n without a float-to-int64
-    # conversion (AVX2 has none)
-    n = _float_bits(nf + _ROUND_SHIFT) - _float_bits(_ROUND_SHIFT)
-    scale = _bits_float((n + 1023) << 52)
-    return p * scale
+    n0, t0 = _exp_reduce(a0)
+    n1, t1 = _exp_reduce(a1)
+    n2, t2 = _exp_reduce(a2)
+    n3, t3 = _exp_reduce(a3)
+    p0 = p1 = p2 = p3 = 1.0 / 479001600.0
+    for c in _EXP_TAYLOR:  # (a constant trip count: LLVM unrolls it)
+        p0 = _fma(p0, t0, c)
+        p1 = _fma(p1, t1, c)
+        p2 = _fma(p2, t2, c)
+        p3 = _fma(p3, t3, c)
+    return p0 * _exp_scale(n0), p1 * _exp_scale(n1), p2 * _exp_scale(n2), p3 * _exp_scale(n3)
+
+
+@njit(cache=True)
+def fast_exp(arg: float) -> float:
+    """exp(arg) of :func:`fast_exp4` for one argument (the same bits)."""
+    return fast_exp4(arg, arg, arg, arg)[0]
 
 
 @njit(cache=True, inline="always")
-def _pair_terms(
-    xk: float,
-    yk: float,
-    rk: float,
+def _pair_start(
+    xk: float, yk: float, rk: float, xq: float, yq: float, rq: float, inv_b: float
+) -> tuple[float, float, float, float, float]:
+    """``(dx, dy, d2, inv_d, arg)`` of one pair (k, q), up to the exponential: (dx, dy)
+    from q to k, d2 its squared length, inv_d = 1 / d (d at least EPS) and the exponent
+    arg = (r_k + r_q − d) / B, the radii already over B (see :func:`_pair_end`)."""
+    dx = xk - xq
+    dy = yk - yq
+    d2 = _fma(dx, dx, dy * dy)
+    d = math.sqrt(max(d2, EPS * EPS))
+    return dx, dy, d2, 1.0 / d, _fma(-d, inv_b, rk + rq)
+
+
+@njit(cache=True, inline="always")
+def _pair_end(
+    e: float,
+    dx: float,
+    dy: float,
+    d2: float,
+    inv_d: float,
     hxk: float,
     hyk: float,
     ck: float,
-    xq: float,
-    yq: float,
-    rq: float,
     hxq: float,
     hyq: float,
     cq: float,
     live: bool,
     cut2: float,
-    inv_b: float,
-) -> tuple[float, float, float, float]:
-    """``(mk, mq, dx, dy)`` of one pair (k, q): the forces on k and on q are mk (dx, dy)
-    and −mq (dx, dy), with (dx, dy) from q to k; mk = mq = 0 unless ``live`` and the pair
-    is closer than the cut-off (``cut2`` its square) and not closer than EPS.
-    Branch-free (a select), so that the loop around it vectorises; the columns are those
-    of :func:`cell_pair_forces` (radii over B, A in c and h'): m = A exp((r_k + r_q − d)
-    / B) ψ / d, each with its own ψ."""
+) -> tuple[float, float]:
+    """``(mk, mq)`` of one pair (k, q) from :func:`_pair_start`'s values and e = exp(arg):
+    the forces on k and on q are mk (dx, dy) and −mq (dx, dy); mk = mq = 0 unless
+    ``live`` and the pair is closer than the cut-off (``cut2`` its square) and not closer
+    than EPS. Branch-free (a select), so that the loop around it vectorises; the columns
+    are those of :func:`cell_pair_forces` (radii over B, A in c and h'): m = A exp((r_k +
+    r_q − d) / B) ψ / d, each with its own ψ."""
     eps2 = EPS * EPS
-    dx = xk - xq
-    dy = yk - yq
-    d2 = _fma(dx, dx, dy * dy)
-    d = math.sqrt(max(d2, eps2))
-    inv_d = 1.0 / d
-    e = fast_exp(_fma(-d, inv_b, rk + rq))
     # e / d: the unit vector from q to k is (dx, dy) / d
     s = e * inv_d if live & (d2 < cut2) & (d2 >= eps2) else 0.0
     mk = s * _fma(_fma(hxk, dx, hyk * dy), inv_d, ck)
     mq = s * _fma(-_fma(hxq, dx, hyq * dy), inv_d, cq)
-    return mk, mq, dx, dy
+    return mk, mq
 
 
 @njit(cache=True, inline="always")
 def _lane_total(lanes: np.ndarray, at: int) -> float:
-    """The sum of the LANE_PAD lanes ``lanes[at : at + LANE_PAD]``, in a fixed tree."""
+    """The sum of the LANE_PAD lanes ``lanes[at : at + LANE_PAD]``, in a fixed tree: the
+    lanes 4 apart, then those sums 2 apart, then the two halves. Whatever ``at`` (lane j
+    of the pair loop sits at the position ≡ j mod LANE_PAD), these are the same pairs of
+    lanes, so the same sums (each addition commutes)."""
     total: float = ((lanes[at] + lanes[at + 4]) + (lanes[at + 2] + lanes[at + 6])) + (
         (lanes[at + 1] + lanes[at + 5]) + (lanes[at + 3] + lanes[at + 7])
     )
@@ -453,7 +527,7 @@ def _pair_block(
     (hx', hy')·u, see :func:`cell_pair_forces`), each share added into ``acc_x`` and
     ``acc_y``; ``lanes`` (2 PAIR_BLOCK LANE_ROW,) is scratch.
 
-    The loop runs over q, a whole number of LANE_PAD lanes past ``lo``, the force on
+    The loop runs over q, a whole number of RUN_STEP candidates past ``lo``, the force on
     each k[j] summed lane by lane (the comment above LANE_PAD says what the lanes are,
     why the sums are written out and what keeps the loop vectorised): without a scalar
     remainder and with the PAIR_BLOCK agents' independent chains in every lane it
@@ -501,7 +575,7 @@ def _pair_block(
         for j in range(LANE_PAD):
             lanes[r * LANE_ROW + j] = 0.0
     m = hi - lo
-    end = (m + LANE_PAD - 1) & -LANE_PAD
+    end = (m + RUN_STEP - 1) & -RUN_STEP
     at = 0  # where the lane sums of the candidates so far are
     for s in range(0, end, LANE_SEGMENT):
         if at > 0:  # a further segment: its lane sums start from the last one's
@@ -534,18 +608,20 @@ def _pair_block(
             hyq = hys[q]
             cq = cs[q]
             inside = q < left
-            mk0, mq0, dx0, dy0 = _pair_terms(
-                x0, y0, r0, hx0, hy0, c0, xq, yq, rq, hxq, hyq, cq, inside & (q > m0), cut2, inv_b
-            )
-            mk1, mq1, dx1, dy1 = _pair_terms(
-                x1, y1, r1, hx1, hy1, c1, xq, yq, rq, hxq, hyq, cq, inside & (q > m1), cut2, inv_b
-            )
-            mk2, mq2, dx2, dy2 = _pair_terms(
-                x2, y2, r2, hx2, hy2, c2, xq, yq, rq, hxq, hyq, cq, inside & (q > m2), cut2, inv_b
-            )
-            mk3, mq3, dx3, dy3 = _pair_terms(
-                x3, y3, r3, hx3, hy3, c3, xq, yq, rq, hxq, hyq, cq, inside & (q > m3), cut2, inv_b
-            )
+            # the four pairs side by side up to and through the exponentials (see fast_exp4)
+            dx0, dy0, d20, id0, g0 = _pair_start(x0, y0, r0, xq, yq, rq, inv_b)
+            dx1, dy1, d21, id1, g1 = _pair_start(x1, y1, r1, xq, yq, rq, inv_b)
+            dx2, dy2, d22, id2, g2 = _pair_start(x2, y2, r2, xq, yq, rq, inv_b)
+            dx3, dy3, d23, id3, g3 = _pair_start(x3, y3, r3, xq, yq, rq, inv_b)
+            e0, e1, e2, e3 = fast_exp4(g0, g1, g2, g3)
+            live0 = inside & (q > m0)
+            live1 = inside & (q > m1)
+            live2 = inside & (q > m2)
+            live3 = inside & (q > m3)
+            mk0, mq0 = _pair_end(e0, dx0, dy0, d20, id0, hx0, hy0, c0, hxq, hyq, cq, live0, cut2)
+            mk1, mq1 = _pair_end(e1, dx1, dy1, d21, id1, hx1, hy1, c1, hxq, hyq, cq, live1, cut2)
+            mk2, mq2 = _pair_end(e2, dx2, dy2, d22, id2, hx2, hy2, c2, hxq, hyq, cq, live2, cut2)
+            mk3, mq3 = _pair_end(e3, dx3, dy3, d23, id3, hx3, hy3, c3, hxq, hyq, cq, live3, cut2)
             p = q + LANE_PAD
             lanes[p] = _fma(mk0, dx0, lanes[q])
             lanes[LANE_ROW + p] = _fma(mk0, dy0, lanes[LANE_ROW + q])

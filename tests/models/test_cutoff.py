@@ -245,6 +245,19 @@ def test_fast_exp_matches_math_exp() -> None:
     assert _kernels.fast_exp(-1e300) == pytest.approx(math.exp(-60.0), rel=1e-15)
 
 
+def test_fast_exp4_gives_each_argument_the_bits_of_fast_exp() -> None:
+    # the pair loop takes four exponentials side by side: each is the one alone, whatever
+    # its neighbours (clipped ones, tiny ones, huge ones)
+    rng = np.random.default_rng(7)
+    args = np.concatenate([rng.uniform(-70.0, 70.0, 400), [-1e300, 1e300, -0.0, 1e-300]])
+    for a in args.reshape(-1, 4):
+        four = _kernels.fast_exp4(*(float(x) for x in a))
+        alone = [_kernels.fast_exp(float(x)) for x in a]
+        assert np.array_equal(np.array(four).view(np.int64), np.array(alone).view(np.int64))
+        for x, y in zip(four, a, strict=True):
+            assert x == pytest.approx(math.exp(min(max(y, -60.0), 60.0)), rel=1e-15)
+
+
 @pytest.mark.parametrize("b_ped", [1e-320, 1e-300, 1e-3])
 def test_tiny_range_gives_finite_forces_in_the_cell_list(b_ped: float) -> None:
     # overlapping agents and a (subnormal) tiny B: capped exponents, never inf or NaN

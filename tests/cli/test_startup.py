@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -57,3 +58,34 @@ def test_an_unknown_name_is_an_attribute_error() -> None:
         srfm.no_such_name  # noqa: B018
     with pytest.raises(AttributeError, match="no_such_name"):
         srfm.models.no_such_name  # noqa: B018
+
+
+def test_the_program_freezes_the_collector_at_exit_and_its_logs_are_whole(
+    tmp_path: Path,
+) -> None:
+    """`srfm simulate --out` run as a program (arguments from sys.argv) freezes the
+    garbage collector once the command is done (the interpreter's last collection is
+    skipped): the path runs, and the files it wrote are complete and read back."""
+    from mcap.reader import make_reader
+
+    out = tmp_path / "out"
+    probe = (
+        "import atexit, gc, sys\n"
+        "atexit.register(lambda: print('frozen', gc.get_freeze_count(), file=sys.stderr))\n"
+        f"sys.argv = ['srfm', 'simulate', '--scenario', 'crosswalk', '--out', {str(out)!r}]\n"
+        "from srfm.cli import main\n"
+        "main()\n"
+    )
+    run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    frozen = [line for line in run.stderr.splitlines() if line.startswith("frozen ")]
+    assert frozen
+    assert int(frozen[0].split()[1]) > 0
+    (rrd,) = out.rglob("*.rrd")
+    (log,) = out.rglob("*.mcap")
+    verify = subprocess.run(
+        [sys.executable, "-m", "rerun", "rrd", "verify", str(rrd)], capture_output=True, text=True
+    )
+    assert verify.returncode == 0, verify.stderr
+    with log.open("rb") as f:
+        assert sum(1 for _ in make_reader(f).iter_messages()) > 100

@@ -117,8 +117,10 @@ def _nan_to_none(values: list[float]) -> list[float | None]:
 
 @functools.lru_cache(maxsize=32)
 def _crowd_speeds(scenario: Scenario, seed: int) -> tuple[list[float], list[float]]:
-    """The desired and maximum speeds of a scenario's crowd for a seed (the planners of
-    a benchmark cell share them; scenarios are hashed by identity)."""
+    """The desired and maximum speeds of a scenario's crowd for a seed. Scenarios are
+    hashed by identity, so the writes that share them are those of one scenario object:
+    an episode's file and its shared counterfactual file, or the episodes of one process
+    that reuses its scenarios (a benchmark worker gets a copy with each task)."""
     crowd = episode_setup(scenario, seed).crowd
     return crowd.v0.tolist(), crowd.vmax.tolist()
 

@@ -960,11 +960,13 @@ def step_serial(
     integrate(crowd.pos, crowd.vel, force_buf, crowd.vmax, dt)
 
 
-# Not inline="always": numba's IR-level inlining of this step (twice per episode step, both twins)
-# made `advance_exact` the slowest kernel of a first run to compile (the crowd, robot
-# and metric kernels: 34.5 CPU-s with it, 13.9 without); as a compiled callee, which
-# LLVM may still inline, an episode runs 0-3 % slower (docs/performance.md, "First
-# run with an empty numba cache").
+# Compiled apart, not inline="always" (the same holds for robot_force and robot_event):
+# numba inlines at the level of its own IR, so every copy is typed and lowered again.
+# The episode's step (srfm.sim._kernels._advance) calls this step twice (both twins),
+# and inlined, each copy carried the robot force's four forms: a first run's crowd,
+# robot and metric kernels took 34.5 CPU-s to compile with it, 13.9 without. As compiled
+# callees, which LLVM may still inline, an episode runs 0-3 % slower (docs/performance.md,
+# "First run with an empty numba cache").
 @njit(cache=True)
 def step_exact(crowd: CrowdArrays, context: ForceContext, dt: float, force_buf: np.ndarray) -> None:
     """One crowd step with every pedestrian pair, in index order (the exact kernel),

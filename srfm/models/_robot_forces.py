@@ -313,11 +313,8 @@ def robot_strength(params: SRFMKernelParams) -> float:
     return params.a_robot
 
 
-# Not inline="always": numba's IR-level inlining of the four forms into every crowd step
-# made `advance_exact` the slowest kernel of a first run to compile (the crowd, robot
-# and metric kernels: 34.5 CPU-s with it, 13.9 without); as a compiled callee, which
-# LLVM may still inline, an episode runs 0-3 % slower (docs/performance.md, "First
-# run with an empty numba cache").
+# Compiled apart, not inline="always": see the comment above step_exact in
+# srfm/models/_kernels.py.
 @njit(cache=True)
 def robot_force(
     x: float,

@@ -206,11 +206,8 @@ def move_robot(robot: np.ndarray, c0: float, c1: float, limits: RobotLimits, dt:
     robot[OMEGA] = wrap_angle(new_theta - theta) / dt
 
 
-# Not inline="always": numba's IR-level inlining of this event check
-# made `advance_exact` the slowest kernel of a first run to compile (the crowd, robot
-# and metric kernels: 34.5 CPU-s with it, 13.9 without); as a compiled callee, which
-# LLVM may still inline, an episode runs 0-3 % slower (docs/performance.md, "First
-# run with an empty numba cache").
+# Compiled apart, not inline="always": see the comment above step_exact in
+# srfm/models/_kernels.py.
 @njit(cache=True)
 def robot_event(
     robot: np.ndarray,

@@ -10,6 +10,7 @@ from srfm.benchmark._draws import (
     rank_table,
 )
 from srfm.benchmark._html import REPORT, render_report, write_report
+from srfm.benchmark._models import ResponseModels, Robustness, robustness
 from srfm.benchmark._request import (
     MANIFEST,
     MAX_SEEDS,
@@ -39,6 +40,8 @@ __all__ = [
     "EpisodeWriter",
     "ParamDraws",
     "RankTable",
+    "ResponseModels",
+    "Robustness",
     "default_planners",
     "draw_params",
     "episode_path",
@@ -47,6 +50,7 @@ __all__ = [
     "rank_table",
     "read_episode",
     "render_report",
+    "robustness",
     "run_benchmark",
     "write_report",
     "write_reports",

@@ -2,6 +2,7 @@
 
 from srfm.benchmark._draws import (
     SENSITIVITY_RANGES,
+    WIDE_RANGES,
     ParamDraws,
     RankTable,
     draw_params,
@@ -33,6 +34,7 @@ __all__ = [
     "QUICK_SEEDS",
     "REPORT",
     "SENSITIVITY_RANGES",
+    "WIDE_RANGES",
     "BenchmarkRequest",
     "BenchmarkSummary",
     "EpisodeWriter",

@@ -263,10 +263,11 @@ def _split(values: tuple[str, ...]) -> list[str]:
     "--param-draws-from",
     default="sensitivity",
     show_default=True,
-    metavar="sensitivity|FILE",
+    metavar="sensitivity|wide|FILE",
     help="The distribution of the draws: 'sensitivity' (A_r ~ U(3.965, 15.86), "
-    "B_r ~ U(0.5, 1.5)) or a CSV file of parameter sets (header: parameter names), "
-    "e.g. the bootstrap replicates of a fit.",
+    "B_r ~ U(0.5, 1.5)), 'wide' (A_r ~ log-U(0.25, 15.86), B_r ~ log-U(0.1, 1.5): "
+    "from below the real-data fit to the top of the sensitivity ranges) or a CSV file "
+    "of parameter sets (header: parameter names), e.g. the bootstrap replicates of a fit.",
 )
 @click.option(
     "--param-draws-seed",

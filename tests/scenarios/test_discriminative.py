@@ -151,7 +151,7 @@ def test_report_reads_a_run_of_any_planners(tmp_path: Path) -> None:
     assert set(row["scores"]) == set(values)
     assert row["scores"]["dwa"][0] == pytest.approx((0.1 - 0.0045) / 0.5)
     assert discrimination._planners(rows) == ["straight", "oracle", "dwa"]
-    assert "td3-srfm" not in discrimination._means_table(rows)
+    assert "td3-srfm" not in discrimination.means_table(rows)
     # a planner of the request with seeds missing: the scenario is not complete yet
     (tmp_path / "run" / "episodes" / "s" / "dwa" / "seed-000009.json").unlink()
     assert discrimination._measure(tmp_path / "run") == []

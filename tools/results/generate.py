@@ -50,7 +50,9 @@ class MissingError(Exception):
 def _need(*names: str) -> None:
     missing = [n for n in names if not sets.exists(n)]
     if missing:
-        raise MissingError(", ".join(missing))
+        raise MissingError(
+            " and ".join(f"`{n}` (`python tools/results/run.py {n}`)" for n in missing)
+        )
 
 
 def _preset(params: dict[str, Any]) -> str:
@@ -449,7 +451,7 @@ def discriminative_tables() -> str:
     available = {s for n in names for s in sets.manifest(n)["request"]["scenarios"]}
     missing = [s for s in suite if s not in available]
     if missing:
-        raise MissingError(f"with {', '.join(missing)}")
+        raise MissingError(f"with the scenarios {', '.join(missing)}")
     rows = _disc_rows(names, suite)
     return (
         f"The suite `discriminative` ({', '.join(f'`{s}`' for s in suite)}) on seeds 0–99, "
@@ -547,10 +549,7 @@ def render(name: str, page: Path) -> str:
     try:
         return BLOCKS[name]().strip()
     except MissingError as exc:
-        return (
-            f"*Not measured yet: the results set(s) {exc} are not committed "
-            f"(`python tools/results/run.py NAME`).*"
-        )
+        return f"*Not measured yet: no committed results set {exc}.*"
 
 
 def rewrite(text: str, page: Path) -> tuple[str, list[str]]:

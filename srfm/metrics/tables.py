@@ -394,6 +394,7 @@ _OUTCOME_SHORT: Final = {
     "collision": "coll.",
     "out_of_bounds": "out",
     "timeout": "timeout",
+    "planner_failed": "failed",
 }
 
 

@@ -50,10 +50,10 @@ from srfm.benchmark.figures import (
     save_figure_episode,
 )
 from srfm.errors import BenchmarkError, SrfmError
-from srfm.external import is_external
 from srfm.metrics import EpisodeMetrics, episode_metrics
 from srfm.metrics.report import render_tables
 from srfm.models.params import SRFMParams
+from srfm.planners.external import is_external
 from srfm.scenarios import Scenario
 from srfm.sim.budget import RunEstimate, check_run, estimate_run
 from srfm.sim.episode import build_planner, check_episode_memory, first_command, run_episode

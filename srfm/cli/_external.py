@@ -42,7 +42,7 @@ def _one_line_failures() -> None:
 
 def external_options(func: F) -> F:
     """Add ``--external`` and ``--external-timeout`` to a command (put it below
-    ``@user_errors``): the planners are defined (:func:`srfm.external.define_external`)
+    ``@user_errors``): the planners are defined (:func:`srfm.planners.external.define_external`)
     before the command runs, and their failures print as one line each."""
 
     @functools.wraps(func)
@@ -50,8 +50,8 @@ def external_options(func: F) -> F:
         *args: Any, external: tuple[str, ...], external_timeout: float, **kwargs: Any
     ) -> Any:
         if external:
-            from srfm.external import define_external
-            from srfm.external._planner import is_address, parse_external_option
+            from srfm.planners.external import define_external
+            from srfm.planners.external._planner import is_address, parse_external_option
 
             for text in external:
                 name, target = parse_external_option(text)

@@ -66,7 +66,7 @@ def make_planner(name: str) -> Planner:
     user's own code: ``srfm simulate --planner mypackage.planners:MyPlanner``.
 
     ``"external:NAME"`` is the external planner defined as NAME
-    (:func:`srfm.external.define_external`, ``--external NAME=COMMAND``): a planner in
+    (:func:`srfm.planners.external.define_external`, ``--external NAME=COMMAND``): a planner in
     another process, reached through the external planner protocol.
 
     Either way the planner's ``name`` becomes ``name`` (the registry name, or the whole
@@ -79,7 +79,7 @@ def make_planner(name: str) -> Planner:
             :class:`Planner` protocol.
     """
     if name.startswith("external:"):
-        from srfm.external import ExternalPlanner  # lazy: srfm.external imports this package
+        from srfm.planners.external import ExternalPlanner  # lazy: loaded when used
 
         return ExternalPlanner(name)
     if ":" in name:

@@ -31,7 +31,7 @@ EVENT_KINDS: Final = (
 )
 RobotOutcome = Literal["goal_reached", "collision", "out_of_bounds", "timeout", "planner_failed"]
 # planner_failed: an external planner crashed, hung or answered garbage or a bad
-# command (srfm.external); no event of the world ended the episode.
+# command (srfm.planners.external); no event of the world ended the episode.
 ROBOT_OUTCOMES: Final = ("goal_reached", "collision", "out_of_bounds", "timeout", "planner_failed")
 
 

@@ -22,7 +22,7 @@
 
 namespace srfm {
 
-// The protocol version this client speaks (srfm/external/protocol.toml, `version`).
+// The protocol version this client speaks (srfm/planners/external/protocol.toml, `version`).
 constexpr int kProtocolVersion = 1;
 
 // What srfm says about an episode at its start (the reset message).

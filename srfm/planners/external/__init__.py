@@ -9,11 +9,11 @@ beside this module.
   runs it wherever a planner name goes (:func:`srfm.run_episode`, the benchmark,
   ``srfm simulate``, ``srfm benchmark`` with ``--external NAME=COMMAND``);
 - :class:`ExternalPlanner` is srfm's end of the connection;
-- :func:`serve` (:mod:`srfm.external.client`) makes any Python function a planner at
+- :func:`serve` (:mod:`srfm.planners.external.client`) makes any Python function a planner at
   the other end.
 """
 
-from srfm.external._planner import (
+from srfm.planners.external._planner import (
     ADDRESS_ENV,
     DEFINITIONS_ENV,
     ExternalDefinition,
@@ -22,8 +22,8 @@ from srfm.external._planner import (
     external_definition,
     is_external,
 )
-from srfm.external._schema import PROTOCOL_VERSION, SCHEMA_FILE, field_table
-from srfm.external.client import Episode, Step, serve
+from srfm.planners.external._schema import PROTOCOL_VERSION, SCHEMA_FILE, field_table
+from srfm.planners.external.client import Episode, Step, serve
 
 __all__ = [
     "ADDRESS_ENV",

@@ -33,9 +33,9 @@ import numpy as np
 
 from srfm._validate import planner_name
 from srfm.errors import PlannerError, PlannerFailedError
-from srfm.external import _wire
-from srfm.external._schema import PROTOCOL_VERSION, message_problem, message_spec
 from srfm.planners._base import FloatArray, Observation, PlannerContext
+from srfm.planners.external import _wire
+from srfm.planners.external._schema import PROTOCOL_VERSION, message_problem, message_spec
 
 __all__ = [
     "ADDRESS_ENV",
@@ -214,7 +214,7 @@ def external_definition(name: str) -> ExternalDefinition:
         raise PlannerError(
             f"planner {PREFIX + bare!r} is not defined: give --external {bare}=COMMAND "
             f"(or {bare}=unix:PATH, {bare}=tcp:HOST:PORT), or call "
-            "srfm.external.define_external first"
+            "srfm.planners.external.define_external first"
         )
     try:
         entry = {**entry, "command": tuple(entry.get("command", ()))}

@@ -2,7 +2,7 @@
 
 A few lines make a program that srfm can run as ``--external NAME="python my_planner.py"``::
 
-    from srfm.external import serve
+    from srfm.planners.external import serve
 
     def act(step, episode):
         return episode.max_speed_mps, 0.0  # full speed ahead
@@ -14,7 +14,7 @@ started the program; given an ``address`` (``unix:PATH``, ``tcp:HOST:PORT``) it 
 there instead and answers every connection (one per benchmark worker) in a thread of
 its own, for ``--external NAME=tcp:HOST:PORT``.
 
-The client needs only this module, :mod:`srfm.external._wire` and ``msgpack``; it does
+The client needs only this module, :mod:`srfm.planners.external._wire` and ``msgpack``; it does
 not run srfm's simulation.
 """
 
@@ -31,8 +31,8 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm.external import _wire
-from srfm.external._schema import PROTOCOL_VERSION, message_problem, message_spec
+from srfm.planners.external import _wire
+from srfm.planners.external._schema import PROTOCOL_VERSION, message_problem, message_spec
 
 __all__ = ["Episode", "Step", "serve"]
 
@@ -213,8 +213,12 @@ def _session(
             else:
                 raise _ProtocolError(f"unknown message type {kind!r}")
         except _ProtocolError as exc:
-            conn.send({"type": "error", "message": str(exc)})
+            conn.send({"type": "error", "message": f"cannot use srfm's message: {exc}"})
             return
+        except Exception as exc:  # the user's act or reset raised: say so, then stop
+            what = "reset" if kind == "reset" else "act"
+            conn.send({"type": "error", "message": f"{what}() raised {type(exc).__name__}: {exc}"})
+            raise
 
 
 def _serve_socket(

@@ -42,7 +42,9 @@ def cpp_build(tmp_path_factory: pytest.TempPathFactory) -> Path:
         text=True,
     )
     if configure.returncode != 0:
-        message = "cmake cannot configure clients/cpp (libmsgpack-cxx-dev missing? run `make setup`):\n"
+        message = (
+            "cmake cannot configure clients/cpp (libmsgpack-cxx-dev missing? run `make setup`):\n"
+        )
         if os.environ.get("CI") == "true" or "msgpack" not in configure.stderr:
             pytest.fail(message + configure.stderr[-2000:])
         pytest.skip(message + configure.stderr[-500:])
@@ -51,3 +53,12 @@ def cpp_build(tmp_path_factory: pytest.TempPathFactory) -> Path:
     )
     assert built.returncode == 0, built.stdout[-3000:] + built.stderr[-3000:]
     return build
+
+
+@pytest.fixture(autouse=True)
+def _own_definitions(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each test's external planner definitions are its own (the environment variable
+    they live in is restored afterwards)."""
+    from srfm.planners.external import DEFINITIONS_ENV
+
+    monkeypatch.setenv(DEFINITIONS_ENV, os.environ.get(DEFINITIONS_ENV, "{}"))

@@ -69,8 +69,10 @@ def main() -> None:
     sock = socket.socket(family, socket.SOCK_STREAM)
     sock.connect(where)
     receive(sock)  # hello
-    send(sock, {"type": "hello", "protocol": 99 if mode == "version" else 1,
-                "detection_range_m": 0.0})
+    send(
+        sock,
+        {"type": "hello", "protocol": 99 if mode == "version" else 1, "detection_range_m": 0.0},
+    )
     episode: dict = {}
     while True:
         message = receive(sock)

@@ -68,7 +68,8 @@ def test_a_failure_ends_only_its_episode(
     reference = straight_records[0]
     assert failed.outcome == "planner_failed"
     assert failed.end_step == STEP
-    assert failed.robot_active[:STEP].all() and not failed.robot_active[STEP:].any()
+    assert failed.robot_active[:STEP].all()
+    assert not failed.robot_active[STEP:].any()
     np.testing.assert_array_equal(failed.robot_pose[: STEP + 1], reference.robot_pose[: STEP + 1])
     np.testing.assert_array_equal(failed.factual_pos[: STEP + 1], reference.factual_pos[: STEP + 1])
     assert (failed.robot_pose[STEP:] == failed.robot_pose[STEP]).all()
@@ -88,7 +89,9 @@ def test_a_failed_reset_ends_the_episode_at_its_first_step(
     straight_records: dict[int, srfm.EpisodeRecord],
 ) -> None:
     name = _define("resetcrash")
-    with pytest.warns(PlannerFailureWarning, match=r"crashed: its process exited with status 5 at reset"):
+    with pytest.warns(
+        PlannerFailureWarning, match=r"crashed: its process exited with status 5 at reset"
+    ):
         failed = srfm.run_episode(SCENARIO, 0, name)
     assert failed.outcome == "planner_failed"
     assert failed.end_step == 0
@@ -119,5 +122,8 @@ def test_nothing_listening_at_an_address_is_refused(tmp_path: object) -> None:
 
 
 def test_an_undefined_external_planner_says_how_to_define_it() -> None:
-    with pytest.raises(PlannerError, match=r"'external:undefined' is not defined: give --external undefined=COMMAND"):
+    with pytest.raises(
+        PlannerError,
+        match=r"'external:undefined' is not defined: give --external undefined=COMMAND",
+    ):
         srfm.run_episode(SCENARIO, 0, "external:undefined")

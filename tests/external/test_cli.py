@@ -79,7 +79,7 @@ def test_benchmark_goes_on_past_a_failing_planner_and_resumes(
     # The logs of a failed episode score to the same tables.
     score = _srfm("score", str(out / "logs"), "--out", str(tmp_path / "score"))
     assert score.returncode == 0, score.stderr
-    assert "same tables" in score.stdout
+    assert "same tables" in score.stderr
     kept = episode_path(out, "crosswalk", "external:bad", 0).read_bytes()
     # A resumed run keeps the failed episode (delete its file to run it again).
     again = _srfm(*command)

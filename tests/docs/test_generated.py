@@ -97,6 +97,7 @@ def test_a_packed_set_gives_back_the_benchmarks_tables(tmp_path: Path) -> None:
         finished="2026-01-01T00:01:00Z",
         wall_s=60.0,
         machine="test",
+        jobs=1,
         dest=tmp_path / "packed",
     )
     manifest = sets.manifest(dest)
@@ -130,5 +131,6 @@ def test_a_packed_set_gives_back_the_benchmarks_tables(tmp_path: Path) -> None:
             finished="",
             wall_s=0.0,
             machine="",
+            jobs=1,
             dest=tmp_path / "again",
         )

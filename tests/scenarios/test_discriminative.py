@@ -6,6 +6,7 @@ select`` from seeds 1000-1099, and the report's seeds never the selection's."""
 from __future__ import annotations
 
 import argparse
+import copy
 import json
 import math
 from pathlib import Path
@@ -18,6 +19,7 @@ from srfm.cli import main
 from srfm.metrics.headroom import DETECT_M, MIN_HEADROOM_M, MIN_STANDARD_ERRORS
 from srfm.scenarios.suites import SUITES
 from tools.analysis import discrimination
+from tools.results import generate, sets
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "discrimination"
 
@@ -101,6 +103,24 @@ def test_suite_is_the_best_ranked_qualifiers(selection: dict[str, Any]) -> None:
     best = {r["scenario"] for r in qualified[: int(t["max_suite"])]}
     assert set(selection["suite"]) == best
     assert [r["rank"] for r in qualified] == list(range(1, len(qualified) + 1))
+
+
+def test_the_rule_on_the_committed_selection_data_gives_the_suite(
+    selection: dict[str, Any],
+) -> None:
+    # the selection measured again with the shipped entries (results set `selection`,
+    # docs/results/discriminative.md) once it is committed, else the recorded one
+    if sets.exists("selection"):
+        rows = generate._rows("selection")
+        assert sets.manifest("selection")["request"]["planners"] == list(discrimination.PLANNERS)
+        assert sets.manifest("selection")["request"]["seeds"] == list(range(1000, 1100))
+    else:
+        rows = copy.deepcopy(selection["scenarios"])
+    suite = discrimination.select(rows)
+    assert tuple(suite) == SUITES["discriminative"]
+    t = discrimination.thresholds()
+    for row in rows:
+        assert (row["fails"] == []) == _meets(row, t), row["scenario"]
 
 
 def test_report_never_saw_the_selection_seeds(selection: dict[str, Any]) -> None:

@@ -75,7 +75,8 @@ def provenance(name: str) -> str:
     return (
         f"*Results set [`{name}`]({_link(name)}): {rs['episodes']:,} episodes, measured "
         f"{rs['started'][:16].replace('T', ' ')}–{rs['finished'][11:16]} UTC on commit "
-        f"`{rs['commit']}` ({_minutes(rs['wall_s'])} of wall time; {rs['machine']}); "
+        f"`{rs['commit']}` ({_minutes(rs['wall_s'])} of wall time with {rs['jobs']} "
+        f"workers; {rs['machine']}); "
         f"`{rs['command']}`; planners {', '.join(req['planners'])}; seeds "
         f"{seeds[0]}–{seeds[-1]}; parameters {_preset(p)} (A_r = {p['a_robot']:g} m/s², "
         f"B_r = {p['b_robot']:g} m); policies: {policies}.*"
@@ -112,7 +113,7 @@ def _table(name: str, *, reference: str | None, columns: Any = TABLE_COLUMNS) ->
 def sets_index() -> str:
     """Every results set: episodes, size, command, when, wall time."""
     lines = [
-        "| set | episodes | size (MB) | measured (UTC) | commit | wall time | command |",
+        "| set | episodes | size (MB) | measured (UTC) | commit | wall time (workers) | command |",
         "|---|--:|--:|---|---|--:|---|",
     ]
     total = 0
@@ -126,7 +127,7 @@ def sets_index() -> str:
         lines.append(
             f"| [`{name}`]({_link(name)}) | {rs['episodes']:,} | {size / 1e6:.2f} | "
             f"{rs['started'][:16].replace('T', ' ')} | `{rs['commit']}` | "
-            f"{_minutes(rs['wall_s'])} | `{rs['command']}` |"
+            f"{_minutes(rs['wall_s'])} ({rs['jobs']}) | `{rs['command']}` |"
         )
     lines += [
         "",
@@ -372,29 +373,45 @@ def rankings_intervals() -> str:
     return table.description + ".\n\n" + "\n".join(lines)
 
 
-def selection_table() -> str:
-    _need("selection")
-    rows = _rows("selection")
-    suite = discrimination.select(rows)
-    qualified = sum(not r["fails"] for r in rows)
+def _suite_change(suite: list[str]) -> str:
     shipped = list(SUITES["discriminative"])
     entered = [s for s in suite if s not in shipped]
     left = [s for s in shipped if s not in suite]
-    change = (
-        "the same eight as the shipped suite"
-        if not entered and not left
-        else (
-            f"entered: {', '.join(f'`{s}`' for s in entered) or 'none'}; left: "
-            f"{', '.join(f'`{s}`' for s in left) or 'none'}"
-        )
-    )
+    if not entered and not left:
+        return "the suite shipped as `discriminative`"
     return (
-        provenance("selection")
+        f"against the suite shipped as `discriminative`, entered: "
+        f"{', '.join(f'`{s}`' for s in entered) or 'none'}; left: "
+        f"{', '.join(f'`{s}`' for s in left) or 'none'}"
+    )
+
+
+def selection_table() -> str:
+    if not sets.exists("selection"):
+        doc = sets.read_json(DOCS / "discrimination" / "selection.json")
+        rows = doc["scenarios"]
+        suite = list(doc["suite"])
+        head = (
+            "*Not measured again with the shipped entries yet (results set `selection`: "
+            "`python tools/results/run.py selection`). The selection that chose the "
+            "shipped suite, measured on 2026-11-27 with the entries of then (the TD3 "
+            "planners were the paper-observation policies), from "
+            "`docs/discrimination/selection.json`"
+            + (f"; not complete then: {', '.join(doc['incomplete'])}" if doc["incomplete"] else "")
+            + ":*"
+        )
+    else:
+        rows = _rows("selection")
+        suite = discrimination.select(rows)
+        head = provenance("selection")
+    qualified = sum(not r["fails"] for r in rows)
+    return (
+        head
         + "\n\n"
         + discrimination.table(rows, selection=True)
         + f"\n\n{qualified} of the {len(rows)} candidates qualify; the rule chooses "
         + ", ".join(f"`{s}`" for s in suite)
-        + f" ({change})."
+        + f" ({_suite_change(suite)})."
     )
 
 

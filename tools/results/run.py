@@ -91,6 +91,7 @@ def main(argv: list[str] | None = None) -> None:
             finished=args.finished,
             wall_s=args.wall_s,
             machine=args.machine,
+            jobs=args.jobs,
         )
         print(f"packed {out} into {dest}")
         return
@@ -120,6 +121,7 @@ def main(argv: list[str] | None = None) -> None:
         finished=_now(),
         wall_s=time.monotonic() - t0,
         machine=_machine(load),
+        jobs=args.jobs,
     )
     print(f"packed into {dest}; now `make docs-tables`")
 

@@ -59,8 +59,8 @@ class ResultsSet:
 
     Attributes:
         name: the folder name under ``docs/results/``.
-        options: the benchmark's options (without ``--out``, ``-j`` and
-            :data:`FIXED_OPTIONS`, which every set uses).
+        options: the benchmark's options (without ``--out``, ``-j``, on which no
+            episode depends, and :data:`FIXED_OPTIONS`, which every set uses).
         columns: ``"all"`` (every per-episode metric) or ``"frechet"`` (the Fréchet
             deviation only).
         purpose: what the docs use it for.
@@ -71,12 +71,11 @@ class ResultsSet:
     columns: str
     purpose: str
 
-    def command(self, jobs: int = 2) -> str:
-        """The command line that makes the set (from the repository's root)."""
+    def command(self) -> str:
+        """The command line that makes the set (from the repository's root; ``-j N``
+        for N workers gives the same episodes)."""
         out = f"results/{self.name}"
-        return " ".join(
-            ["srfm benchmark", *self.options, *FIXED_OPTIONS, "-j", str(jobs), "--out", out]
-        )
+        return " ".join(["srfm benchmark", *self.options, *FIXED_OPTIONS, "--out", out])
 
     @property
     def folder(self) -> Path:
@@ -190,6 +189,7 @@ def pack(
     finished: str,
     wall_s: float,
     machine: str,
+    jobs: int,
     dest: Path | None = None,
 ) -> Path:
     """Write the set's committed folder from a finished benchmark folder ``out``.
@@ -224,6 +224,7 @@ def pack(
         "started": started,
         "finished": finished,
         "wall_s": round(wall_s),
+        "jobs": jobs,
         "machine": machine,
         "policies_weights_sha256": _policies(),
     }

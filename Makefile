@@ -12,7 +12,7 @@ RUN_STAMP := $(VENV)/.installed-run
 DEV_STAMP := $(VENV)/.installed-dev
 DEV_EXTRAS := dev,rl,sbx,dask,sweep,docs,release
 
-.PHONY: setup system-deps benchmark benchmark-full test lint typecheck docs pytest dist bench-perf clean
+.PHONY: setup system-deps benchmark benchmark-full test lint typecheck docs docs-tables results-set pytest dist bench-perf clean
 
 setup: $(DEV_STAMP) system-deps
 
@@ -64,6 +64,18 @@ typecheck: $(DEV_STAMP)
 # (a broken link, a public name without a docstring) fails it.
 docs: $(DEV_STAMP)
 	$(BIN)/mkdocs build --strict --site-dir site
+
+# Every generated table of the docs (between <!-- generated: NAME --> and <!-- end: NAME -->)
+# from the results sets committed in docs/results/: reads data, simulates nothing (seconds).
+# tests/docs/test_generated.py fails when a page differs from what the data give.
+docs-tables: $(DEV_STAMP)
+	$(BIN)/python tools/results/generate.py
+
+# Run one results set again from scratch into results/SET (interrupt and run again: the
+# benchmark resumes), pack it into docs/results/SET, then `make docs-tables`.
+# `make results-set SET=paper`; docs/results/index.md lists the sets and their times.
+results-set: $(DEV_STAMP)
+	$(BIN)/python tools/results/run.py $(SET)
 
 pytest: $(DEV_STAMP) system-deps
 	$(BIN)/pytest -q

@@ -5,7 +5,6 @@ starts a new process. Real processes throughout (raw_planner.py)."""
 from __future__ import annotations
 
 import re
-import time
 import uuid
 import warnings
 
@@ -53,10 +52,8 @@ def test_a_failure_ends_only_its_episode(
     mode: str, straight_records: dict[int, srfm.EpisodeRecord]
 ) -> None:
     name = _define(f"{mode}@{STEP}", step_timeout_s=0.5)
-    start = time.monotonic()
     with pytest.warns(PlannerFailureWarning) as caught:
         failed = srfm.run_episode(SCENARIO, 0, name)
-    assert time.monotonic() - start < 30.0
     (warning,) = caught
     line = str(warning.message)
     assert "\n" not in line

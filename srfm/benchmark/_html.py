@@ -41,6 +41,7 @@ _OUTCOME_TITLES: Final = {
     "collision": "collision",
     "timeout": "timeout",
     "out_of_bounds": "out of bounds",
+    "planner_failed": "planner failed",
 }
 _DATA_FILES: Final = (
     ("table.md", "the paper's Table 3 layout (Markdown)"),

@@ -69,6 +69,7 @@ __all__ = [
     "robustness",
     "robustness_document",
     "robustness_markdown",
+    "robustness_of_values",
 ]
 
 MODELS_DIR: Final = "models"
@@ -260,7 +261,25 @@ def robustness(
 ) -> Robustness:
     """The verdicts of the module docstring from each model's episode metrics (every
     scenario × planner × seed of the request, in that order, one list per model)."""
-    values = np.stack([_values(r, scenarios, planners) for r in per_model])  # (M, S, P, N)
+    values = np.stack([_values(r, scenarios, planners) for r in per_model])
+    return robustness_of_values(
+        values, models=models, scenarios=scenarios, planners=planners, n_seeds=n_seeds
+    )
+
+
+def robustness_of_values(
+    values: NDArray[np.float64],
+    *,
+    models: Sequence[str],
+    scenarios: Sequence[str],
+    planners: Sequence[str],
+    n_seeds: int,
+) -> Robustness:
+    """:func:`robustness` of the metric's values, shape (model, scenario, planner,
+    seed), NaN where undefined (e.g. read from committed results sets)."""
+    expected = (len(models), len(scenarios), len(planners), n_seeds)
+    if values.shape != expected:
+        raise BenchmarkError(f"need values of shape {expected}, got {values.shape}")
     pairs = list(itertools.combinations(range(len(planners)), 2))
     tests = [
         [[compare(values[m, s, j], values[m, s, i]) for m in range(len(models))] for i, j in pairs]

@@ -64,6 +64,7 @@ from srfm.errors import BenchmarkError, SrfmError
 from srfm.metrics import EpisodeMetrics, episode_metrics
 from srfm.metrics.report import render_tables
 from srfm.models.params import SRFMParams
+from srfm.planners.external import is_external
 from srfm.scenarios import Scenario
 from srfm.sim.budget import RunEstimate, check_run, estimate_run
 from srfm.sim.episode import build_planner, check_episode_memory, first_command, run_episode
@@ -225,10 +226,11 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
     """
     first: dict[str, _Task] = {}
     for task in tasks:
-        first.setdefault(task.planner, task)
-    if not first:
+        if not is_external(task.planner):  # its process is its own: nothing to compile
+            first.setdefault(task.planner, task)
+    if not tasks:
         return
-    straight = attrs.evolve(next(iter(first.values())), planner="straight")
+    straight = attrs.evolve(next(iter(first.values()), tasks[0]), planner="straight")
     groups: dict[type, list[_Task]] = {}
     for name, task in first.items():
         if name != "straight":

@@ -13,6 +13,7 @@ import click
 
 from srfm._text import count
 from srfm.cli._common import EXIT_INTERRUPTED, load_params_option, progressbar, user_errors
+from srfm.cli._external import external_options
 
 if TYPE_CHECKING:
     from srfm.benchmark import BenchmarkRequest, BenchmarkSummary, ResponseModels
@@ -277,6 +278,7 @@ def _split(values: tuple[str, ...]) -> list[str]:
     help="Seed of the parameter draws.",
 )
 @user_errors
+@external_options
 def benchmark(
     scenarios: tuple[str, ...],
     suite: str | None,

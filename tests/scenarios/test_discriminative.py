@@ -8,7 +8,6 @@ from __future__ import annotations
 import argparse
 import copy
 import json
-import math
 from pathlib import Path
 from typing import Any
 
@@ -123,9 +122,7 @@ def test_the_rule_on_the_committed_selection_data_gives_the_suite(
         assert (row["fails"] == []) == _meets(row, t), row["scenario"]
 
 
-@pytest.mark.parametrize(
-    "name", [n for n in ("paper", "francis", "navwareset") if sets.exists(n)]
-)
+@pytest.mark.parametrize("name", [n for n in ("paper", "francis", "navwareset") if sets.exists(n)])
 def test_report_never_saw_the_selection_seeds(name: str) -> None:
     # the suite's table on docs/results/discriminative.md comes from these sets
     seeds = sets.manifest(name)["request"]["seeds"]

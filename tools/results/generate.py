@@ -86,7 +86,7 @@ def provenance(name: str) -> str:
     )
 
 
-_PAGE: Path = DOCS
+_PAGE: Path = DOCS / "index.md"
 
 
 def _link(name: str) -> str:

@@ -8,11 +8,12 @@ Every checkpoint of the run (``checkpoints/step_N.zip``) that may be its best
 the validation set (the mixed training layouts and
 :data:`srfm.scenarios.training.LIBRARY_VALIDATION`) with ``--seeds`` seeds each, from
 20000 on (and on the scenario files ``--scenes``, e.g. the validation scenes of
-issue 43 in ``tools/rl/study43/validation_scenes/``): seeds that neither the periodic evaluations (10000 on) nor the report (0-99)
-use. The checkpoint with the highest success, then the fewest collisions, wins; a tie
-keeps the earlier one (deviation plays no part: the rule of ``--select-by-outcome``).
-Prints one line per checkpoint and writes them, with the choice, to ``--out`` (default
-``RUN_DIR/validation.json``); a rerun reuses the lines already written.
+issue 43 in ``tools/rl/study43/validation_scenes/``): seeds that neither the periodic
+evaluations (10000 on) nor the report (0-99) use. The checkpoint with the highest
+success, then the fewest collisions, wins; a tie keeps the earlier one (deviation
+plays no part: the rule of ``--select-by-outcome``). Prints one line per checkpoint and
+writes them, with the choice, to ``--out`` (default ``RUN_DIR/validation.json``); a
+rerun reuses the lines already written.
 """
 
 from __future__ import annotations

@@ -237,9 +237,7 @@ def status(args: argparse.Namespace) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
-    parser.add_argument(
-        "--runs", default="runs/study43", help="run folders (default runs/study43)"
-    )
+    parser.add_argument("--runs", default="runs/study43", help="run folders (default runs/study43)")
     sub = parser.add_subparsers(dest="what", required=True)
     p = sub.add_parser("run")
     p.add_argument("--arms", default="0,2", help="k2 values, comma-separated")

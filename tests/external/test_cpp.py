@@ -160,3 +160,12 @@ def test_cpp_reactive_planner_on_a_scenario_with_walls(cpp_build: Path) -> None:
     name = define_external("cpp-reactive", [str(cpp_build / "reactive_planner")])
     record = srfm.run_episode("narrow_doorway", 0, name)
     assert record.outcome == "goal_reached"
+
+
+def test_the_client_reads_every_field_the_schema_names() -> None:
+    from srfm.planners.external._schema import message_spec
+
+    source = (REPO / "clients" / "cpp" / "src" / "planner.cpp").read_text(encoding="utf-8")
+    read = set(re.findall(r'\(f, "(\w+)"', source))
+    wanted = {f.name for kind in ("reset", "observe") for f in message_spec(kind, "srfm").fields}
+    assert read == wanted

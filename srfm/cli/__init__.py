@@ -21,7 +21,7 @@ from srfm.cli._common import (
 from srfm.cli.benchmark import benchmark, report
 from srfm.cli.data import ade, data, fit
 from srfm.cli.logs import score, view
-from srfm.cli.simulate import planners, scenarios, simulate
+from srfm.cli.simulate import planners, scenarios, simulate, suites
 from srfm.cli.sweep import sweep
 from srfm.cli.train import export_policy, train
 
@@ -120,6 +120,7 @@ def _current_folder_importable() -> None:
 
 for _command in (
     scenarios,
+    suites,
     planners,
     simulate,
     benchmark,

@@ -55,6 +55,7 @@ __all__ = [
     "load_scenario",
     "next_goal",
     "parse_scenario",
+    "scenario_names",
     "source_goals",
     "validate_seed",
 ]
@@ -130,13 +131,19 @@ def load_scenario(name_or_path: str | Path) -> Scenario:
             (the message names the file and the key).
     """
     text = str(name_or_path)
-    if isinstance(name_or_path, str) and text in (*BUILTIN_SCENARIOS, *LARGE_SCENARIOS):
+    if isinstance(name_or_path, str) and text in scenario_names():
         return _builtin(text)
     path = Path(name_or_path)
     if path.suffix == ".toml" or path.exists():
         return read_scenario_file(path)
-    known = ", ".join((*BUILTIN_SCENARIOS, *LARGE_SCENARIOS))
+    known = ", ".join(scenario_names())
     raise ScenarioError(f"unknown scenario {text!r}; built-in: {known}; or give a .toml path")
+
+
+def scenario_names() -> tuple[str, ...]:
+    """Every name :func:`load_scenario` (and ``--scenario``) accepts: the built-in
+    scenarios, then the large crowds (``srfm scenarios`` lists them all)."""
+    return (*BUILTIN_SCENARIOS, *LARGE_SCENARIOS)
 
 
 def builtin_scenarios() -> list[Scenario]:

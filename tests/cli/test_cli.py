@@ -12,7 +12,7 @@ import pytest
 from click.testing import CliRunner
 
 from srfm.cli import main
-from srfm.scenarios import BUILTIN_SCENARIOS
+from srfm.scenarios import BUILTIN_SCENARIOS, LARGE_SCENARIOS
 from tests.conftest import write_scenario
 
 
@@ -31,9 +31,9 @@ def test_help_everywhere(cmd: list[str]) -> None:
 def test_scenarios_lists_every_builtin_with_a_description() -> None:
     code, out = run("scenarios")
     assert code == 0
-    lines = out.strip().splitlines()
-    assert [line.split()[0] for line in lines] == list(BUILTIN_SCENARIOS)
-    assert all(len(line.split(maxsplit=1)[1]) > 20 for line in lines)
+    lines = out.strip().splitlines()[1:]  # less the header
+    assert [line.split()[0] for line in lines] == [*BUILTIN_SCENARIOS, *LARGE_SCENARIOS]
+    assert all(len(line.split(maxsplit=2)[2]) > 20 for line in lines)
 
 
 def test_planners_lists_straight() -> None:

@@ -12,6 +12,7 @@ from typing import Any
 
 import click
 
+from srfm._version import DISTRIBUTION
 from srfm.cli._common import (
     DEBUG_ENV,
     EXIT_INTERRUPTED,
@@ -91,7 +92,11 @@ class _Main(click.Group):
 
 
 @click.group(cls=_Main, context_settings={"help_option_names": ["-h", "--help"]})
-@click.version_option(package_name="srfm")
+@click.version_option(
+    package_name=DISTRIBUTION,
+    prog_name="srfm",
+    message="%(prog)s, version %(version)s (%(package)s)",
+)
 @click.option(
     "--debug",
     is_flag=True,

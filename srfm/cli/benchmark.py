@@ -195,7 +195,7 @@ def _split(values: tuple[str, ...]) -> list[str]:
     default=None,
     help="Where the episodes run: 'process' (a local process pool, the default) or "
     "'dask' (a Dask LocalCluster of --jobs workers, or the cluster of --scheduler / "
-    "--scheduler-file). Same results, byte for byte. Needs srfm[dask] for 'dask'.",
+    "--scheduler-file). Same results, byte for byte. Needs the dask extra for 'dask'.",
 )
 @click.option(
     "--scheduler",

@@ -47,6 +47,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm._io import atomic_write_bytes
+from srfm._version import DISTRIBUTION
 from srfm.errors import LogError, SrfmError
 from srfm.logs._foxglove import scene_messages
 from srfm.logs._planes import from_planes, to_planes
@@ -80,7 +81,7 @@ FloatArray = NDArray[np.float64]
 @functools.cache
 def _version() -> str:
     try:
-        return metadata.version("srfm")
+        return metadata.version(DISTRIBUTION)
     except metadata.PackageNotFoundError:  # pragma: no cover - always installed
         return "unknown"
 

@@ -518,7 +518,7 @@ def load_checkpoint(path: str | Path) -> tuple[NumpyActor, EnvConfig, dict[str, 
         PlannerError: missing file, not a TD3 policy, or no srfm configuration in it.
         MissingDependencyError: the library that wrote it is not installed.
     """
-    from srfm._deps import require
+    from srfm._deps import install_hint, require
 
     path = Path(path)
     if not path.is_file():
@@ -531,7 +531,7 @@ def load_checkpoint(path: str | Path) -> tuple[NumpyActor, EnvConfig, dict[str, 
         except MissingDependencyError:
             raise MissingDependencyError(
                 f"{path} is an SBX checkpoint: install the sbx extra to read it: "
-                "pip install -c constraints.txt 'srfm[rl,sbx]'"
+                + install_hint("rl,sbx")
             ) from None
     else:
         lib = require("stable_baselines3")

@@ -369,15 +369,14 @@ def _versions() -> dict[str, str]:
 
 def _require_sbx() -> Any:
     """The sbx module, or MissingDependencyError naming the sbx extra."""
-    from srfm._deps import require
+    from srfm._deps import install_hint, require
     from srfm.errors import MissingDependencyError
 
     try:
         return require("sbx")
     except MissingDependencyError:
         raise MissingDependencyError(
-            "the sbx backend needs SBX and JAX: install the sbx extra: "
-            "pip install -c constraints.txt 'srfm[rl,sbx]'"
+            "the sbx backend needs SBX and JAX: install the sbx extra: " + install_hint("rl,sbx")
         ) from None
 
 

@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
+import srfm
 from srfm.cli import main
 from srfm.scenarios import BUILTIN_SCENARIOS, LARGE_SCENARIOS
 from tests.conftest import write_scenario
@@ -188,3 +189,9 @@ def test_the_readme_command_table_lists_every_command() -> None:
             names.append(f"srfm {name}")
     missing = [n for n in names if f"`{n}" not in table]
     assert not missing, missing
+
+
+def test_version_names_the_distribution() -> None:
+    code, out = run("--version")
+    assert code == 0
+    assert out == f"srfm, version {srfm.__version__} (social-robot-force-model)\n"

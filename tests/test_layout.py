@@ -20,10 +20,10 @@ SRFM = Path(srfm.__file__).parent
 # import only packages of lower layers (and its own modules); the packages of one layer
 # do not import each other. "srfm" is the package's face, srfm/__init__.py.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    # policies: the shipped policy files, no code; _version: the distribution's name and
-    # version, from its metadata
-    ("errors", "policies", "_version"),
-    ("_deps", "_io", "_jit", "_lazy", "_streams", "_text", "_user_code", "_validate"),
+    # policies: the shipped policy files, no code; _text: message text; _version: the
+    # distribution's name and version, from its metadata
+    ("errors", "policies", "_text", "_version"),
+    ("_deps", "_io", "_jit", "_lazy", "_streams", "_user_code", "_validate"),
     ("models", "datasets"),
     ("world",),
     ("scenarios",),

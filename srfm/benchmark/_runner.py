@@ -37,6 +37,7 @@ from srfm._io import (
     remove_stale_temporaries,
     write_file_set,
 )
+from srfm._text import plain
 from srfm.benchmark._dask import check_scheduler, map_on_dask
 from srfm.benchmark._draws import ParamDraws, check_param_draws, draw_folder, render_rankings
 from srfm.benchmark._html import REPORT, render_report
@@ -284,7 +285,7 @@ def check_executor(
     if jobs < 1:
         raise BenchmarkError(f"jobs must be at least 1, got {jobs}")
     if executor not in EXECUTORS:
-        raise BenchmarkError(f"unknown executor {executor!r}; known: {', '.join(EXECUTORS)}")
+        raise BenchmarkError(f"unknown executor {plain(executor)}; known: {', '.join(EXECUTORS)}")
     if executor != "dask" and (scheduler is not None or scheduler_file is not None):
         raise BenchmarkError("--scheduler and --scheduler-file need --executor dask")
     if executor == "dask":
@@ -502,6 +503,12 @@ def run_benchmark(
         manifest = check_manifest(out, request, command)
         if param_draws is not None:  # other draws are refused before anything is written
             check_param_draws(out, param_draws)
+            for k, params in enumerate(param_draws.params):
+                # each draw's folder as its own run below checks it, before on_start
+                folder = claim_output_folder(
+                    draw_folder(out, k), kind="benchmark", force=force, legacy_markers=(MANIFEST,)
+                )
+                check_manifest(folder, attrs.evolve(request, params=params), command)
         atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
         damaged: list[str] = []
         tasks = _pending_tasks(out, request, writer, figures, damaged)

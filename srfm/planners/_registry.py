@@ -13,6 +13,7 @@ from collections.abc import Callable
 import attrs
 import numpy as np
 
+from srfm._text import plain
 from srfm.errors import PlannerError
 from srfm.planners._base import (
     FloatArray,
@@ -55,7 +56,7 @@ def register_planner(
     out of the benchmark's default planner list (a reference, or a planner that runs
     only on some scenarios)."""
     if not name or not name.replace("-", "").replace("_", "").isalnum():
-        raise PlannerError(f"planner name must be letters, digits, '-' or '_', got {name!r}")
+        raise PlannerError(f"planner name must be letters, digits, '-' or '_', got {plain(name)}")
     if name in _REGISTRY and not replace:
         raise PlannerError(f"planner {name!r} is already registered")
     _REGISTRY[name] = PlannerInfo(name, description, factory, default)
@@ -85,7 +86,7 @@ def make_planner(name: str) -> Planner:
         except KeyError:
             known = ", ".join(sorted(_REGISTRY))
             raise PlannerError(
-                f"unknown planner {name!r}; known: {known}; or give module:attribute"
+                f"unknown planner {plain(name)}; known: {known}; or give module:attribute"
             ) from None
         planner = _import_planner(info.factory) if isinstance(info.factory, str) else info.factory()
     return _named(planner, name)

@@ -40,6 +40,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm.errors import MissingDependencyError, PlannerError
 from srfm.models.robot import KINEMATICS
 from srfm.planners._base import FloatArray, Observation, PlannerContext
@@ -707,7 +708,7 @@ def shipped_policy_path(name: str) -> Path:
         filename = SHIPPED_POLICIES[name]
     except KeyError:
         raise PlannerError(
-            f"unknown shipped policy {name!r}; known: {', '.join(SHIPPED_POLICIES)}"
+            f"unknown shipped policy {plain(name)}; known: {', '.join(SHIPPED_POLICIES)}"
         ) from None
     return Path(str(resources.files("srfm.policies").joinpath(filename)))
 

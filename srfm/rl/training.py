@@ -44,6 +44,7 @@ from typing import Any, Final
 import attrs
 import numpy as np
 
+from srfm._text import plain
 from srfm._validate import non_negative, positive, unit_interval
 from srfm.errors import ParameterError, ScenarioError, SrfmError
 from srfm.scenarios import BUILTIN_SCENARIOS, EVALUATION_SCENARIOS
@@ -83,21 +84,21 @@ def _count(minimum: int) -> Callable[[Any, attrs.Attribute[int], Any], None]:
             n = minimum - 1
         if isinstance(value, bool) or n < minimum:
             raise ParameterError(
-                f"train.{attribute.name} must be an integer >= {minimum}, got {value!r}"
+                f"train.{attribute.name} must be an integer >= {minimum}, got {plain(value)}"
             )
 
     return check
 
 
 def _backend(inst: Any, attribute: attrs.Attribute[str], value: Any) -> None:
-    if value not in BACKENDS:
-        raise ParameterError(f"train.backend must be one of {BACKENDS}, got {value!r}")
+    if not isinstance(value, str) or value not in BACKENDS:
+        raise ParameterError(f"train.backend must be one of {BACKENDS}, got {plain(value)}")
 
 
 def _unit(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
     v = positive(value, f"train.{attribute.name}", ParameterError)
     if v > 1.0:
-        raise ParameterError(f"train.{attribute.name} must be in (0, 1], got {value!r}")
+        raise ParameterError(f"train.{attribute.name} must be in (0, 1], got {plain(value)}")
 
 
 def _net(inst: Any, attribute: attrs.Attribute[tuple[int, ...]], value: Any) -> None:
@@ -106,14 +107,16 @@ def _net(inst: Any, attribute: attrs.Attribute[tuple[int, ...]], value: Any) -> 
         or not value
         or not all(isinstance(v, int) and not isinstance(v, bool) and v > 0 for v in value)
     ):
-        raise ParameterError(f"train.net_arch must be a tuple of positive integers, got {value!r}")
+        raise ParameterError(
+            f"train.net_arch must be a tuple of positive integers, got {plain(value)}"
+        )
 
 
 def _families(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
     if value is None:
         return
     if not isinstance(value, tuple):
-        raise ParameterError(f"train.family_weights must be a tuple or None, got {value!r}")
+        raise ParameterError(f"train.family_weights must be a tuple or None, got {plain(value)}")
     try:
         family_weights(value)
     except ScenarioError as error:
@@ -122,15 +125,15 @@ def _families(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
 
 def _names(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
     if not isinstance(value, tuple):
-        raise ParameterError(f"train.{attribute.name} must be a tuple of names, got {value!r}")
+        raise ParameterError(f"train.{attribute.name} must be a tuple of names, got {plain(value)}")
     unknown = [n for n in value if n not in BUILTIN_SCENARIOS]
     if unknown:
-        raise ParameterError(f"train.{attribute.name}: unknown scenario {unknown[0]!r}")
+        raise ParameterError(f"train.{attribute.name}: unknown scenario {plain(unknown[0])}")
 
 
 def _eval_names(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
     if not isinstance(value, tuple) or not value:
-        raise ParameterError(f"train.{attribute.name} must name scenarios, got {value!r}")
+        raise ParameterError(f"train.{attribute.name} must name scenarios, got {plain(value)}")
     _names(inst, attribute, tuple(n for n in value if n != TRAINING_SCENARIO))
 
 

@@ -12,6 +12,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Final
 
+from srfm._text import plain
 from srfm.errors import ScenarioError
 from srfm.scenarios._schema import (
     MAX_HORIZON_STEPS,
@@ -137,7 +138,7 @@ def load_scenario(name_or_path: str | Path) -> Scenario:
     if path.suffix == ".toml" or path.exists():
         return read_scenario_file(path)
     known = ", ".join(scenario_names())
-    raise ScenarioError(f"unknown scenario {text!r}; built-in: {known}; or give a .toml path")
+    raise ScenarioError(f"unknown scenario {plain(text)}; built-in: {known}; or give a .toml path")
 
 
 def scenario_names() -> tuple[str, ...]:

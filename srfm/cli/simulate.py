@@ -12,6 +12,7 @@ from typing import Any
 import click
 
 from srfm.cli._common import SEED, UserError, load_params_option, user_errors
+from srfm.cli._external import external_options
 
 __all__ = ["planners", "scenarios", "simulate", "suites"]
 
@@ -23,6 +24,7 @@ def scenarios() -> None:
     paper suite). A scenario TOML file of your own runs by its path; `srfm suites`
     lists the named sets of scenarios."""
     from srfm.scenarios import load_scenario, scenario_names
+    from srfm.scenarios.generated import GENERATED_KINDS, GENERATED_PREFIX
     from srfm.scenarios.suites import DEFAULT_SUITE, SUITES
 
     default = SUITES[DEFAULT_SUITE]
@@ -30,6 +32,15 @@ def scenarios() -> None:
     for name in scenario_names():
         scenario = load_scenario(name)
         rows.append((name, _yes(name in default), scenario.description))
+    kinds = ", ".join(GENERATED_KINDS)
+    rows.append(
+        (
+            f"{GENERATED_PREFIX}:[KIND:]SEED",
+            "no",
+            f"Generated: a new walled layout for every SEED, of a KIND drawn from it or "
+            f"given ({kinds}).",
+        )
+    )
     _table(("scenario", "default", "description"), rows)
 
 
@@ -124,6 +135,7 @@ def _table(header: tuple[str, str, str], rows: Sequence[tuple[str, str, str]]) -
 )
 @click.option("--forces", is_flag=True, help="With --out: force arrows in the recording.")
 @user_errors
+@external_options
 def simulate(
     scenario_name: str,
     seed: int,

@@ -374,6 +374,17 @@ class _ConfigDefault(click.Option):
     help="Probability that an episode runs a --library scenario.",
 )
 @click.option(
+    "--generated-share",
+    type=click.FloatRange(0.0, 1.0),
+    cls=_ConfigDefault,
+    config_field="generated_share",
+    show_default=True,
+    help=(
+        "For --scenario mixed: probability that an episode runs a generated walled "
+        "layout (generated:SEED of the episode seed; docs/scenarios.md)."
+    ),
+)
+@click.option(
     "--eval-scenarios",
     callback=_scenario_list,
     default="paper",

@@ -34,6 +34,7 @@ from srfm.fitting._protocol import (
     leave_one_scene_out,
     paired_test,
     scene_groups,
+    window_metrics,
 )
 from srfm.fitting._windows import ALIGNS, GOALS, WindowConfig, Windows, build_windows
 
@@ -74,4 +75,5 @@ __all__ = [
     "replay_encounter",
     "scene_groups",
     "window_errors",
+    "window_metrics",
 ]

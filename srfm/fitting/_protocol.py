@@ -42,6 +42,7 @@ __all__ = [
     "leave_one_scene_out",
     "paired_test",
     "scene_groups",
+    "window_metrics",
 ]
 
 IntArray = NDArray[np.int64]
@@ -289,6 +290,22 @@ class WindowMetrics:
     path_offset: NDArray[np.float64]
 
 
+def window_metrics(
+    windows: Windows, sel: IntArray, params: SRFMParams, mode: Mode
+) -> WindowMetrics:
+    """Per-window ADE, FDE, pass-distance and path-offset errors, each (Q,), of one model
+    on the windows ``sel`` (:class:`WindowMetrics`; signed pass-distance and path-offset
+    errors, predicted minus observed)."""
+    sel = np.ascontiguousarray(sel, dtype=np.int64)
+    if sel.size == 0:
+        empty = np.zeros(0)
+        return WindowMetrics(ade=empty, fde=empty, pass_distance=empty, path_offset=empty)
+    predicted = predict(windows, params, sel, mode)
+    ade, fde = displacement_summary(windows, sel, predicted)
+    distance, offset = pass_errors(windows, sel, predicted)
+    return WindowMetrics(ade=ade, fde=fde, pass_distance=distance, path_offset=offset)
+
+
 def heldout_metrics(
     windows: Windows,
     groups: SceneGroups,
@@ -317,11 +334,9 @@ def heldout_metrics(
         else:
             parts = [(every, base)]
         for sel, params in parts:
-            if sel.size == 0:
-                continue
-            predicted = predict(windows, params, sel, mode)
-            cols[0][sel], cols[1][sel] = displacement_summary(windows, sel, predicted)
-            cols[2][sel], cols[3][sel] = pass_errors(windows, sel, predicted)
+            m = window_metrics(windows, sel, params, mode)
+            cols[0][sel], cols[1][sel] = m.ade, m.fde
+            cols[2][sel], cols[3][sel] = m.pass_distance, m.path_offset
         out[mode] = WindowMetrics(
             ade=cols[0], fde=cols[1], pass_distance=cols[2], path_offset=cols[3]
         )

@@ -54,6 +54,7 @@ __all__ = [
     "SRFMParams",
     "load_params",
     "preset_meta",
+    "response_model_name",
     "save_params",
 ]
 
@@ -339,13 +340,13 @@ PRESETS: Final[dict[str, SRFMParams]] = {
 }
 """Named SRFM parameter sets (:meth:`SRFMParams.preset`, ``--params NAME``):
 ``agrawal2024`` (the paper's Table 1, fitted on JRDB; the default), ``ferrer2013`` (one
-A = 2.66 m/s², B = 0.79 m for people and robot alike) and the presets fitted by srfm on
+A = 2.66 m/s², B = 0.79 m for people and robot alike) and the presets srfm made from
 real data, shipped as parameter files in ``srfm/models/presets/`` with the fit's
 provenance in their ``[meta]`` (:func:`preset_meta`): ``navwareset2025`` (NavWareSet's
 own pedestrian part and the paper's exponential robot force fitted on its encounters)
 and ``navwareset2026_ttc`` (the same pedestrian part and the time-to-collision robot
-force, which predicts the pass distance of held-out encounters best;
-docs/real_encounters.md, part 4). Strengths in m/s², ranges in m, τ in s (docs/model.md,
+force at default parameters, chosen by a held-out test: not fitted, the fit did not
+move them; docs/real_encounters.md, part 4). Strengths in m/s², ranges in m, τ in s (docs/model.md,
 docs/fitting.md)."""
 
 
@@ -447,3 +448,12 @@ def preset_meta(name: str) -> dict[str, Any]:
 
 
 PRESETS.update({name: load_params(path) for name, path in _packaged_presets().items()})
+
+
+def response_model_name(params: SRFMParams) -> str:
+    """How tables and pages name the model of the pedestrians' response to the robot:
+    the preset ``params`` equals, else ``custom parameters (<form> robot force)``."""
+    for name, preset in PRESETS.items():
+        if preset == params:
+            return name
+    return f"custom parameters ({params.robot_form} robot force)"

@@ -14,7 +14,8 @@ from pathlib import Path
 
 from srfm.benchmark import default_planners
 from srfm.planners import make_planner
-from srfm.scenarios import scenario_names
+from srfm.scenarios import load_scenario, scenario_names
+from srfm.scenarios.generated import GENERATED_KINDS
 from srfm.scenarios.suites import DEFAULT_SUITE, SUITE_DESCRIPTIONS, SUITES
 from tests.conftest import REPO
 
@@ -86,6 +87,11 @@ def test_srfm_scenarios_lists_every_name_scenario_accepts() -> None:
     listed = _rows(_srfm("scenarios"), ("scenario", "default", "description"))
     names = [row[0] for row in listed]
     shipped = {p.stem for p in Path(REPO / "srfm" / "scenarios").glob("*.toml")}
+    assert names[-1] == "generated:[KIND:]SEED"  # the generated layouts, by seed
+    for kind in GENERATED_KINDS:
+        assert kind in listed[-1][2]
+        assert load_scenario(f"generated:{kind}:3").name.startswith("generated")
+    names = names[:-1]
     assert names == list(scenario_names())
     assert set(names) == shipped
     assert {"concert_crowd", "station_concourse", "random"} <= set(names)

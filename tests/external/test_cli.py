@@ -133,9 +133,10 @@ def test_benchmark_connects_workers_to_a_listening_python_planner(tmp_path: Path
         server.wait()
 
 
-@pytest.mark.parametrize("bad", ["cpp", "=prog", "a b=prog"])
-def test_bad_external_options_are_one_line_errors(bad: str) -> None:
-    run = _srfm("simulate", "--scenario", "circle", "--external", bad)
+@pytest.mark.parametrize("bad", [["cpp"], ["=prog"], ["a b=prog"], ["x=a", "x=b"]])
+def test_bad_external_options_are_one_line_errors(bad: list[str]) -> None:
+    options = [arg for text in bad for arg in ("--external", text)]
+    run = _srfm("simulate", "--scenario", "circle", *options)
     assert run.returncode == 2
     assert len(run.stderr.strip().splitlines()) == 1
     assert run.stderr.startswith("Error: ")

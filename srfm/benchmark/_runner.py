@@ -263,14 +263,12 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
     if not tasks:
         return
     some = tasks[0]
-    straight = attrs.evolve(
-        next(iter(first.values()), _Start(some.scenario, "straight", some.episodes[0][0], some.params)),
-        planner="straight",
-    )
+    straight = _Start(some.scenario, "straight", some.episodes[0][0], some.params)
+    straight = attrs.evolve(next(iter(first.values()), straight), planner="straight")
     groups: dict[type, list[_Start]] = {}
-    for name, task in first.items():
+    for name, start in first.items():
         if name != "straight":
-            groups.setdefault(type(build_planner(name)), []).append(task)
+            groups.setdefault(type(build_planner(name)), []).append(start)
     ordered = list(groups.values())
     if not ordered:
         _warm_up(straight)
@@ -289,8 +287,8 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
             if helper.is_alive():  # stuck: what it had not compiled, the loop below does
                 helper.terminate()
                 helper.join()
-    for task in (straight, *first.values()):
-        _warm_up(task)
+    for start in (straight, *first.values()):
+        _warm_up(start)
 
 
 class _EarlyFigures:

@@ -8,9 +8,10 @@ on held-out scenes, by the protocol of docs/robot_response.md (``srfm.fitting.PR
     ... --stage tests         # held-out errors, tests, tables (needs the three above)
 
 Resumable: every fit is stored as it finishes in ``--out``/fits_<stage>.json (one file
-per stage, so that stages can run side by side) and not recomputed; a file made under
-another protocol is refused. The analysis is ``srfm.fitting`` (``fit_sidestep``,
-``profile_costs``, ``identification``, ``relative_change``, ``success``); this script
+per stage and, for the folds, per set, so that they can run side by side) and not
+recomputed; a file made under another protocol is refused. The analysis is
+``srfm.fitting`` (``fit_sidestep``, ``profile_costs``, ``identification``,
+``relative_change``, ``success``); this script
 only reads the data, runs it and writes ``results.json`` and ``tables.md``.
 """
 
@@ -56,8 +57,8 @@ LABELS = {"hsr": "HSR", "jackal": "Jackal", "pooled": "pooled"}
 MEASURES = {
     "ade": "ADE",
     "fde": "FDE",
-    "pass": "|pass-distance error|",
-    "offset": "|path-offset error|",
+    "pass": "\\|pass-distance error\\|",
+    "offset": "\\|path-offset error\\|",
 }
 MODELS = {
     "sidestep": "sidestep (fitted, held out)",
@@ -149,15 +150,14 @@ def run_full(data: Data, store: Store) -> None:
         )
 
 
-def run_folds(data: Data, store: Store, sets: tuple[str, ...]) -> None:
-    for s in sets:
-        for g in data.sets[s]:
-            train = data.groups.windows_of([h for h in data.sets[s] if h != g])
-            base = with_ped(data.ped_fold[g])
-            store.get(
-                f"fold/{s}/{data.groups.keys[g]}",
-                lambda t=train, b=base: fits_as_json(fit_sidestep(data.enc, b, t, full=False)),
-            )
+def run_folds(data: Data, store: Store, s: str) -> None:
+    for g in data.sets[s]:
+        train = data.groups.windows_of([h for h in data.sets[s] if h != g])
+        base = with_ped(data.ped_fold[g])
+        store.get(
+            f"fold/{s}/{data.groups.keys[g]}",
+            lambda t=train, b=base: fits_as_json(fit_sidestep(data.enc, b, t, full=False)),
+        )
 
 
 def run_profiles(data: Data, store: Store, full: Store) -> None:
@@ -196,7 +196,7 @@ def model_params(
     return SRFMParams.preset("agrawal2024"), "srfm"
 
 
-def heldout(data: Data, folds: Store) -> dict[str, dict[str, FloatArray]]:
+def heldout(data: Data, folds: dict[str, Store]) -> dict[str, dict[str, FloatArray]]:
     """Per-window held-out errors, keyed by model (the sidestep per set: "sidestep/<set>")."""
     w = data.enc
     out: dict[str, dict[str, FloatArray]] = {}
@@ -208,7 +208,7 @@ def heldout(data: Data, folds: Store) -> dict[str, dict[str, FloatArray]]:
         for s in SETS:
             if g in data.sets[s]:
                 fold = best_fit(
-                    fits_from_json(folds.entries[f"fold/{s}/{data.groups.keys[g]}"])
+                    fits_from_json(folds[s].entries[f"fold/{s}/{data.groups.keys[g]}"])
                 ).end
                 keys.append((f"sidestep/{s}", "sidestep", fold))
         for key, model, fold in keys:
@@ -306,8 +306,9 @@ def tables(payload: dict[str, Any]) -> str:
         "bootstrap interval over scenes; p: Wilcoxon signed-rank over scenes, Holm over the "
         f"{len(t['decisive'])} pass/offset rows; ADE: 90 % interval for the ±2 % TOST):",
         "",
-        "| form | robot | n (windows / tracks / scenes) | ADE (m) form / ignored | ADE change | ADE 90 % | "
-        "\\|pass-distance error\\| (m) | pass change | p (Holm) | \\|path-offset error\\| (m) | offset change | p (Holm) | criterion |",
+        "| form | robot | n (windows / tracks / scenes) | ADE (m) form / ignored | ADE change "
+        "| ADE 90 % | \\|pass-distance error\\| (m) | pass change | p (Holm) "
+        "| \\|path-offset error\\| (m) | offset change | p (Holm) | criterion |",
         "|---|---|---|---|---|---|---|---|--:|---|---|--:|---|",
     ]
     for s in SETS:
@@ -324,16 +325,19 @@ def tables(payload: dict[str, Any]) -> str:
         )
         lines.append(
             f"| sidestep | {LABELS[s]} | {a['n_windows']} / {a['n_tracks']} / {a['n_scenes']} "
-            f"| {a['model_m']:.3f} / {a['base_m']:.3f} | {_rel(a)} | {100 * a['ci90'][0]:+.1f} to {100 * a['ci90'][1]:+.1f} % "
+            f"| {a['model_m']:.3f} / {a['base_m']:.3f} | {_rel(a)} "
+            f"| {100 * a['ci90'][0]:+.1f} to {100 * a['ci90'][1]:+.1f} % "
             f"| {ps['model_m']:.3f} / {ps['base_m']:.3f} | {_rel(ps)} | {_p(ps['p_holm'])} "
-            f"| {of['model_m']:.3f} / {of['base_m']:.3f} | {_rel(of)} | {_p(of['p_holm'])} | {verdict} |"
+            f"| {of['model_m']:.3f} / {of['base_m']:.3f} | {_rel(of)} | {_p(of['p_holm'])} "
+            f"| {verdict} |"
         )
     lines += [
         "",
         "All models against robot ignored (secondary family, exploratory; Holm over its rows; "
         "the sidestep's rows are the decisive ones above):",
         "",
-        "| model | robot | measure | n (windows / tracks / scenes) | model / ignored (m) | change (95 % CI) | p | p (Holm) |",
+        "| model | robot | measure | n (windows / tracks / scenes) | model / ignored (m) "
+        "| change (95 % CI) | p | p (Holm) |",
         "|---|---|---|---|---|---|--:|--:|",
     ]
     every = sorted(
@@ -347,7 +351,8 @@ def tables(payload: dict[str, Any]) -> str:
     for r in every:
         lines.append(
             f"| {MODELS[r['model']]} | {LABELS[r['set']]} | {MEASURES[r['measure']]} "
-            f"| {r['n_windows']} / {r['n_tracks']} / {r['n_scenes']} | {r['model_m']:.3f} / {r['base_m']:.3f} "
+            f"| {r['n_windows']} / {r['n_tracks']} / {r['n_scenes']} "
+            f"| {r['model_m']:.3f} / {r['base_m']:.3f} "
             f"| {_rel(r)} | {_p(r['p'])} | {_p(r.get('p_holm', float('nan')))} |"
         )
     lines += [
@@ -355,7 +360,8 @@ def tables(payload: dict[str, Any]) -> str:
         "Parameters (full fit on all the set's scenes, the lowest-cost of 9 starts; the profile's "
         "verdict, 1 % rise rule):",
         "",
-        "| robot | parameter | fit | status | ends of the 9 starts (min / median / max) | profile cost range above the minimum |",
+        "| robot | parameter | fit | status | ends of the 9 starts (min / median / max) "
+        "| profile cost above the minimum |",
         "|---|---|--:|---|---|---|",
     ]
     for r in payload["parameters"]:
@@ -383,18 +389,17 @@ def main() -> None:
     root = args.data or Path(os.environ.get("SRFM_DATA_DIR", REPO.parent / "shared" / "data"))
     data = load(root)
     protocol = json.loads(json.dumps(attrs.asdict(PROTOCOL), default=str))
-    store = {
-        name: Store(args.out / f"fits_{name}.json", protocol)
-        for name in ("full", "folds", "profiles")
-    }
+    names = ("full", "profiles", *(f"folds_{s}" for s in SETS))
+    store = {name: Store(args.out / f"fits_{name}.json", protocol) for name in names}
     if args.stage == "full":
         run_full(data, store["full"])
     elif args.stage == "folds":
-        run_folds(data, store["folds"], tuple(args.sets))
+        for s in args.sets:
+            run_folds(data, store[f"folds_{s}"], s)
     elif args.stage == "profiles":
         run_profiles(data, store["profiles"], store["full"])
     else:
-        err = heldout(data, store["folds"])
+        err = heldout(data, {s: store[f"folds_{s}"] for s in SETS})
         payload = {
             "protocol": protocol,
             "tests": tests(data, err),

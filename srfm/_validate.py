@@ -239,11 +239,18 @@ def path_name(value: Any, what: str, error: type[SrfmError]) -> str:
 
 def planner_name(value: Any, error: type[SrfmError]) -> str:
     """A planner as the command line and the benchmark name it: a registry name
-    (letters, digits, ``-``, ``_``) or ``module.path:attribute`` (Python identifiers),
-    also a valid :func:`path_name`."""
+    (letters, digits, ``-``, ``_``), ``external:NAME`` (an external planner, NAME a
+    registry-style name) or ``module.path:attribute`` (Python identifiers), also a
+    valid :func:`path_name`."""
     problem = _name_problem(value, "planner name")
     if problem is None:
-        if ":" in value:
+        if value.startswith("external:"):
+            if not _REGISTRY_NAME_RE.fullmatch(value[len("external:") :]):
+                problem = (
+                    f"planner {value!r}: an external planner's NAME must be letters, "
+                    "digits, '-' or '_'"
+                )
+        elif ":" in value:
             if not _SPEC_RE.fullmatch(value):
                 problem = (
                     f"planner {value!r} is not module:attribute (a dotted Python module "

@@ -11,6 +11,7 @@ from typing import Any
 import click
 
 from srfm.cli._common import SEED, UserError, load_params_option, user_errors
+from srfm.cli._external import external_options
 
 __all__ = ["planners", "scenarios", "simulate"]
 
@@ -92,6 +93,7 @@ def planners() -> None:
 )
 @click.option("--forces", is_flag=True, help="With --out: force arrows in the recording.")
 @user_errors
+@external_options
 def simulate(
     scenario_name: str,
     seed: int,

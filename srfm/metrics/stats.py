@@ -22,6 +22,7 @@ __all__ = [
     "adjust_p_values",
     "compare",
     "summarize",
+    "wilson",
 ]
 
 ALPHA: Final = 0.05
@@ -34,6 +35,29 @@ CORRECTIONS: Final[dict[str, str]] = {
 }
 """The multiple-comparison corrections :func:`adjust_p_values` knows, with the words
 the tables' legends use for them."""
+
+
+def wilson(successes: float, n: int) -> tuple[float, float, float]:
+    """A proportion and its 95 % (1 − :data:`ALPHA`) Wilson score interval.
+
+    Args:
+        successes: the count of successes; a fraction is allowed (a share of tied ranks).
+        n: the number of trials; 0 gives NaN throughout.
+
+    Returns:
+        (proportion, low, high).
+    """
+    if n == 0:
+        return math.nan, math.nan, math.nan
+    z = _Z
+    p = successes / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * math.sqrt(max(p * (1 - p), 0.0) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return p, max(centre - half, 0.0), min(centre + half, 1.0)
+
+
+_Z: Final = 1.959963984540054
+"""The standard normal's 1 − ALPHA / 2 quantile (scipy.stats.norm.ppf(0.975))."""
 
 
 @attrs.frozen

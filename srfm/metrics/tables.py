@@ -394,6 +394,7 @@ _OUTCOME_SHORT: Final = {
     "collision": "coll.",
     "out_of_bounds": "out",
     "timeout": "timeout",
+    "planner_failed": "failed",
 }
 
 
@@ -475,6 +476,11 @@ def legend(table: BenchmarkTable, *, markdown: bool = True) -> str:
             "seeds that ended with the goal reached, a collision (coll.), out of bounds "
             "(out) or a timeout."
         )
+        if any(counts.get("planner_failed") for counts in table.outcomes.values()):
+            text += (
+                " failed: an external planner failed and its episode ended there "
+                "(docs/planners-any-language.md)."
+            )
     if table.reference is not None:
         star = f"\\{WELCH_MARK}" if markdown else WELCH_MARK
         how = CORRECTIONS[table.correction]

@@ -48,6 +48,7 @@ __all__ = [
     "SRFMParams",
     "load_params",
     "preset_meta",
+    "response_model_name",
     "save_params",
 ]
 
@@ -482,3 +483,12 @@ def preset_meta(name: str) -> dict[str, Any]:
 
 
 PRESETS.update({name: load_params(path) for name, path in _packaged_presets().items()})
+
+
+def response_model_name(params: SRFMParams) -> str:
+    """How tables and pages name the model of the pedestrians' response to the robot:
+    the preset ``params`` equals, else ``custom parameters (<form> robot force)``."""
+    for name, preset in PRESETS.items():
+        if preset == params:
+            return name
+    return f"custom parameters ({params.robot_form} robot force)"

@@ -65,6 +65,10 @@ def make_planner(name: str) -> Planner:
     factory) with no arguments, so the command line can run planners that live in the
     user's own code: ``srfm simulate --planner mypackage.planners:MyPlanner``.
 
+    ``"external:NAME"`` is the external planner defined as NAME
+    (:func:`srfm.planners.external.define_external`, ``--external NAME=COMMAND``): a planner in
+    another process, reached through the external planner protocol.
+
     Either way the planner's ``name`` becomes ``name`` (the registry name, or the whole
     ``module:attribute`` spec), so its episode records carry the name it was asked for.
     The name is set on the instance; a planner whose ``name`` cannot be set (slots, a
@@ -74,6 +78,10 @@ def make_planner(name: str) -> Planner:
         PlannerError: unknown name, import failure, or a result that lacks the
             :class:`Planner` protocol.
     """
+    if name.startswith("external:"):
+        from srfm.planners.external import ExternalPlanner  # lazy: loaded when used
+
+        return ExternalPlanner(name)
     if ":" in name:
         planner = _import_planner(name)
     else:

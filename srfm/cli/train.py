@@ -368,6 +368,17 @@ class _ConfigDefault(click.Option):
     help="Probability that an episode runs a --library scenario.",
 )
 @click.option(
+    "--generated-share",
+    type=click.FloatRange(0.0, 1.0),
+    cls=_ConfigDefault,
+    config_field="generated_share",
+    show_default=True,
+    help=(
+        "For --scenario mixed: probability that an episode runs a generated walled "
+        "layout (generated:SEED of the episode seed; docs/scenarios.md)."
+    ),
+)
+@click.option(
     "--eval-scenarios",
     callback=_scenario_list,
     default="paper",
@@ -454,6 +465,7 @@ def _train(
     range_max_m: float,
     library: tuple[str, ...],
     library_share: float,
+    generated_share: float,
     eval_scenarios: tuple[str, ...],
     select_by_deviation: bool,
     progress: bool,
@@ -497,6 +509,7 @@ def _train(
         range_max_m=range_max_m,
         library=library,
         library_share=library_share,
+        generated_share=generated_share,
         eval_scenarios=eval_scenarios,
         select_by_deviation=select_by_deviation,
     )

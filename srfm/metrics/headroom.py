@@ -57,6 +57,7 @@ __all__ = [
     "paired_sd",
     "scenario_references",
     "seeds_needed",
+    "sigma_d",
     "standard_error",
 ]
 
@@ -185,6 +186,29 @@ def paired_sd(a: ArrayLike, b: ArrayLike) -> float:
     return float((x - y).std(ddof=1)) if x.size >= 2 else math.nan
 
 
+def sigma_d(
+    values: Mapping[str, ArrayLike],
+    *,
+    references: Sequence[str] = REFERENCE_PLANNERS,
+    fallback: tuple[str, str] | None = None,
+) -> float:
+    """σ_d: the median, over every pair of the planners that are not ``references``, of
+    the SD of their per-seed differences (:func:`paired_sd`); with fewer than two such
+    planners, the SD of the ``fallback`` pair's differences (NaN without one). It does
+    not involve the oracle, so it can be measured where the oracle was not run.
+
+    Args:
+        values: per planner, its values on the same seeds, in the same order.
+        references: planners left out of the pairs.
+        fallback: the pair to use when fewer than two planners remain.
+    """
+    entries = [p for p in values if p not in references]
+    pairs = list(itertools.combinations(entries, 2)) or ([fallback] if fallback else [])
+    sds = [paired_sd(values[a], values[b]) for a, b in pairs]
+    finite = [x for x in sds if math.isfinite(x)]
+    return float(np.median(finite)) if finite else math.nan
+
+
 def seeds_needed(
     sd_diff: float,
     delta: float = DETECT_M,
@@ -288,11 +312,7 @@ def scenario_references(
     room = headroom(s, o)
     se = standard_error(s)
     scores = {p: normalised_score(s, v, o, n_bootstrap=n_bootstrap) for p, v in values.items()}
-    entries = [p for p in values if p not in references]
-    pairs = list(itertools.combinations(entries, 2)) or [(straight, oracle)]
-    sds = [paired_sd(values[a], values[b]) for a, b in pairs]
-    finite = [x for x in sds if math.isfinite(x)]
-    sd_diff = float(np.median(finite)) if finite else math.nan
+    sd_diff = sigma_d(values, references=references, fallback=(straight, oracle))
     needed = seeds_needed(sd_diff) if math.isfinite(sd_diff) else None
     return ScenarioReferences(
         n=room.n,

@@ -18,7 +18,8 @@ from srfm.models.robot import RobotState, command_pair
 from srfm.planners._observation import EnvConfig
 from srfm.rl._core import EnvCore, resolve_scenario
 from srfm.scenarios import BUILTIN_SCENARIOS, Scenario, load_scenario, validate_seed
-from srfm.scenarios.training import TRAINING_SCENARIO, pool_scenario, training_layout
+from srfm.scenarios.generated import generated_scenario
+from srfm.scenarios.training import GENERATED, TRAINING_SCENARIO, pool_scenario, training_layout
 from srfm.scenarios.training import family_weights as check_family_weights
 from srfm.sim.engine import EVENT_OUTCOMES, EpisodeEngine
 
@@ -37,6 +38,19 @@ _TERMINAL: Final = frozenset(
 
 ObsType = NDArray[np.float32]
 ActType = NDArray[np.float32]
+
+
+def _generated_share(value: float, share: float, mixed: bool) -> float:
+    """The checked share of generated walled layouts (see :class:`SocialNavEnv`)."""
+    if not (isinstance(value, (int, float)) and 0.0 <= value <= 1.0):
+        raise ParameterError(f"generated_share must be a number in [0, 1], got {value!r}")
+    if value and not mixed:
+        raise ParameterError(f"generated_share applies to the {TRAINING_SCENARIO!r} scenario only")
+    if share + value > 1.0:
+        raise ParameterError(
+            f"library_share + generated_share must be at most 1, got {share!r} + {value!r}"
+        )
+    return float(value)
 
 
 def _library(library: Sequence[str], share: float, mixed: bool) -> tuple[str, ...]:
@@ -178,6 +192,10 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
             :data:`srfm.scenarios.training.LIBRARY_TRAINING`. Their robots must have
             the kinematics of the ``random`` scenario's (or of ``config``).
         library_share: the probability of a library scenario, in [0, 1].
+        generated_share: for ``"mixed"`` only: the probability of a generated walled
+            layout (:func:`srfm.scenarios.generated.generated_scenario` of the episode
+            seed), in [0, 1 − ``library_share``]; the rest of the episodes run the
+            training layouts.
 
     ## Example
 
@@ -205,6 +223,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         family_weights: Sequence[float] | None = None,
         library: Sequence[str] = (),
         library_share: float = 0.0,
+        generated_share: float = 0.0,
     ) -> None:
         if render_mode is not None:
             raise ParameterError(f"render_mode must be None, got {render_mode!r}")
@@ -230,6 +249,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
             raise ParameterError(str(error)) from None
         self.library = _library(library, library_share, self.mixed)
         self.library_share = float(library_share)
+        self.generated_share = _generated_share(generated_share, self.library_share, self.mixed)
         if not isinstance(scenario, Scenario):
             scenario = load_scenario("random" if self.mixed else scenario)
         self.render_mode = render_mode
@@ -266,8 +286,15 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
             episode = validate_seed(seed)
         else:
             episode = int(self.np_random.integers(0, MAX_DRAWN_SEED))
-        picked = pool_scenario(episode, self.library, self.library_share) if self.mixed else None
-        if picked is not None:
+        picked = None
+        if self.mixed:
+            picked = pool_scenario(episode, self.library, self.library_share, self.generated_share)
+        if picked == GENERATED:  # a new walled layout: a core of its own
+            layout = resolve_scenario(generated_scenario(episode), self.config)
+            self._check_kinematics(layout, layout.source)
+            self._core = EnvCore(layout, self.config, self.params)
+            self._core.set_k2(self._k2)
+        elif picked is not None:
             self._core = self._library_core(picked)
             self._core.set_k2(self._k2)
         elif self.mixed:
@@ -288,14 +315,17 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         core = self._library_cores.get(name)
         if core is None:
             scenario = resolve_scenario(load_scenario(name), self.config)
-            if scenario.robot.kinematics != self.scenario.robot.kinematics:
-                raise ParameterError(
-                    f"library scenario {name!r} has a {scenario.robot.kinematics} robot, "
-                    f"the environment a {self.scenario.robot.kinematics} one"
-                )
+            self._check_kinematics(scenario, f"library scenario {name!r}")
             core = EnvCore(scenario, self.config, self.params)
             self._library_cores[name] = core
         return core
+
+    def _check_kinematics(self, scenario: Scenario, what: str) -> None:
+        if scenario.robot.kinematics != self.scenario.robot.kinematics:
+            raise ParameterError(
+                f"{what} has a {scenario.robot.kinematics} robot, "
+                f"the environment a {self.scenario.robot.kinematics} one"
+            )
 
     def step(self, action: ActType) -> tuple[ObsType, float, bool, bool, dict[str, Any]]:
         """Advance one step; see the class docstring."""

@@ -194,6 +194,9 @@ class TrainConfig:
             training episodes (``mixed`` only; :class:`srfm.rl.SocialNavEnv`), e.g.
             :data:`srfm.scenarios.training.LIBRARY_TRAINING`.
         library_share: the probability of a library scenario per episode, in [0, 1].
+        generated_share: the probability of a generated walled layout per episode
+            (``mixed`` only; :mod:`srfm.scenarios.generated`), in [0, 1 −
+            ``library_share``].
         range_beams: range beams to walls and pillars in the observation
             (:class:`srfm.rl.EnvConfig`; 0: the paper's observation).
         range_max_m: the range of the beams (m).
@@ -240,6 +243,7 @@ class TrainConfig:
     family_weights: tuple[float, ...] | None = attrs.field(default=None, validator=_families)
     library: tuple[str, ...] = attrs.field(default=(), validator=_names)
     library_share: float = attrs.field(default=0.0, validator=_share)
+    generated_share: float = attrs.field(default=0.0, validator=_share)
     range_beams: int = attrs.field(default=0, validator=_count(0))
     range_max_m: float = attrs.field(default=4.0, validator=_pos)
     eval_scenarios: tuple[str, ...] = attrs.field(
@@ -562,6 +566,7 @@ def _env_config(config: TrainConfig) -> Any:
         family_weights=config.family_weights,
         library=config.library,
         library_share=config.library_share,
+        generated_share=config.generated_share,
     )
     return env_config.replace(kinematics=probe.scenario.robot.kinematics)
 
@@ -584,6 +589,7 @@ def _vec_env(config: TrainConfig, env_config: Any, run: Path) -> Any:
                 family_weights=config.family_weights,
                 library=config.library,
                 library_share=config.library_share,
+                generated_share=config.generated_share,
             )
             return Monitor(env, filename=str(run / name), info_keywords=("outcome",))
 

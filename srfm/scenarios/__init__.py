@@ -123,20 +123,31 @@ def _builtin(name: str) -> Scenario:
 
 
 def load_scenario(name_or_path: str | Path) -> Scenario:
-    """Load a built-in scenario by name, or a scenario TOML file by path.
+    """Load a built-in scenario by name, a generated walled layout by
+    ``generated:SEED`` or ``generated:KIND:SEED``
+    (:mod:`srfm.scenarios.generated`), or a scenario TOML file by path.
 
     Raises:
         ScenarioError: unknown name, missing file, or a file that breaks the schema
             (the message names the file and the key).
     """
     text = str(name_or_path)
+    if isinstance(name_or_path, str):
+        from srfm.scenarios.generated import generated_scenario, parse_generated_name
+
+        named = parse_generated_name(text)
+        if named is not None:
+            return generated_scenario(named[1], named[0])
     if isinstance(name_or_path, str) and text in (*BUILTIN_SCENARIOS, *LARGE_SCENARIOS):
         return _builtin(text)
     path = Path(name_or_path)
     if path.suffix == ".toml" or path.exists():
         return read_scenario_file(path)
     known = ", ".join((*BUILTIN_SCENARIOS, *LARGE_SCENARIOS))
-    raise ScenarioError(f"unknown scenario {text!r}; built-in: {known}; or give a .toml path")
+    raise ScenarioError(
+        f"unknown scenario {text!r}; built-in: {known}; or generated:SEED, "
+        "generated:KIND:SEED, or a .toml path"
+    )
 
 
 def builtin_scenarios() -> list[Scenario]:

@@ -70,6 +70,7 @@ from srfm.scenarios._setup import validate_seed
 from srfm.world import WorldBounds
 
 __all__ = [
+    "GENERATED",
     "LIBRARY_HELDOUT",
     "LIBRARY_TRAINING",
     "LIBRARY_VALIDATION",
@@ -83,6 +84,7 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 
 TRAINING_SCENARIO: Final = "mixed"  # the environment's name for these layouts
+GENERATED: Final = "generated"  # pool_scenario's answer for a generated walled layout
 
 # The split of the scenario library (the Francis, NavWareSet and flow suites), fixed on
 # 2026-11-27 before any policy was trained on it (issue 30; docs/rl.md).
@@ -383,21 +385,33 @@ def family_weights(weights: Sequence[float] | None) -> tuple[float, ...] | None:
     return values
 
 
-def pool_scenario(seed: int, library: Sequence[str], share: float) -> str | None:
-    """The library scenario that training episode ``seed`` runs, or None for a
-    training layout (:func:`training_layout`).
+def pool_scenario(
+    seed: int, library: Sequence[str], share: float, generated_share: float = 0.0
+) -> str | None:
+    """The library scenario that training episode ``seed`` runs, ``"generated"`` for a
+    generated walled layout (:func:`srfm.scenarios.generated.generated_scenario` of
+    the episode seed), or None for a training layout (:func:`training_layout`).
+
+    One uniform draw u of the pool's stream decides: a library scenario when u <
+    ``share``, a generated layout when ``share`` <= u < ``share + generated_share``,
+    else a training layout; without a generated share the draws are those of earlier
+    versions.
 
     Args:
         seed: the episode seed.
         library: the library scenarios of the pool (each equally likely).
         share: the probability of a library scenario, in [0, 1].
+        generated_share: the probability of a generated layout, in [0, 1 − share].
     """
-    if not library or share <= 0.0:
+    if (not library or share <= 0.0) and generated_share <= 0.0:
         return None
     rng = pool_rng(validate_seed(seed))
-    if not rng.random() < share:
-        return None
-    return library[int(rng.integers(len(library)))]
+    u = rng.random()
+    if library and u < share:
+        return library[int(rng.integers(len(library)))]
+    if u < max(share, 0.0) + generated_share:
+        return GENERATED
+    return None
 
 
 def training_layout(

@@ -17,6 +17,7 @@ from typing import Any, TypeVar
 
 import click
 
+from srfm._text import plain
 from srfm.cli._common import load_params_option, progressbar, user_errors
 from srfm.errors import DatasetError
 from srfm.models._forms import ROBOT_FORMS
@@ -50,9 +51,9 @@ def _parse_dt(values: Sequence[str]) -> tuple[float | None, dict[str, float]]:
         try:
             value = float(text)
         except ValueError:
-            raise DatasetError(f"--dt expects SECONDS or FILE=SECONDS, got {item!r}") from None
+            raise DatasetError(f"--dt expects SECONDS or FILE=SECONDS, got {plain(item)}") from None
         if not 0.0 < value <= MAX_DURATION_S:  # also false for NaN
-            raise DatasetError(f"--dt must be in (0, {MAX_DURATION_S:g}] s, got {item!r}")
+            raise DatasetError(f"--dt must be in (0, {MAX_DURATION_S:g}] s, got {plain(item)}")
         if sep:
             per_file[key] = value
         else:

@@ -26,6 +26,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm.errors import ParameterError
 from srfm.fitting._predict import Mode, displacement_errors, predict
 from srfm.fitting._windows import Windows
@@ -194,17 +195,19 @@ def fit_params(
 
     unknown = [s for s in stages if s not in STAGE_FIELDS]
     if unknown:
-        raise ParameterError(f"unknown fitting stage {unknown[0]!r}; known: pedestrian, robot")
+        raise ParameterError(f"unknown fitting stage {plain(unknown[0])}; known: pedestrian, robot")
     if (
         isinstance(max_nfev, bool)
         or not isinstance(max_nfev, int | np.integer)
         or not 1 <= max_nfev <= _MAX_NFEV
     ):
-        raise ParameterError(f"max_nfev must be an integer in [1, {_MAX_NFEV}], got {max_nfev!r}")
+        raise ParameterError(
+            f"max_nfev must be an integer in [1, {_MAX_NFEV}], got {plain(max_nfev)}"
+        )
     chosen_fields = {**STAGE_FIELDS, **{k: tuple(v) for k, v in (fields or {}).items()}}
     for stage_name, names in chosen_fields.items():
         if stage_name not in STAGE_FIELDS:
-            raise ParameterError(f"unknown fitting stage {stage_name!r} in fields")
+            raise ParameterError(f"unknown fitting stage {plain(stage_name)} in fields")
         bad = [f for f in names if f not in BOUNDS]
         if bad or not names:
             raise ParameterError(

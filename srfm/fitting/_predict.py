@@ -7,6 +7,7 @@ from typing import Final, Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm.errors import ParameterError
 from srfm.fitting._kernels import replay_windows
 from srfm.fitting._windows import Windows
@@ -41,7 +42,7 @@ def predict(
         (R, 2) positions (m), the rows :meth:`Windows.rows` gives for ``sel``.
     """
     if mode not in MODES:
-        raise ParameterError(f"unknown prediction mode {mode!r}; known: {', '.join(MODES)}")
+        raise ParameterError(f"unknown prediction mode {plain(mode)}; known: {', '.join(MODES)}")
     sel = np.ascontiguousarray(sel, dtype=np.int64)
     rows = windows.rows(sel)
     if mode == "constant_velocity":

@@ -15,6 +15,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm._validate import physical, positive, unit_interval
 from srfm.datasets._trajectories import PEDESTRIAN, Trajectories
 from srfm.errors import DatasetError, ParameterError
@@ -66,9 +67,9 @@ def _quantile(inst: object, attribute: attrs.Attribute[float], value: float) -> 
 
 def _one_of(choices: tuple[str, ...]) -> Callable[[object, attrs.Attribute[str], str], None]:
     def check(inst: object, attribute: attrs.Attribute[str], value: str) -> None:
-        if value not in choices:
+        if not isinstance(value, str) or value not in choices:
             raise ParameterError(
-                f"{attribute.name} must be one of {', '.join(choices)}; got {value!r}"
+                f"{attribute.name} must be one of {', '.join(choices)}; got {plain(value)}"
             )
 
     return check

@@ -39,6 +39,7 @@ import attrs
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from srfm._text import plain
 from srfm.errors import MetricError
 from srfm.metrics.stats import ALPHA
 
@@ -113,7 +114,7 @@ def _aligned(*arrays: tuple[ArrayLike, str]) -> list[FloatArray]:
 
 def _level(level: float) -> float:
     if not (isinstance(level, float) and 0.0 < level < 1.0):
-        raise MetricError(f"interval level must be in (0, 1), got {level!r}")
+        raise MetricError(f"interval level must be in (0, 1), got {plain(level)}")
     return level
 
 
@@ -152,7 +153,7 @@ def normalised_score(
     n = int(s.size)
     _level(level)
     if n_bootstrap < 1:
-        raise MetricError(f"n_bootstrap must be >= 1, got {n_bootstrap!r}")
+        raise MetricError(f"n_bootstrap must be >= 1, got {plain(n_bootstrap)}")
     room = float((s - o).mean()) if n else math.nan
     if not room > 0.0:
         return Interval(math.nan, math.nan, math.nan, n, level)
@@ -228,12 +229,12 @@ def seeds_needed(
     from scipy import stats
 
     if not (math.isfinite(sd_diff) and sd_diff >= 0.0):
-        raise MetricError(f"sd_diff must be a finite number >= 0, got {sd_diff!r}")
+        raise MetricError(f"sd_diff must be a finite number >= 0, got {plain(sd_diff)}")
     if not (math.isfinite(delta) and delta > 0.0):
-        raise MetricError(f"delta must be a number > 0, got {delta!r}")
+        raise MetricError(f"delta must be a number > 0, got {plain(delta)}")
     for name, value in (("alpha", alpha), ("power", power)):
         if not 0.0 < value < 1.0:
-            raise MetricError(f"{name} must be in (0, 1), got {value!r}")
+            raise MetricError(f"{name} must be in (0, 1), got {plain(value)}")
     if sd_diff == 0.0:
         return 2
 

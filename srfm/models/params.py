@@ -35,7 +35,14 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm._io import MAX_TOML_BYTES, atomic_write_text, read_input_text, toml_scalar
+from srfm._io import (
+    MAX_TOML_BYTES,
+    atomic_write_text,
+    parse_toml,
+    read_input_text,
+    toml_scalar,
+)
+from srfm._text import plain
 from srfm._validate import finite_float, non_negative, positive, unit_interval
 from srfm.errors import ParameterError
 from srfm.models._forms import ROBOT_FORMS
@@ -153,13 +160,13 @@ MIN_TAU_S: Final = 1e-3
 def _check_strength(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
     out = non_negative(value, attribute.name, ParameterError)
     if out > MAX_STRENGTH:
-        raise ParameterError(f"{attribute.name} must be <= {MAX_STRENGTH:g}, got {value!r}")
+        raise ParameterError(f"{attribute.name} must be <= {MAX_STRENGTH:g}, got {plain(value)}")
 
 
 def _check_tau(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
     out = positive(value, attribute.name, ParameterError)
     if out < MIN_TAU_S:
-        raise ParameterError(f"{attribute.name} must be >= {MIN_TAU_S:g} s, got {value!r}")
+        raise ParameterError(f"{attribute.name} must be >= {MIN_TAU_S:g} s, got {plain(value)}")
 
 
 def _check_unit(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
@@ -176,14 +183,14 @@ def _check_time(inst: Any, attribute: attrs.Attribute[float], value: Any) -> Non
     out = positive(value, attribute.name, ParameterError)
     if not MIN_TIME_S <= out <= MAX_TIME_S:
         raise ParameterError(
-            f"{attribute.name} must be in [{MIN_TIME_S:g}, {MAX_TIME_S:g}] s, got {value!r}"
+            f"{attribute.name} must be in [{MIN_TIME_S:g}, {MAX_TIME_S:g}] s, got {plain(value)}"
         )
 
 
 def _check_duration(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
     out = non_negative(value, attribute.name, ParameterError)
     if out > MAX_TIME_S:
-        raise ParameterError(f"{attribute.name} must be <= {MAX_TIME_S:g} s, got {value!r}")
+        raise ParameterError(f"{attribute.name} must be <= {MAX_TIME_S:g} s, got {plain(value)}")
 
 
 # Bound of the sidestep force's speed gain γ (s/m): exp(γ Δv) stays finite below the
@@ -203,13 +210,13 @@ def _check_gain(inst: Any, attribute: attrs.Attribute[float], value: Any) -> Non
 def _check_cap(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
     out = positive(value, attribute.name, ParameterError)
     if out > MAX_STRENGTH:
-        raise ParameterError(f"{attribute.name} must be <= {MAX_STRENGTH:g}, got {value!r}")
+        raise ParameterError(f"{attribute.name} must be <= {MAX_STRENGTH:g}, got {plain(value)}")
 
 
 def _check_form(inst: Any, attribute: attrs.Attribute[str], value: Any) -> None:
     if not isinstance(value, str) or value not in ROBOT_FORMS:
         known = ", ".join(ROBOT_FORMS)
-        raise ParameterError(f"unknown robot_form {value!r}; known: {known}")
+        raise ParameterError(f"unknown robot_form {plain(value)}; known: {known}")
 
 
 def _to_float(value: Any) -> Any:
@@ -310,7 +317,7 @@ class SRFMParams:
     def __attrs_post_init__(self) -> None:
         if self.cp_t_max < self.cp_t_min:
             raise ParameterError(
-                f"cp_t_max must be >= cp_t_min ({self.cp_t_min!r} s), got {self.cp_t_max!r}"
+                f"cp_t_max must be >= cp_t_min ({self.cp_t_min!r} s), got {plain(self.cp_t_max)}"
             )
 
     @classmethod
@@ -321,13 +328,15 @@ class SRFMParams:
             return PRESETS[name]
         except (KeyError, TypeError):
             known = ", ".join(sorted(PRESETS))
-            raise ParameterError(f"unknown parameter preset {name!r}; known: {known}") from None
+            raise ParameterError(
+                f"unknown parameter preset {plain(name)}; known: {known}"
+            ) from None
 
     def replace(self, **changes: Any) -> SRFMParams:
         """A copy with some fields changed (validated again)."""
         unknown = sorted(set(changes) - set(attrs.fields_dict(SRFMParams)))
         if unknown:
-            raise ParameterError(f"unknown SRFM parameter {unknown[0]!r}")
+            raise ParameterError(f"unknown SRFM parameter {plain(unknown[0])}")
         return attrs.evolve(self, **changes)
 
     def for_kernels(self) -> SRFMKernelParams:
@@ -395,21 +404,18 @@ def load_params(path: str | Path) -> SRFMParams:
     text = read_input_text(
         path, max_bytes=MAX_TOML_BYTES, error=ParameterError, what="parameter file"
     )
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ParameterError(f"{path}: not a valid TOML file: {exc}") from None
+    data = parse_toml(text, path, ParameterError)
     unknown = sorted(set(data) - {"schema_version", "preset", "params", "meta"})
     if unknown:
         raise ParameterError(f"{path}: unknown key {unknown[0]!r}")
     version = data.get("schema_version")
     if type(version) is not int or version != PARAMS_SCHEMA_VERSION:
         raise ParameterError(
-            f"{path}: schema_version must be {PARAMS_SCHEMA_VERSION}, got {version!r}"
+            f"{path}: schema_version must be {PARAMS_SCHEMA_VERSION}, got {plain(version)}"
         )
     values = data.get("params", {})
     if not isinstance(values, dict):
-        raise ParameterError(f"{path}: [params] must be a table, got {values!r}")
+        raise ParameterError(f"{path}: [params] must be a table, got {plain(values)}")
     try:
         base = SRFMParams.preset(data["preset"]) if "preset" in data else SRFMParams()
         return base.replace(**values)
@@ -452,7 +458,7 @@ def _toml_scalar(key: Any, value: Any) -> str:
     if text is not None:
         return text
     raise ParameterError(
-        f"meta value {key!r} must be a string, integer, float or boolean, got {value!r}"
+        f"meta value {key!r} must be a string, integer, float or boolean, got {plain(value)}"
     )
 
 

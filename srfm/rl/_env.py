@@ -11,6 +11,7 @@ import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm.errors import ParameterError, ScenarioError, SimulationError
 from srfm.models import _robot_kernels as _rk
 from srfm.models.params import SRFMParams
@@ -56,10 +57,10 @@ def _generated_share(value: float, share: float, mixed: bool) -> float:
 def _library(library: Sequence[str], share: float, mixed: bool) -> tuple[str, ...]:
     """The checked library of a training pool (see :class:`SocialNavEnv`)."""
     if isinstance(library, (str, bytes)):
-        raise ParameterError(f"library must be a sequence of scenario names, got {library!r}")
+        raise ParameterError(f"library must be a sequence of scenario names, got {plain(library)}")
     names = tuple(library)
     if not (isinstance(share, (int, float)) and 0.0 <= share <= 1.0):
-        raise ParameterError(f"library_share must be a number in [0, 1], got {share!r}")
+        raise ParameterError(f"library_share must be a number in [0, 1], got {plain(share)}")
     if (names or share) and not mixed:
         raise ParameterError(
             f"library and library_share apply to the {TRAINING_SCENARIO!r} scenario only"
@@ -69,7 +70,7 @@ def _library(library: Sequence[str], share: float, mixed: bool) -> tuple[str, ..
     known = set(BUILTIN_SCENARIOS)
     for name in names:
         if name not in known:
-            raise ParameterError(f"unknown library scenario {name!r}")
+            raise ParameterError(f"unknown library scenario {plain(name)}")
     return names
 
 
@@ -226,15 +227,15 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         generated_share: float = 0.0,
     ) -> None:
         if render_mode is not None:
-            raise ParameterError(f"render_mode must be None, got {render_mode!r}")
+            raise ParameterError(f"render_mode must be None, got {plain(render_mode)}")
         if config is None:
             config = EnvConfig()
         elif not isinstance(config, EnvConfig):
-            raise ParameterError(f"config must be an srfm.rl.EnvConfig, got {config!r}")
+            raise ParameterError(f"config must be an srfm.rl.EnvConfig, got {plain(config)}")
         if params is None:
             params = SRFMParams()
         elif not isinstance(params, SRFMParams):
-            raise ParameterError(f"params must be an srfm.SRFMParams, got {params!r}")
+            raise ParameterError(f"params must be an srfm.SRFMParams, got {plain(params)}")
         # "mixed": a new training layout per episode (srfm.scenarios.training), on the
         # world, robot and time step of the random scenario.
         self.mixed = isinstance(scenario, str) and scenario == TRAINING_SCENARIO
@@ -273,7 +274,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
     ) -> tuple[ObsType, dict[str, Any]]:
         """Start an episode; see the class docstring for how the episode is chosen."""
         if options is not None and not isinstance(options, dict):
-            raise ParameterError(f"reset options must be a dict or None, got {options!r}")
+            raise ParameterError(f"reset options must be a dict or None, got {plain(options)}")
         unknown = sorted(map(repr, set(options or ()) - set(RESET_OPTIONS)))
         if unknown:
             raise ParameterError(
@@ -353,7 +354,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         """Change the deviation weight k2 (1/m) from the next step on (a curriculum
         on k2; ``config.k2`` keeps the value the environment was made with)."""
         if not (isinstance(k2, (int, float)) and math.isfinite(k2) and k2 >= 0.0):
-            raise ParameterError(f"k2 must be a finite number >= 0, got {k2!r}")
+            raise ParameterError(f"k2 must be a finite number >= 0, got {plain(k2)}")
         self._k2 = float(k2)
         self._core.set_k2(self._k2)
 

@@ -64,6 +64,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm._streams import pool_rng, training_rng
+from srfm._text import plain
 from srfm.errors import ScenarioError
 from srfm.scenarios._schema import RandomSpec, Scenario
 from srfm.scenarios._setup import validate_seed
@@ -366,22 +367,24 @@ def family_weights(weights: Sequence[float] | None) -> tuple[float, ...] | None:
     if weights is None:
         return None
     if isinstance(weights, (str, bytes)):
-        raise ScenarioError(f"family weights must be a sequence of numbers, got {weights!r}")
+        raise ScenarioError(f"family weights must be a sequence of numbers, got {plain(weights)}")
     try:
         values = tuple(float(w) for w in weights)
     except (TypeError, ValueError):
-        raise ScenarioError(f"family weights must be numbers, got {weights!r}") from None
+        raise ScenarioError(f"family weights must be numbers, got {plain(weights)}") from None
     names = ", ".join(TRAINING_FAMILIES)
     if len(values) != len(TRAINING_FAMILIES):
         raise ScenarioError(
             f"family weights need {len(TRAINING_FAMILIES)} values ({names}), got {len(values)}: "
-            f"{weights!r}"
+            f"{plain(weights)}"
         )
     for name, value in zip(TRAINING_FAMILIES, values, strict=True):
         if not math.isfinite(value) or value < 0.0:
-            raise ScenarioError(f"family weight of {name!r} must be finite and >= 0, got {value!r}")
+            raise ScenarioError(
+                f"family weight of {name!r} must be finite and >= 0, got {plain(value)}"
+            )
     if sum(values) <= 0.0:
-        raise ScenarioError(f"family weights must not all be 0, got {weights!r}")
+        raise ScenarioError(f"family weights must not all be 0, got {plain(weights)}")
     return values
 
 
@@ -454,7 +457,7 @@ def training_layout(
     family = drawn if family is None else family
     if family not in TRAINING_FAMILIES:
         known = ", ".join(TRAINING_FAMILIES)
-        raise ScenarioError(f"unknown training family {family!r}; known: {known}")
+        raise ScenarioError(f"unknown training family {plain(family)}; known: {known}")
     common: dict[str, Any] = {
         "description": f"training layout ({family}) of seed {seed}",
         "dt_s": base.dt_s,

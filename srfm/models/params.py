@@ -203,7 +203,7 @@ def _check_gain(inst: Any, attribute: attrs.Attribute[float], value: Any) -> Non
     if not -MAX_SPEED_GAIN <= out <= MAX_SPEED_GAIN:
         raise ParameterError(
             f"{attribute.name} must be in [{-MAX_SPEED_GAIN:g}, {MAX_SPEED_GAIN:g}] s/m, "
-            f"got {value!r}"
+            f"got {plain(value)}"
         )
 
 

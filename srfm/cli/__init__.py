@@ -12,7 +12,7 @@ from typing import Any
 
 import click
 
-from srfm._version import DISTRIBUTION
+from srfm._version import DISTRIBUTION, __version__
 from srfm.cli._common import (
     DEBUG_ENV,
     EXIT_INTERRUPTED,
@@ -93,6 +93,7 @@ class _Main(click.Group):
 
 @click.group(cls=_Main, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(
+    __version__,  # srfm's one version lookup (a tree never installed: 0+unknown, no crash)
     package_name=DISTRIBUTION,
     prog_name="srfm",
     message="%(prog)s, version %(version)s (%(package)s)",

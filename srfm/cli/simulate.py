@@ -61,10 +61,23 @@ def suites() -> None:
 def planners() -> None:
     """List every planner -p/--planner accepts by name, the reference planners
     included: what each is for, and whether `srfm benchmark` runs it when no planner is
-    named (default). A planner of your own runs as module:attribute."""
+    named (default); then the two forms of a planner of your own."""
     from srfm.planners import available_planners
 
     rows = [(p.name, _yes(p.default), p.description) for p in available_planners()]
+    rows += [
+        (
+            "external:NAME",
+            "no",
+            "a planner in any language, a program that speaks the external planner "
+            "protocol, defined with --external NAME=COMMAND (docs/planners-any-language.md)",
+        ),
+        (
+            "MODULE:ATTRIBUTE",
+            "no",
+            "a planner of your own Python code: a class or a factory in an importable module",
+        ),
+    ]
     _table(("planner", "default", "what it is for"), rows)
 
 

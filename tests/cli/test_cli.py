@@ -195,3 +195,21 @@ def test_version_names_the_distribution() -> None:
     code, out = run("--version")
     assert code == 0
     assert out == f"srfm, version {srfm.__version__} (social-robot-force-model)\n"
+
+
+def test_version_of_a_tree_never_installed_is_no_crash() -> None:
+    """Without the distribution's metadata (a checkout installed under its old name, or
+    never installed) `srfm --version` says 0+unknown instead of a traceback."""
+    script = (
+        "from importlib import metadata\n"
+        "def version(name):\n"
+        "    raise metadata.PackageNotFoundError(name)\n"
+        "metadata.version = version\n"
+        "from srfm.cli import main\n"
+        "main(['--version'])\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == "srfm, version 0+unknown (social-robot-force-model)\n"

@@ -62,6 +62,10 @@ def test_srfm_planners_lists_the_whole_registry() -> None:
         capture_output=True, text=True, cwd=REPO, timeout=300, check=True,
     )  # fmt: skip
     registry = json.loads(done.stdout.splitlines()[-1])
+    own = listed[-2:]  # the two forms of a planner of one's own
+    assert [row[0] for row in own] == ["external:NAME", "MODULE:ATTRIBUTE"]
+    assert all(default == "no" for _, default, _ in own)
+    listed = listed[:-2]
     assert listed == [(name, "yes" if default else "no", text) for name, default, text in registry]
     names = [row[0] for row in listed]
     assert {"oracle", "stay", "straight"} <= set(names)

@@ -240,3 +240,28 @@ def test_a_refused_draw_folder_is_one_line_before_the_banner(
     spoil(draw)
     res = cli("benchmark", *args, "--no-figures", "--param-draws", "1", "--out", str(out))
     assert_one_line(res, "draws/draw-000", message)
+
+
+_ROBOT = "[robot]\nstart = [2.0, 8.0]\ngoal = [12.0, 9.0]\n"
+BAD_SCENARIOS = {
+    "overlap": _ROBOT + "[pedestrians]\nstarts = [[1.0, 1.0], [1.1, 1.0]]\n"
+    "goals = [[10.0, 10.0], [1.0, 9.0]]\n",
+    "outside": _ROBOT + "[pedestrians]\nstarts = [[-100.0, 1.0]]\ngoals = [[10.0, 10.0]]\n",
+    "radius": _ROBOT.replace("[robot]\n", "[robot]\nradius_m = -0.5\n")
+    + "[pedestrians]\nstarts = [[1.0, 1.0]]\ngoals = [[10.0, 10.0]]\n",
+    "nan": _ROBOT.replace("8.0]", "nan]", 1)
+    + "[pedestrians]\nstarts = [[1.0, 1.0]]\ngoals = [[10.0, 10.0]]\n",
+    "wall": _ROBOT + "[obstacles]\nwalls = [[0.0, 1.0, 5.0, 1.0]]\n"
+    "[pedestrians]\nstarts = [[1.0, 1.0]]\ngoals = [[10.0, 10.0]]\n",
+}
+
+
+@pytest.mark.parametrize("case", BAD_SCENARIOS, ids=list(BAD_SCENARIOS))
+def test_bad_scenario_files_quote_plain_numbers(tmp_path: Path, case: str) -> None:
+    """The scenario checks compute with NumPy (distances, overlaps, bounds); what they
+    quote is plain."""
+    path = tmp_path / "bad.toml"
+    path.write_text(SCENARIO_HEAD.replace("1\n", "2\n", 1) + BAD_SCENARIOS[case], "utf-8")
+    res = cli("simulate", "--scenario", str(path))
+    assert_one_line(res, "bad.toml")
+    assert _clean(res.output.rstrip("\n")), res.output

@@ -139,3 +139,29 @@ def test_a_bad_option_is_one_line_before_anything_is_written(tmp_path: Path) -> 
     assert result.exit_code == 2, result.output
     assert result.output == "Error: train.learning_rate must be > 0, got -1.0\n"
     assert not run.exists()
+
+
+def test_the_progress_bar_opens_with_the_first_steps(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Nothing of the bar is shown before training reports its first steps: an error of
+    the set-up (a bad checkpoint, a missing extra) is the only line."""
+    import contextlib
+    import importlib
+
+    cli_train = importlib.import_module("srfm.cli.train")  # the module, not the command
+
+    opened: list[int] = []
+    updates: list[int] = []
+
+    @contextlib.contextmanager
+    def fake_bar(*, length: int, **options: Any) -> Any:
+        opened.append(length)
+        yield type("Bar", (), {"update": lambda self, n: updates.append(n)})()
+
+    monkeypatch.setattr(cli_train, "progressbar", fake_bar)
+    with cli_train._TrainingBar(300) as bar:
+        assert opened == []
+        bar.advance(100)
+        bar.advance(100)
+        bar.advance(250)
+    assert opened == [300]
+    assert updates == [100, 150]

@@ -86,7 +86,7 @@ def provenance(name: str) -> str:
     )
 
 
-_PAGE: Path = DOCS
+_PAGE: Path = DOCS / "index.md"
 
 
 def _link(name: str) -> str:
@@ -453,9 +453,21 @@ def discriminative_tables() -> str:
     if missing:
         raise MissingError(f"with the scenarios {', '.join(missing)}")
     rows = _disc_rows(names, suite)
+    failing = [r for r in rows if discrimination._qualifies(r)]
+    verdict = (
+        "Every one of them meets the rule's conditions (a)–(d) on these seeds too."
+        if not failing
+        else "On these seeds "
+        + "; ".join(
+            f"`{r['scenario']}` fails ({', '.join(discrimination._qualifies(r))})"
+            + (f": {r['seeds_needed']:,} seeds for 0.05 m" if r["seeds_needed"] else "")
+            for r in failing
+        )
+        + f"; the other {len(rows) - len(failing)} meet (a)–(d)."
+    )
     return (
         f"The suite `discriminative` ({', '.join(f'`{s}`' for s in suite)}) on seeds 0–99, "
-        f"from the sets {', '.join(f'`{n}`' for n in names)}:\n\n"
+        f"from the sets {', '.join(f'`{n}`' for n in names)}. {verdict}\n\n"
         + discrimination.table(rows, selection=False)
         + "\n\nFréchet deviation per planner (m, mean ± SD over seeds, all episodes; in "
         "brackets the share of episodes that reached the goal):\n\n"

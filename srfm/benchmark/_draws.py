@@ -48,7 +48,8 @@ import attrs
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from srfm._io import MAX_DOCUMENT_BYTES, atomic_write_text, read_input_bytes
+from srfm._io import MAX_DOCUMENT_BYTES, atomic_write_text, check_columns, read_input_bytes
+from srfm._text import plain
 from srfm.errors import BenchmarkError, ParameterError, SrfmError
 from srfm.metrics.stats import wilson
 from srfm.models.params import SRFMParams
@@ -139,7 +140,7 @@ class ParamDraws:
 def _check_k(k: int) -> int:
     if isinstance(k, bool) or not isinstance(k, int) or not 1 <= k <= MAX_DRAWS:
         raise ParameterError(
-            f"the number of parameter draws must be in [1, {MAX_DRAWS}], got {k!r}"
+            f"the number of parameter draws must be in [1, {MAX_DRAWS}], got {plain(k)}"
         )
     return k
 
@@ -147,7 +148,7 @@ def _check_k(k: int) -> int:
 def _check_seed(seed: int) -> int:
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ParameterError(
-            f"the seed of the parameter draws must be an integer >= 0, got {seed!r}"
+            f"the seed of the parameter draws must be an integer >= 0, got {plain(seed)}"
         )
     return seed
 
@@ -242,12 +243,13 @@ def _read_draws_file(path: Path, base: SRFMParams) -> tuple[list[SRFMParams], st
         raise ParameterError(f"{path}: not UTF-8 text ({exc})") from None
     reader = csv.reader(io.StringIO(text))
     header = [h.strip() for h in next(reader, [])]
+    check_columns(header, f"{path}, line 1", ParameterError)
     known = set(base.as_dict())
     unknown = [h for h in header if h not in known]
     if not header or unknown:
         raise ParameterError(
             f"{path}: the header must name SRFM parameters ({', '.join(sorted(known))}); "
-            f"got {unknown or header!r}"
+            f"got {plain(unknown or header)}"
         )
     rows = []
     for line, row in enumerate(reader, start=2):

@@ -18,7 +18,13 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, Final
 
-from srfm._io import MAX_DOCUMENT_BYTES, atomic_write_bytes, folder_lock, read_input_bytes
+from srfm._io import (
+    MAX_DOCUMENT_BYTES,
+    atomic_write_bytes,
+    check_columns,
+    folder_lock,
+    read_input_bytes,
+)
 from srfm._text import count
 from srfm.benchmark._request import check_manifest_schema
 from srfm.benchmark._results import episode_path, read_episode
@@ -429,7 +435,9 @@ def _episodes(out: Path, files: Mapping[str, bytes]) -> list[dict[str, str]]:
     data = _read_bytes(out, "episodes.csv", files)
     if data is None:
         raise BenchmarkError(f"{out / 'episodes.csv'} is missing: not a complete results folder")
-    return list(csv.DictReader(io.StringIO(data.decode("utf-8"))))
+    rows = csv.DictReader(io.StringIO(data.decode("utf-8")))
+    check_columns(rows.fieldnames or [], str(out / "episodes.csv"), BenchmarkError)
+    return list(rows)
 
 
 def _outcomes(

@@ -37,6 +37,7 @@ from srfm._io import (
     remove_stale_temporaries,
     write_file_set,
 )
+from srfm._text import plain
 from srfm.benchmark._dask import check_scheduler, map_on_dask
 from srfm.benchmark._draws import ParamDraws, check_param_draws, draw_folder, render_rankings
 from srfm.benchmark._html import REPORT, render_report
@@ -331,7 +332,7 @@ def check_executor(
     if jobs < 1:
         raise BenchmarkError(f"jobs must be at least 1, got {jobs}")
     if executor not in EXECUTORS:
-        raise BenchmarkError(f"unknown executor {executor!r}; known: {', '.join(EXECUTORS)}")
+        raise BenchmarkError(f"unknown executor {plain(executor)}; known: {', '.join(EXECUTORS)}")
     if executor != "dask" and (scheduler is not None or scheduler_file is not None):
         raise BenchmarkError("--scheduler and --scheduler-file need --executor dask")
     if executor == "dask":
@@ -561,6 +562,15 @@ def run_benchmark(
             check_param_draws(out, param_draws)
         if models is not None:  # so are other models
             check_models(out, models)
+        drawn_params = param_draws.params if param_draws is not None else ()
+        folders = [
+            *((draw_folder(out, k), p) for k, p in enumerate(drawn_params)),
+            *((model_folder(out, name), p) for name, p in others),
+        ]
+        for folder, params in folders:
+            # each draw's (model's) folder as its own run below checks it, before on_start
+            claim_output_folder(folder, kind="benchmark", force=force, legacy_markers=(MANIFEST,))
+            check_manifest(folder, attrs.evolve(request, params=params), command)
         atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
         damaged: list[str] = []
         tasks = _pending_tasks(out, request, writer, figures, damaged)
@@ -588,11 +598,6 @@ def run_benchmark(
                     on_progress(done)
                 if figure:
                     drawn.task_done(scenario)
-        drawn_params = param_draws.params if param_draws is not None else ()
-        folders = [
-            *((draw_folder(out, k), p) for k, p in enumerate(drawn_params)),
-            *((model_folder(out, name), p) for name, p in others),
-        ]
         for folder, params in folders:
             draw = run_benchmark(
                 attrs.evolve(request, params=params),

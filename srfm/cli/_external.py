@@ -50,11 +50,16 @@ def external_options(func: F) -> F:
         *args: Any, external: tuple[str, ...], external_timeout: float, **kwargs: Any
     ) -> Any:
         if external:
+            from srfm.errors import PlannerError
             from srfm.planners.external import define_external
             from srfm.planners.external._planner import is_address, parse_external_option
 
+            seen: set[str] = set()
             for text in external:
                 name, target = parse_external_option(text)
+                if name in seen:
+                    raise PlannerError(f"--external {name}=... is given twice")
+                seen.add(name)
                 if is_address(target):
                     define_external(name, address=target, step_timeout_s=external_timeout)
                 else:

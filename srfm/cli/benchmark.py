@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from srfm._text import count
+from srfm._text import count, plain
 from srfm.cli._common import EXIT_INTERRUPTED, load_params_option, progressbar, user_errors
 from srfm.cli._external import external_options
 
@@ -46,7 +46,8 @@ def _parse_seeds(text: str) -> list[int]:
             )
         if b > MAX_SEED:
             raise click.BadParameter(
-                f"seeds must be in [0, {MAX_SEED}] (2^32 - 1), got {part!r}", param_hint="--seeds"
+                f"seeds must be in [0, {MAX_SEED}] (2^32 - 1), got {plain(part)}",
+                param_hint="--seeds",
             )
         count += b - a + 1
         if count > MAX_SEEDS:
@@ -196,7 +197,7 @@ def _split(values: tuple[str, ...]) -> list[str]:
     default=None,
     help="Where the episodes run: 'process' (a local process pool, the default) or "
     "'dask' (a Dask LocalCluster of --jobs workers, or the cluster of --scheduler / "
-    "--scheduler-file). Same results, byte for byte. Needs srfm[dask] for 'dask'.",
+    "--scheduler-file). Same results, byte for byte. Needs the dask extra for 'dask'.",
 )
 @click.option(
     "--scheduler",

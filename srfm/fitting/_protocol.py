@@ -17,6 +17,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm.datasets._trajectories import Trajectories
 from srfm.errors import ParameterError
 from srfm.fitting._ade import displacement_summary, pass_errors
@@ -185,7 +186,7 @@ def leave_one_scene_out(
     if isinstance(k, bool) or not isinstance(k, int) or not 2 <= k <= groups.n_groups:
         raise ParameterError(
             f"n_folds must be an integer in [2, {groups.n_groups}] (the number of scenes), "
-            f"got {n_folds!r}"
+            f"got {plain(n_folds)}"
         )
     out: list[SRFMParams | None] = [None] * groups.n_groups
     for fold in range(k):
@@ -230,7 +231,7 @@ def bootstrap_robot_part(
         Deterministic for a given ``seed``.
     """
     if isinstance(n_boot, bool) or not isinstance(n_boot, int) or n_boot < 1:
-        raise ParameterError(f"n_boot must be a positive integer, got {n_boot!r}")
+        raise ParameterError(f"n_boot must be a positive integer, got {plain(n_boot)}")
     pool = np.arange(groups.n_groups) if among is None else np.asarray(among, dtype=np.int64)
     if pool.size == 0:
         raise ParameterError("no scenes to bootstrap over")

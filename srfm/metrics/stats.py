@@ -12,6 +12,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import stdtr
 
+from srfm._text import plain
 from srfm.errors import MetricError
 
 __all__ = [
@@ -236,14 +237,14 @@ def adjust_p_values(p_values: ArrayLike, method: str) -> NDArray[np.float64]:
         MetricError: an unknown method, or a p-value outside [0, 1].
     """
     if method not in CORRECTIONS:
-        raise MetricError(f"unknown correction {method!r}; known: {', '.join(CORRECTIONS)}")
+        raise MetricError(f"unknown correction {plain(method)}; known: {', '.join(CORRECTIONS)}")
     p = np.array(p_values, dtype=np.float64)
     flat = p.ravel()
     defined = np.flatnonzero(np.isfinite(flat))
     values = flat[defined]
     outside = ~np.isnan(flat) & ~((flat >= 0.0) & (flat <= 1.0))
     if np.any(outside):
-        raise MetricError(f"p-values must lie in [0, 1], got {float(flat[outside][0])!r}")
+        raise MetricError(f"p-values must lie in [0, 1], got {plain(float(flat[outside][0]))}")
     m = values.size
     if method == "none" or m == 0:
         return p

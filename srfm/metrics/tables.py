@@ -39,6 +39,7 @@ from typing import Any, Final
 import attrs
 import numpy as np
 
+from srfm._text import plain
 from srfm.errors import MetricError
 from srfm.metrics.episode import EPISODE_METRICS, METRIC_GROUPS, EpisodeMetrics, MetricInfo
 from srfm.metrics.headroom import (
@@ -268,10 +269,12 @@ def benchmark_table(
     if reference is not None and reference not in planners:
         raise MetricError(f"reference planner {reference!r} is not among {list(planners)}")
     if correction not in CORRECTIONS:
-        raise MetricError(f"unknown correction {correction!r}; known: {', '.join(CORRECTIONS)}")
+        raise MetricError(
+            f"unknown correction {plain(correction)}; known: {', '.join(CORRECTIONS)}"
+        )
     for name, _ in columns:
         if base_metric(name) not in _INFO:
-            raise MetricError(f"unknown metric {name!r}; known: {sorted(_INFO)}")
+            raise MetricError(f"unknown metric {plain(name)}; known: {sorted(_INFO)}")
     summaries: dict[tuple[str, str], dict[str, Summary]] = {}
     raw: dict[tuple[str, str], dict[str, Comparison]] = {}
     outcomes: dict[tuple[str, str], dict[str, int]] = {}

@@ -19,6 +19,7 @@ import attrs
 import numpy as np
 
 from srfm._streams import PLANNER_STREAM, planner_rng
+from srfm._text import plain
 from srfm._user_code import call_user_code, is_user_code, user_code_error
 from srfm._validate import path_name, planner_name
 from srfm.errors import (
@@ -203,7 +204,7 @@ def _detection_range(planner: Planner) -> float | None:
     if isinstance(value, bool) or not isinstance(value, int | float) or not value >= 0.0:
         raise PlannerError(
             f"planner {planner.name!r}: detection_range_m must be None "
-            f"or a number >= 0, got {value!r}"
+            f"or a number >= 0, got {plain(value)}"
         )
     return float(value)
 

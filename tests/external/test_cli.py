@@ -133,9 +133,25 @@ def test_benchmark_connects_workers_to_a_listening_python_planner(tmp_path: Path
         server.wait()
 
 
-@pytest.mark.parametrize("bad", ["cpp", "=prog", "a b=prog"])
-def test_bad_external_options_are_one_line_errors(bad: str) -> None:
-    run = _srfm("simulate", "--scenario", "circle", "--external", bad)
+@pytest.mark.parametrize("bad", [["cpp"], ["=prog"], ["a b=prog"], ["x=a", "x=b"]])
+def test_bad_external_options_are_one_line_errors(bad: list[str]) -> None:
+    options = [arg for text in bad for arg in ("--external", text)]
+    run = _srfm("simulate", "--scenario", "circle", *options)
     assert run.returncode == 2
     assert len(run.stderr.strip().splitlines()) == 1
     assert run.stderr.startswith("Error: ")
+
+
+def test_run_benchmark_with_only_external_planners(cpp_build: Path, tmp_path: Path) -> None:
+    """The Python API, two workers, no built-in planner to warm up beside them."""
+    from srfm.benchmark import BenchmarkRequest, run_benchmark
+    from srfm.planners.external import define_external
+
+    name = define_external("only", [str(cpp_build / "straight_planner")])
+    request = BenchmarkRequest.create(scenarios=["circle"], planners=[name], seeds=[0, 1, 2])
+    summary = run_benchmark(request, tmp_path / "out", jobs=2, figures=False)
+    assert summary.simulated == 3
+    for seed in range(3):
+        assert read_episode(episode_path(tmp_path / "out", "circle", name, seed)).outcome == (
+            "goal_reached"
+        )

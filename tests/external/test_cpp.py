@@ -142,3 +142,30 @@ def test_cpp_listening_planner_serves_parallel_connections(cpp_build: Path, tmp_
     finally:
         server.kill()
         server.wait()
+
+
+def test_cpp_straight_on_a_holonomic_robot(cpp_build: Path) -> None:
+    import attrs
+
+    scenario = srfm.load_scenario("crosswalk")
+    scenario = attrs.evolve(scenario, robot=attrs.evolve(scenario.robot, kinematics="holonomic"))
+    name = define_external("cpp-straight", [str(cpp_build / "straight_planner")])
+    external = srfm.run_episode(scenario, 0, name)
+    assert external.robot_kinematics == "holonomic"
+    assert record_digest(external) == record_digest(srfm.run_episode(scenario, 0, "straight"))
+
+
+def test_cpp_reactive_planner_on_a_scenario_with_walls(cpp_build: Path) -> None:
+    """Walls and pillars cross the protocol; the planner steers to the route's waypoints."""
+    name = define_external("cpp-reactive", [str(cpp_build / "reactive_planner")])
+    record = srfm.run_episode("narrow_doorway", 0, name)
+    assert record.outcome == "goal_reached"
+
+
+def test_the_client_reads_every_field_the_schema_names() -> None:
+    from srfm.planners.external._schema import message_spec
+
+    source = (REPO / "clients" / "cpp" / "src" / "planner.cpp").read_text(encoding="utf-8")
+    read = set(re.findall(r'\(f, "(\w+)"', source))
+    wanted = {f.name for kind in ("reset", "observe") for f in message_spec(kind, "srfm").fields}
+    assert read == wanted

@@ -43,7 +43,7 @@ FAILURES = {
     r"\(\|v\| <= 0\.5 m/s and \|omega\| <= 3\.14159\d* rad/s\)",
     "strings": r"answered a command that is not two numbers: \['a', 'b'\]",
     "error": r"reported an error: the map server is down",
-    "close": r"closed its connection \(the connection was closed\) but kept running",
+    "close": r"closed its connection \(end of file\) but kept running",
 }
 
 

@@ -10,16 +10,17 @@ seeds needed per scenario; the selection of the `discriminative` suite; its repo
     nice -n 5 .venv/bin/python tools/analysis/discrimination.py run results/disc-report \
         --suite discriminative --seeds 0-99
     .venv/bin/python tools/analysis/discrimination.py report results/disc-report \
-        --json docs/discrimination/report.json
+        --json /tmp/report.json
     # the oracle's CPU time per episode (paper suite; --suite francis for another)
     .venv/bin/python tools/analysis/discrimination.py cost --seeds 0-19
     # any results folder with straight and oracle (e.g. a suite without td3-srfm)
     .venv/bin/python tools/analysis/discrimination.py report results/francis \
-        --json docs/discrimination/francis.json
+        --json /tmp/francis.json
 
 `run` is `srfm benchmark -j 1 --no-logs --no-figures` with the planners below (`-j N`
 for N workers: the same episodes); the other commands read its per-episode files and
-print Markdown (docs/benchmark.md).
+print Markdown. The docs' tables (docs/results/discriminative.md) are generated from the
+committed results sets by ``tools/results/generate.py`` with this file's functions.
 
 SELECTION RULE (written down on 2026-11-27 before the selection was run, and not
 changed after): the candidates are the 28 scenarios of suite `all` (paper, francis,

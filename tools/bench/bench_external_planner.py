@@ -16,6 +16,9 @@ the same record, tests/external/test_cpp.py).
   paper episode's horizon: the most ``act`` calls one episode can make) and each block
   is timed as a whole with each planner; the overhead is the median over blocks of the
   difference.
+- **the Python client**: the same straight planner written as a function served by
+  ``srfm.planners.external.serve``, timed per step beside the two others (its process
+  decodes every message into NumPy arrays: the Python client is for convenience).
 - **whole episodes**: ``srfm.run_episode`` of each recorded episode with each planner,
   median wall time over ``--repeats`` runs (the robot reaches its goal in 200-340
   steps, so these episodes make fewer than 750 calls).
@@ -33,6 +36,7 @@ import os
 import platform
 import statistics
 import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -47,6 +51,20 @@ from srfm.scenarios import EVALUATION_SCENARIOS
 
 REPO = Path(__file__).resolve().parents[2]
 EPISODE_STEPS = 750
+# The Python client's straight planner (srfm.planners.external.serve), for its row.
+PYTHON_PLANNER = """
+import math
+from srfm.planners.external import serve
+
+def act(step, episode):
+    error = math.remainder(
+        math.atan2(step.goal[1] - step.y, step.goal[0] - step.x) - step.theta, 2.0 * math.pi
+    )
+    wmax = episode.max_angular_speed_radps
+    return episode.max_speed_mps * max(math.cos(error), 0.0), max(-wmax, min(wmax, 2.0 * error))
+
+serve(act, detection_range_m=0.0)
+"""
 
 
 class _Recorder(StraightPlanner):
@@ -93,6 +111,10 @@ def main() -> None:
     args = parser.parse_args()
     program = build(args.build_dir)
     name = define_external("bench-cpp", [str(program)])
+    script = args.build_dir / "python_planner.py"
+    script.write_text(PYTHON_PLANNER, encoding="utf-8")
+    python = srfm.planners.make_planner(define_external("bench-py", [sys.executable, str(script)]))
+    assert python.detection_range_m == 0.0
 
     episodes: list[tuple[str, int, _Recorder]] = []
     for scenario in EVALUATION_SCENARIOS:
@@ -108,6 +130,7 @@ def main() -> None:
     clock = time.perf_counter_ns
     t_in: list[float] = []
     t_ex: list[float] = []
+    t_py: list[float] = []
     block_in: list[float] = []
     block_ex: list[float] = []
     for _ in range(args.repeats):
@@ -115,14 +138,18 @@ def main() -> None:
             assert rec.context is not None
             builtin.reset(rec.context, rng)
             external.reset(rec.context, rng)
+            python.reset(rec.context, rng)
             for obs in rec.observations:
                 t0 = clock()
                 builtin.act(obs)
                 t1 = clock()
                 external.act(obs)
                 t2 = clock()
+                python.act(obs)
+                t3 = clock()
                 t_in.append((t1 - t0) / 1e3)
                 t_ex.append((t2 - t1) / 1e3)
+                t_py.append((t3 - t2) / 1e3)
         stream = [(rec, obs) for _s, _k, rec in episodes for obs in rec.observations]
         for start in range(0, len(stream) - EPISODE_STEPS + 1, EPISODE_STEPS):
             block = stream[start : start + EPISODE_STEPS]
@@ -160,6 +187,11 @@ def main() -> None:
     )
     print(f"| C++ straight over the protocol, act() | {med_ex:.1f} | {p90_ex:.1f} |")
     print(f"| **overhead** (difference of the medians) | **{med_ex - med_in:.1f}** | |")
+    p90_py = statistics.quantiles(t_py, n=10)[-1]
+    print(
+        f"| Python client's straight over the protocol, act() | {statistics.median(t_py):.1f} "
+        f"| {p90_py:.1f} |"
+    )
     diffs = [e - i for e, i in zip(block_ex, block_in, strict=True)]
     print(f"\n| per {EPISODE_STEPS}-step episode ({len(diffs)} blocks) | median (ms) | max (ms) |")
     print("|---|---:|---:|")

@@ -24,6 +24,7 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
+from srfm.metrics.headroom import seeds_needed, sigma_d
 from srfm.metrics.stats import summarize
 from srfm.metrics.tables import (
     TABLE_COLUMNS,
@@ -49,7 +50,9 @@ class MissingError(Exception):
 def _need(*names: str) -> None:
     missing = [n for n in names if not sets.exists(n)]
     if missing:
-        raise MissingError(", ".join(missing))
+        raise MissingError(
+            " and ".join(f"`{n}` (`python tools/results/run.py {n}`)" for n in missing)
+        )
 
 
 def _preset(params: dict[str, Any]) -> str:
@@ -83,7 +86,7 @@ def provenance(name: str) -> str:
     )
 
 
-_PAGE: Path = DOCS
+_PAGE: Path = DOCS / "index.md"
 
 
 def _link(name: str) -> str:
@@ -405,13 +408,39 @@ def selection_table() -> str:
         suite = discrimination.select(rows)
         head = provenance("selection")
     qualified = sum(not r["fails"] for r in rows)
-    return (
+    text = (
         head
         + "\n\n"
         + discrimination.table(rows, selection=True)
         + f"\n\n{qualified} of the {len(rows)} candidates qualify; the rule chooses "
         + ", ".join(f"`{s}`" for s in suite)
         + f" ({_suite_change(suite)})."
+    )
+    if sets.exists("selection") and sets.exists("selection_flow"):
+        text += "\n\n" + _flow_condition_d()
+    return text
+
+
+def _flow_condition_d() -> str:
+    """corridor_flow against condition (d), which does not involve the oracle."""
+    req = sets.manifest("selection_flow")["request"]
+    cells = sets.frechet("selection_flow")
+    values = {
+        p: sets.frechet_array(cells, "corridor_flow", p, req["seeds"]) for p in req["planners"]
+    }
+    sd = sigma_d(values)
+    needed = seeds_needed(sd)
+    verdict = (
+        "fails (d) whatever the oracle would do, so it cannot enter the suite"
+        if needed > discrimination.MAX_SEEDS
+        else "meets (d); whether it qualifies would need the oracle's episodes"
+    )
+    return (
+        provenance("selection_flow")
+        + f"\n\n`corridor_flow`, the one candidate not above (its oracle costs tens of "
+        f"seconds an episode), measured without the oracle on the same seeds: σ_d = "
+        f"{sd:.3f} m over the pairs of its {len(req['planners']) - 2} non-reference "
+        f"planners, {needed:,} seeds to detect 0.05 m: it {verdict}."
     )
 
 
@@ -422,11 +451,23 @@ def discriminative_tables() -> str:
     available = {s for n in names for s in sets.manifest(n)["request"]["scenarios"]}
     missing = [s for s in suite if s not in available]
     if missing:
-        raise MissingError(f"with {', '.join(missing)}")
+        raise MissingError(f"with the scenarios {', '.join(missing)}")
     rows = _disc_rows(names, suite)
+    failing = [r for r in rows if discrimination._qualifies(r)]
+    verdict = (
+        "Every one of them meets the rule's conditions (a)–(d) on these seeds too."
+        if not failing
+        else "On these seeds "
+        + "; ".join(
+            f"`{r['scenario']}` fails ({', '.join(discrimination._qualifies(r))})"
+            + (f": {r['seeds_needed']:,} seeds for 0.05 m" if r["seeds_needed"] else "")
+            for r in failing
+        )
+        + f"; the other {len(rows) - len(failing)} meet (a)–(d)."
+    )
     return (
         f"The suite `discriminative` ({', '.join(f'`{s}`' for s in suite)}) on seeds 0–99, "
-        f"from the sets {', '.join(f'`{n}`' for n in names)}:\n\n"
+        f"from the sets {', '.join(f'`{n}`' for n in names)}. {verdict}\n\n"
         + discrimination.table(rows, selection=False)
         + "\n\nFréchet deviation per planner (m, mean ± SD over seeds, all episodes; in "
         "brackets the share of episodes that reached the goal):\n\n"
@@ -520,10 +561,7 @@ def render(name: str, page: Path) -> str:
     try:
         return BLOCKS[name]().strip()
     except MissingError as exc:
-        return (
-            f"*Not measured yet: the results set(s) {exc} are not committed "
-            f"(`python tools/results/run.py NAME`).*"
-        )
+        return f"*Not measured yet: no committed results set {exc}.*"
 
 
 def rewrite(text: str, page: Path) -> tuple[str, list[str]]:

@@ -39,6 +39,7 @@ import pyarrow.parquet as pq
 from srfm.benchmark import RankTable, rank_table
 from srfm.metrics.episode import EPISODE_METRICS, EpisodeMetrics
 from srfm.metrics.stats import summarize
+from srfm.scenarios.suites import SUITES
 
 ROOT = Path(__file__).resolve().parents[2]
 SETS_DIR = ROOT / "docs" / "results"
@@ -139,9 +140,19 @@ SETS: dict[str, ResultsSet] = {
         ),
         _set(
             "selection",
-            f"--suite all -p {ALL9} --reference straight --seeds 1000-1099",
+            " ".join(f"-s {name}" for name in SUITES["all"] if name != "corridor_flow")
+            + f" -p {ALL9} --reference straight --seeds 1000-1099",
             "all",
-            "the selection of the discriminative suite (seeds 1000-1099)",
+            "the selection of the discriminative suite (seeds 1000-1099): every candidate "
+            "but corridor_flow, where the oracle costs tens of seconds an episode",
+        ),
+        _set(
+            "selection_flow",
+            "-s corridor_flow -p straight,stay,dwa,orca,social-force,vo,td3-base,td3-srfm "
+            "--reference straight --seeds 1000-1099",
+            "all",
+            "corridor_flow on the selection seeds without the oracle: condition (d) of the "
+            "selection rule, which does not involve the oracle",
         ),
     )
 }

@@ -140,7 +140,16 @@ def field_table() -> str:
     ]
     for spec in messages():
         answer = f" Answered by `{spec.answer}`." if spec.answer else ""
-        lines.append(f"| `{spec.type}` | {spec.sender} | `type` | str | | {spec.doc}{answer} |")
+        lines.append(
+            f"| `{spec.type}` | {spec.sender} | `type` | str | | {_cell(spec.doc)}{answer} |"
+        )
         for field in spec.fields:
-            lines.append(f"| | | `{field.name}` | {field.type} | {field.unit} | {field.doc} |")
+            lines.append(
+                f"| | | `{field.name}` | {_cell(field.type)} | {field.unit} | {_cell(field.doc)} |"
+            )
     return "\n".join(lines) + "\n"
+
+
+def _cell(text: str) -> str:
+    """``text`` in a Markdown table cell (its ``|`` escaped)."""
+    return text.replace("|", "\\|")

@@ -186,7 +186,7 @@ class Connection:
             except OSError as exc:
                 raise ClosedError(f"the connection broke ({exc.strerror or exc})") from None
             if not chunk:
-                raise ClosedError("the connection was closed")
+                raise ClosedError("end of file")
             buffer += chunk
         self._buffer = buffer[n:]
         return buffer[:n]

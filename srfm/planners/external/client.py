@@ -179,16 +179,15 @@ def _session(
     """Answer one connection until srfm says bye or closes it."""
     hello = conn.receive(None)
     version = hello.get("protocol") if isinstance(hello, dict) else None
-    if version != PROTOCOL_VERSION:
-        conn.send(
-            {
-                "type": "error",
-                "message": f"this planner speaks protocol version {PROTOCOL_VERSION}, "
-                f"srfm sent {version!r}",
-            }
-        )
+    problem = message_problem(hello, message_spec("hello", "srfm"))
+    if version != PROTOCOL_VERSION or problem is not None:
+        if version != PROTOCOL_VERSION:
+            problem = (
+                f"this planner speaks protocol version {PROTOCOL_VERSION}, "
+                f"srfm sent version {version!r}"
+            )
+        conn.send({"type": "error", "message": str(problem)})
         return
-    _checked(hello, "hello")
     conn.send(
         {"type": "hello", "protocol": PROTOCOL_VERSION, "detection_range_m": detection_range_m}
     )

@@ -39,6 +39,7 @@ from srfm._io import (
 )
 from srfm.benchmark._dask import check_scheduler, map_on_dask
 from srfm.benchmark._draws import ParamDraws, check_param_draws, draw_folder, render_rankings
+from srfm.benchmark._floor import FloorTask, load_floors, pending_floors, run_floor_task
 from srfm.benchmark._html import REPORT, render_report
 from srfm.benchmark._request import MANIFEST, BenchmarkRequest, check_manifest
 from srfm.benchmark._results import episode_path, read_episode, write_episode
@@ -142,6 +143,14 @@ def _run_task(task: _Task) -> tuple[str, int, bool]:
             save_figure_episode(out, record)
         write_episode(out, metrics)  # last: an episode counts as done once this exists
     return task.scenario.name, len(task.seeds), task.figure_seed in task.seeds
+
+
+def _run_any(task: _Task | FloorTask) -> tuple[str, int, bool]:
+    """Worker: an episode task (:func:`_run_task`) or a noise floor task
+    (:func:`srfm.benchmark._floor.run_floor_task`)."""
+    if isinstance(task, FloorTask):
+        return run_floor_task(task)
+    return _run_task(task)
 
 
 def _warm_up(task: _Task, *, metrics: bool = True) -> EpisodeRecord | None:
@@ -505,6 +514,7 @@ def run_benchmark(
         atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
         damaged: list[str] = []
         tasks = _pending_tasks(out, request, writer, figures, damaged)
+        floor_tasks = pending_floors(out, request.scenarios, request.seeds, request.params, _CHUNK)
         cells = len(request.scenarios) * len(request.planners) * len(request.seeds)
         total = cells * (1 + n_draws)
         pending = sum(len(t.seeds) for t in tasks)
@@ -514,12 +524,12 @@ def run_benchmark(
             on_progress(cells - pending)
         start = time.perf_counter()
         drawn = _EarlyFigures(out, request, tasks)
-        if tasks:
-            if executor == "process" and jobs > 1 and sys.platform != "win32":
+        if tasks or floor_tasks:
+            if tasks and executor == "process" and jobs > 1 and sys.platform != "win32":
                 _compile_in_parent(tasks)  # the forked workers (map_tasks) inherit them
             for scenario, done, figure in map_tasks(
-                _run_task,
-                tasks,
+                _run_any,
+                [*tasks, *floor_tasks],
                 executor=executor,
                 jobs=jobs,
                 scheduler=scheduler,
@@ -595,16 +605,22 @@ def _write_reports(
     a kill never leaves tables of one run beside CSV files of another. ``drawn``: the
     path figures already rendered (:class:`_EarlyFigures`)."""
     results = load_results(out, request)
+    names = [s.name for s in request.scenarios]
     files, tables = render_tables(
         results,
-        scenarios=[s.name for s in request.scenarios],
+        scenarios=names,
         planners=request.planners,
         seeds=request.seeds,
         params=request.params,
         reference=request.reference,
+        floors=load_floors(out, names, request.seeds),
     )
     if figures:
-        files.update(render_figures(out, request, tables.table, tables.extended, drawn=drawn))
+        files.update(
+            render_figures(
+                out, request, tables.table, tables.extended, drawn=drawn, suite=tables.suite
+            )
+        )
     files.update(
         render_rankings(out, [s.name for s in request.scenarios], request.planners, request.seeds)
     )

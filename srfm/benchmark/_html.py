@@ -20,11 +20,11 @@ from typing import Any, Final
 
 from srfm._io import MAX_DOCUMENT_BYTES, atomic_write_bytes, folder_lock, read_input_bytes
 from srfm._text import count
-from srfm.benchmark._floor import load_floors
 from srfm.benchmark._request import check_manifest_schema
 from srfm.benchmark._results import episode_path, read_episode
 from srfm.errors import BenchmarkError, SrfmError
 from srfm.metrics.episode import EPISODE_METRICS, METRIC_GROUPS
+from srfm.metrics.floor_files import load_floors
 from srfm.metrics.report import MANIFEST, SUMMARY_SCHEMA, render_tables
 from srfm.metrics.tables import GIVEN_SUCCESS, base_metric, outcome_shares, share_text
 from srfm.models.params import SRFMParams

@@ -39,7 +39,7 @@ from srfm._io import (
 )
 from srfm.benchmark._dask import check_scheduler, map_on_dask
 from srfm.benchmark._draws import ParamDraws, check_param_draws, draw_folder, render_rankings
-from srfm.benchmark._floor import FloorTask, load_floors, pending_floors, run_floor_task
+from srfm.benchmark._floor import FloorTask, pending_floors, run_floor_task
 from srfm.benchmark._html import REPORT, render_report
 from srfm.benchmark._request import MANIFEST, BenchmarkRequest, check_manifest
 from srfm.benchmark._results import episode_path, read_episode, write_episode
@@ -52,6 +52,7 @@ from srfm.benchmark.figures import (
 )
 from srfm.errors import BenchmarkError, SrfmError
 from srfm.metrics import EpisodeMetrics, episode_metrics
+from srfm.metrics.floor_files import load_floors
 from srfm.metrics.report import render_tables
 from srfm.models.params import SRFMParams
 from srfm.scenarios import Scenario

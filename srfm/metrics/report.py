@@ -199,10 +199,12 @@ def write_tables(
     seeds: Sequence[int],
     params: SRFMParams,
     reference: str | None,
+    floors: Mapping[str, Sequence[float]] | None = None,
 ) -> tuple[list[str], BenchmarkTable]:
     """Write the tables, CSV files and JSON summary of ``results`` (every scenario ×
     planner × seed) into ``out`` as a whole (:func:`srfm._io.write_file_set`: all old
-    or all new, also when the disk fills); also used by ``srfm score``.
+    or all new, also when the disk fills); also used by ``srfm score``. ``floors``: as
+    :func:`render_tables`.
 
     Returns:
         The files written (relative to ``out``) and the Table 3 layout table.
@@ -214,6 +216,7 @@ def write_tables(
         seeds=seeds,
         params=params,
         reference=reference,
+        floors=floors,
     )
     write_file_set(out, files)
     return list(files), tables.table

@@ -47,6 +47,7 @@ __all__ = [
     "N_RESAMPLES",
     "PROFILE_POINTS",
     "SuiteStats",
+    "improvement_probabilities",
     "improvement_probability",
     "iqm",
     "iqm_interval",
@@ -85,18 +86,22 @@ def _strata(strata: Sequence[Sequence[float] | FloatArray]) -> list[FloatArray]:
     return out
 
 
-def _bootstrap(
-    strata: list[FloatArray], statistic: Callable[..., Any], estimate: float
-) -> Interval:
-    """The stratified percentile interval of ``statistic`` (NaN bounds when a stratum
-    has fewer than two values: nothing to resample)."""
-    n = sum(x.size for x in strata)
-    if not strata or any(x.size < 2 for x in strata):
-        return Interval(estimate, math.nan, math.nan, n, LEVEL)
+def _bootstrap_rows(
+    strata: list[FloatArray], statistic: Callable[..., Any], estimates: FloatArray
+) -> list[Interval]:
+    """The stratified percentile interval of ``statistic`` for each row of the strata
+    (each stratum (R, n_i): R quantities, n_i seeds), all rows from the same resampled
+    seeds, one ``scipy.stats.bootstrap`` call: row r's interval is the one a call on
+    row r alone gives. NaN bounds when a stratum has fewer than two seeds."""
+    rows = len(estimates)
+    n = sum(x.shape[-1] for x in strata)
+    if not strata or any(x.shape[-1] < 2 for x in strata):
+        return [Interval(float(e), math.nan, math.nan, n, LEVEL) for e in estimates]
     from scipy import stats
 
-    if all(np.all(x == x[0]) for x in strata) and len({float(x[0]) for x in strata}) == 1:
-        return Interval(estimate, estimate, estimate, n, LEVEL)  # nothing varies
+    constant = [bool(all(np.all(x[r] == strata[0][r, 0]) for x in strata)) for r in range(rows)]
+    if all(constant):  # nothing varies: nothing to resample
+        return [Interval(float(e), float(e), float(e), n, LEVEL) for e in estimates]
     res = stats.bootstrap(
         tuple(strata),
         statistic,
@@ -105,10 +110,24 @@ def _bootstrap(
         method="percentile",
         vectorized=True,
         paired=False,
+        axis=-1,
         rng=np.random.default_rng(_SEED),
     )
-    ci = res.confidence_interval
-    return Interval(estimate, float(ci.low), float(ci.high), n, LEVEL)
+    low = np.atleast_1d(res.confidence_interval.low)
+    high = np.atleast_1d(res.confidence_interval.high)
+    return [
+        Interval(float(e), float(e), float(e), n, LEVEL)
+        if constant[r]
+        else Interval(float(e), float(low[r]), float(high[r]), n, LEVEL)
+        for r, e in enumerate(estimates)
+    ]
+
+
+def _bootstrap(
+    strata: list[FloatArray], statistic: Callable[..., Any], estimate: float
+) -> Interval:
+    """:func:`_bootstrap_rows` of one quantity (1-D strata)."""
+    return _bootstrap_rows([x[None, :] for x in strata], statistic, np.array([estimate]))[0]
 
 
 def _iqm_stat(*samples: FloatArray, axis: int = -1) -> FloatArray:
@@ -130,6 +149,50 @@ def _mean_of_means(*samples: FloatArray, axis: int = -1) -> FloatArray:
     return np.asarray(np.mean([np.mean(x, axis=axis) for x in samples], axis=0), dtype=np.float64)
 
 
+def _wins(a: Sequence[FloatArray], b: Sequence[FloatArray]) -> FloatArray:
+    """Per seed, the share of the pedestrians whom A deviated less than B (ties one
+    half; over the pedestrians both have a value for, 0.5 when none)."""
+    if len(a) != len(b):
+        raise MetricError(f"need the same seeds for both planners, got {len(a)} and {len(b)}")
+    out = np.empty(len(a))
+    for k, (x, y) in enumerate(zip(a, b, strict=True)):
+        x = np.asarray(x, dtype=np.float64)
+        y = np.asarray(y, dtype=np.float64)
+        if x.shape != y.shape:
+            raise MetricError(f"need the same pedestrians, got {x.shape} and {y.shape}")
+        ok = np.isfinite(x) & np.isfinite(y)
+        out[k] = float(np.mean((x[ok] < y[ok]) + 0.5 * (x[ok] == y[ok]))) if ok.any() else 0.5
+    return out
+
+
+def improvement_probabilities(
+    pairs: Sequence[tuple[Sequence[Sequence[FloatArray]], Sequence[Sequence[FloatArray]]]],
+) -> list[Interval]:
+    """:func:`improvement_probability` of several pairs at once (one bootstrap call,
+    the same resampled seeds for every pair; each pair's interval is the one it gets
+    alone)."""
+    if not pairs:
+        return []
+    n_scenarios = len(pairs[0][0])
+    strata = []
+    for c in range(n_scenarios):
+        rows = []
+        for a, b in pairs:
+            if len(a) != n_scenarios or len(b) != n_scenarios:
+                raise MetricError(
+                    f"need the same scenarios for both planners, got {len(a)} and {len(b)}"
+                )
+            rows.append(_wins(a[c], b[c]))
+        if rows[0].size:
+            strata.append(np.vstack(rows))
+    estimates = (
+        np.mean([x.mean(axis=-1) for x in strata], axis=0)
+        if strata
+        else np.full(len(pairs), math.nan)
+    )
+    return _bootstrap_rows(strata, _mean_of_means, np.asarray(estimates, dtype=np.float64))
+
+
 def improvement_probability(
     a: Sequence[Sequence[FloatArray]], b: Sequence[Sequence[FloatArray]]
 ) -> Interval:
@@ -140,25 +203,7 @@ def improvement_probability(
     Raises:
         MetricError: ``a`` and ``b`` of other shapes.
     """
-    if len(a) != len(b):
-        raise MetricError(f"need the same scenarios for both planners, got {len(a)} and {len(b)}")
-    strata = []
-    for sa, sb in zip(a, b, strict=True):
-        if len(sa) != len(sb):
-            raise MetricError(f"need the same seeds for both planners, got {len(sa)} and {len(sb)}")
-        wins = []
-        for x, y in zip(sa, sb, strict=True):
-            x = np.asarray(x, dtype=np.float64)
-            y = np.asarray(y, dtype=np.float64)
-            if x.shape != y.shape:
-                raise MetricError(f"need the same pedestrians, got {x.shape} and {y.shape}")
-            ok = np.isfinite(x) & np.isfinite(y)
-            if ok.any():
-                wins.append(float(np.mean((x[ok] < y[ok]) + 0.5 * (x[ok] == y[ok]))))
-        strata.append(np.array(wins))
-    kept = _strata(strata)
-    estimate = float(np.mean([x.mean() for x in kept])) if kept else math.nan
-    return _bootstrap(kept, _mean_of_means, estimate)
+    return improvement_probabilities([(a, b)])[0]
 
 
 def profile(values: Sequence[float] | FloatArray, taus: FloatArray) -> FloatArray:
@@ -218,7 +263,14 @@ def suite_stats(
     deviation = {
         p: [np.array([r["frechet_m"] for r in cells[(c, p)]]) for c in scenarios] for p in planners
     }
-    dev_iqm = {p: iqm_interval([x[np.isfinite(x)] for x in deviation[p]]) for p in planners}
+    if all(np.isfinite(x).all() for p in planners for x in deviation[p]):
+        strata = [np.vstack([deviation[p][c] for p in planners]) for c in range(len(scenarios))]
+        strata = [x for x in strata if x.shape[-1]]
+        by_planner = [np.concatenate([x[r] for x in strata]) for r in range(len(planners))]
+        estimates = np.array([iqm(x) for x in by_planner])
+        dev_iqm = dict(zip(planners, _bootstrap_rows(strata, _iqm_stat, estimates), strict=True))
+    else:
+        dev_iqm = {p: iqm_interval([x[np.isfinite(x)] for x in deviation[p]]) for p in planners}
     score_iqm: dict[str, Interval] = {}
     score_scenarios: dict[str, tuple[str, ...]] = {}
     if "straight" in planners and "oracle" in planners:
@@ -246,8 +298,9 @@ def suite_stats(
         for p in planners
     }
     improvement: dict[tuple[str, str], Interval] = {}
-    for a, b in itertools.combinations(planners, 2):  # P(b < a) = 1 − P(a < b)
-        x = improvement_probability(per_ped[a], per_ped[b])
+    pairs = list(itertools.combinations(planners, 2))
+    found_pairs = improvement_probabilities([(per_ped[a], per_ped[b]) for a, b in pairs])
+    for (a, b), x in zip(pairs, found_pairs, strict=True):  # P(b < a) = 1 − P(a < b)
         improvement[(a, b)] = x
         improvement[(b, a)] = Interval(1.0 - x.estimate, 1.0 - x.high, 1.0 - x.low, x.n, x.level)
     pooled = np.concatenate([np.concatenate(deviation[p]) for p in planners])

@@ -333,8 +333,9 @@ def tables(payload: dict[str, Any]) -> str:
         )
     lines += [
         "",
-        "All models against robot ignored (secondary family, exploratory; Holm over its rows; "
-        "the sidestep's rows are the decisive ones above):",
+        "All models against robot ignored (secondary family, exploratory, Holm over its rows; "
+        "the sidestep's pass and offset rows carry the decisive family's Holm p, its ADE row "
+        "none: its test is the TOST above):",
         "",
         "| model | robot | measure | n (windows / tracks / scenes) | model / ignored (m) "
         "| change (95 % CI) | p | p (Holm) |",

@@ -12,9 +12,24 @@ RUN_STAMP := $(VENV)/.installed-run
 DEV_STAMP := $(VENV)/.installed-dev
 DEV_EXTRAS := dev,rl,sbx,dask,sweep,docs,release
 
-.PHONY: setup benchmark benchmark-full test lint typecheck docs pytest dist bench-perf clean
+.PHONY: setup system-deps benchmark benchmark-full test lint typecheck docs docs-tables results-set pytest dist bench-perf clean
 
-setup: $(DEV_STAMP)
+setup: $(DEV_STAMP) system-deps
+
+# The C++ client of the external planner protocol (clients/cpp), which the test suite
+# builds: CMake, a C++ compiler and Debian's msgpack-cxx, installed with apt-get when
+# missing and make runs as root (elsewhere it says what to install).
+CPP_DEPS := cmake g++ libmsgpack-cxx-dev
+system-deps:
+	@if [ -f /usr/include/msgpack.hpp ] && command -v cmake >/dev/null && command -v c++ >/dev/null; then \
+		:; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+		echo "make: installing Debian's $(CPP_DEPS) for the C++ client (clients/cpp)"; \
+		DEBIAN_FRONTEND=noninteractive apt-get update -qq && \
+		DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(CPP_DEPS) >/dev/null; \
+	else \
+		echo "make: the C++ client (clients/cpp) needs $(CPP_DEPS): sudo apt-get install $(CPP_DEPS)" >&2; \
+	fi
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -36,7 +51,7 @@ benchmark: $(RUN_STAMP)
 benchmark-full: $(RUN_STAMP)
 	$(BIN)/srfm benchmark --out results/full
 
-test: $(DEV_STAMP) lint typecheck docs pytest
+test: $(DEV_STAMP) system-deps lint typecheck docs pytest
 
 lint: $(DEV_STAMP)
 	$(BIN)/ruff check srfm tests tools examples
@@ -50,7 +65,19 @@ typecheck: $(DEV_STAMP)
 docs: $(DEV_STAMP)
 	$(BIN)/mkdocs build --strict --site-dir site
 
-pytest: $(DEV_STAMP)
+# Every generated table of the docs (between <!-- generated: NAME --> and <!-- end: NAME -->)
+# from the results sets committed in docs/results/: reads data, simulates nothing (seconds).
+# tests/docs/test_generated.py fails when a page differs from what the data give.
+docs-tables: $(DEV_STAMP)
+	$(BIN)/python tools/results/generate.py
+
+# Run one results set again from scratch into results/SET (interrupt and run again: the
+# benchmark resumes), pack it into docs/results/SET, then `make docs-tables`.
+# `make results-set SET=paper`; docs/results/index.md lists the sets and their times.
+results-set: $(DEV_STAMP)
+	$(BIN)/python tools/results/run.py $(SET)
+
+pytest: $(DEV_STAMP) system-deps
 	$(BIN)/pytest -q
 
 # The release files: a wheel and an sdist in dist/, checked by twine.

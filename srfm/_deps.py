@@ -13,11 +13,19 @@ import importlib
 from types import ModuleType
 from typing import Final
 
+from srfm._version import DISTRIBUTION
 from srfm.errors import MissingDependencyError
 
-__all__ = ["INSTALL_HINT", "MissingDependencyError", "require"]
+__all__ = ["INSTALL_HINT", "MissingDependencyError", "install_hint", "require"]
 
-INSTALL_HINT: Final = "pip install 'srfm[rl]' -c constraints.txt"
+
+def install_hint(extras: str) -> str:
+    """The command that installs srfm with ``extras`` (comma-separated, e.g.
+    ``"rl,sbx"``); constraints.txt keeps torch on the CPU build."""
+    return f"pip install '{DISTRIBUTION}[{extras}]' -c constraints.txt"
+
+
+INSTALL_HINT: Final = install_hint("rl")
 
 
 # What each extra is for, in the error that names it.
@@ -32,7 +40,7 @@ def require(module: str, extra: str = "rl") -> ModuleType:
     try:
         return importlib.import_module(module)
     except ImportError as exc:
-        hint = INSTALL_HINT if extra == "rl" else f"pip install 'srfm[{extra}]'"
+        hint = install_hint(extra)
         raise MissingDependencyError(
             f"{module} is needed for {_EXTRA_PURPOSE[extra]} ({exc}); install the "
             f"{extra} extra: {hint}"

@@ -3,7 +3,9 @@
 Reading (:func:`read_input_bytes`, :func:`read_input_text`): regular files only (a FIFO,
 a device such as ``/dev/zero`` or a folder is refused without blocking), up to a stated
 size, UTF-8 with an optional byte-order mark; every failure is the caller's error class
-naming the file.
+naming the file. :func:`parse_toml` and :func:`check_columns`: a TOML file or a CSV
+header that names a key, a table or a column twice is an error naming it (never "the
+last one wins").
 
 Writing:
 
@@ -30,11 +32,12 @@ import errno
 import functools
 import json
 import os
+import re
 import stat
 import tempfile
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
-from typing import Final
+from typing import Any, Final
 
 import numpy as np
 
@@ -48,10 +51,12 @@ __all__ = [
     "OUTPUT_MARKER",
     "atomic_write_bytes",
     "atomic_write_text",
+    "check_columns",
     "check_writable",
     "claim_output_folder",
     "folder_lock",
     "new_file_mode",
+    "parse_toml",
     "read_input_bytes",
     "read_input_text",
     "recover_file_set",
@@ -75,6 +80,8 @@ LOCK_FILE: Final = ".srfm.lock"
 _JOURNAL: Final = ".srfm-file-set.json"
 _JOURNAL_SCHEMA: Final = "srfm.file_set/1"
 _TEMP_SUFFIX: Final = ".tmp"
+_TOML_AT: Final = re.compile(r"\(at line (\d+), column \d+\)$")
+_TOML_TABLE_TWICE: Final = re.compile(r"^Cannot declare \((.*)\) twice")
 
 
 # --------------------------------------------------------------------------------------
@@ -166,6 +173,59 @@ def read_input_text(
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise error(f"{path}: not UTF-8 text (byte {exc.start}); expected a {what}") from None
+
+
+def parse_toml(text: str, path: str | Path, error: type[SrfmError]) -> dict[str, Any]:
+    """``text``, the content of the TOML file ``path``, parsed.
+
+    Raises:
+        error: not valid TOML, naming the file and the line; a key set twice or a table
+            declared twice also names the key or the table (TOML forbids both).
+    """
+    import tomllib
+
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{path}: not valid TOML: {_toml_problem(text, str(exc))}") from None
+
+
+def _toml_problem(text: str, message: str) -> str:
+    """tomllib's ``message``, with the key or table it is about when it is a repeat."""
+    at = _TOML_AT.search(message)
+    if at is None:
+        return message
+    line = int(at.group(1))
+    table = _TOML_TABLE_TWICE.match(message)
+    if table is not None:
+        names = [n.strip().strip("'\"") for n in table.group(1).split(",") if n.strip()]
+        return f"table [{'.'.join(names)}] is declared twice (line {line})"
+    if message.startswith("Cannot overwrite a value"):
+        lines = text.splitlines()
+        source = lines[line - 1].strip() if 0 < line <= len(lines) else ""
+        if source.startswith("["):
+            return f"table {source} names a key set earlier (line {line})"
+        key = source.split("=", 1)[0].strip()
+        if key:
+            return f"key {key!r} repeats a key set earlier (line {line})"
+    return message
+
+
+def check_columns(header: Sequence[str], where: str, error: type[SrfmError]) -> None:
+    """A CSV header names every column once.
+
+    Raises:
+        error: ``where``: the first column named twice (which of the two holds the data
+            would be a guess).
+    """
+    seen: set[str] = set()
+    for name in header:
+        if name in seen:
+            raise error(
+                f"{where}: column {name!r} appears twice in the header "
+                f"({','.join(header)}); which one holds the data is ambiguous"
+            )
+        seen.add(name)
 
 
 # --------------------------------------------------------------------------------------

@@ -21,11 +21,13 @@ its set-up exactly as the same scenario without them.
   source's members in its ``goal_region`` (:func:`srfm.scenarios.source_goals`).
 - ``POOL_STREAM`` = 5, ``SeedSequence(seed, spawn_key=(5,))``: which scenario of a
   training pool episode ``seed`` runs (:func:`srfm.scenarios.training.pool_scenario`).
+- ``GENERATED_STREAM`` = 6, ``SeedSequence(seed, spawn_key=(6,))``: the generated walled
+  layout of seed ``seed`` (:func:`srfm.scenarios.generated.generated_scenario`).
 - ``TRAINING_STREAM`` = 7, ``default_rng((seed, 7))``: the RL training layouts
   (:func:`srfm.scenarios.training.training_layout`); here 7 is the second word of the
   generator's entropy, not a spawn key.
 
-A new stream takes a new key here (6 is free). The values are part of the results:
+A new stream takes a new key here (8 is free). The values are part of the results:
 changing one changes every episode that draws from that stream.
 """
 
@@ -37,12 +39,14 @@ import numpy as np
 
 __all__ = [
     "ENTRY_STREAM",
+    "GENERATED_STREAM",
     "PLANNER_STREAM",
     "POOL_STREAM",
     "REGOAL_STREAM",
     "SOURCE_GOAL_STREAM",
     "TRAINING_STREAM",
     "entry_rng",
+    "generated_rng",
     "planner_rng",
     "pool_rng",
     "regoal_rng",
@@ -56,6 +60,7 @@ REGOAL_STREAM: Final = 2
 ENTRY_STREAM: Final = 3
 SOURCE_GOAL_STREAM: Final = 4
 POOL_STREAM: Final = 5
+GENERATED_STREAM: Final = 6
 TRAINING_STREAM: Final = 7
 
 
@@ -91,6 +96,11 @@ def source_goal_rng(seed: int) -> np.random.Generator:
 def pool_rng(seed: int) -> np.random.Generator:
     """The stream that picks the scenario of training episode ``seed`` from a pool."""
     return _spawned(seed, POOL_STREAM)
+
+
+def generated_rng(seed: int) -> np.random.Generator:
+    """The stream of generated walled layout ``seed``."""
+    return _spawned(seed, GENERATED_STREAM)
 
 
 def training_rng(seed: int) -> np.random.Generator:

@@ -38,6 +38,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm.errors import SrfmError
 
 MAX_COORDINATE_M: Final = 1e7
@@ -79,10 +80,10 @@ _SPEC_RE: Final = re.compile(r"[A-Za-z_]\w*(?:\.[A-Za-z_]\w*)*:[A-Za-z_]\w*", re
 def finite_float(value: Any, name: str, error: type[SrfmError]) -> float:
     """Return ``value`` as a float, raising ``error`` unless it is a finite real number."""
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
-        raise error(f"{name} must be a number, got {value!r}")
+        raise error(f"{name} must be a number, got {plain(value)}")
     out = float(value)
     if not math.isfinite(out):
-        raise error(f"{name} must be finite, got {value!r}")
+        raise error(f"{name} must be finite, got {plain(value)}")
     return out
 
 
@@ -90,7 +91,7 @@ def positive(value: Any, name: str, error: type[SrfmError]) -> float:
     """A finite float > 0."""
     out = finite_float(value, name, error)
     if out <= 0.0:
-        raise error(f"{name} must be > 0, got {value!r}")
+        raise error(f"{name} must be > 0, got {plain(value)}")
     return out
 
 
@@ -98,7 +99,7 @@ def non_negative(value: Any, name: str, error: type[SrfmError]) -> float:
     """A finite float >= 0."""
     out = finite_float(value, name, error)
     if out < 0.0:
-        raise error(f"{name} must be >= 0, got {value!r}")
+        raise error(f"{name} must be >= 0, got {plain(value)}")
     return out
 
 
@@ -106,7 +107,7 @@ def unit_interval(value: Any, name: str, error: type[SrfmError]) -> float:
     """A finite float in [0, 1]."""
     out = finite_float(value, name, error)
     if not 0.0 <= out <= 1.0:
-        raise error(f"{name} must be in [0, 1], got {value!r}")
+        raise error(f"{name} must be in [0, 1], got {plain(value)}")
     return out
 
 
@@ -117,7 +118,7 @@ def float_array(
     try:
         arr = np.ascontiguousarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise error(f"{name} must be a numeric array, got {value!r}") from exc
+        raise error(f"{name} must be a numeric array, got {plain(value)}") from exc
     if arr.ndim != len(shape) or any(
         want is not None and got != want for got, want in zip(arr.shape, shape, strict=True)
     ):
@@ -125,7 +126,7 @@ def float_array(
         raise error(f"{name} must have shape {want_s}, got {arr.shape}")
     if not np.all(np.isfinite(arr)):
         where = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
-        raise error(f"{name} must be finite, got {float(arr[where])!r} at index {where}")
+        raise error(f"{name} must be finite, got {plain(float(arr[where]))} at index {where}")
     return arr
 
 
@@ -145,7 +146,7 @@ def physical(
     lo, hi, unit = BOUNDS[kind]
     if out > hi or out < lo or (strict and out == lo):
         low = "(" if strict else "["
-        raise error(f"{name} must be in {low}{lo:g}, {hi:g}] {unit}, got {value!r}")
+        raise error(f"{name} must be in {low}{lo:g}, {hi:g}] {unit}, got {plain(value)}")
     return out
 
 
@@ -158,7 +159,7 @@ def physical_array(
     if np.any(bad):
         where = tuple(int(i) for i in np.argwhere(bad)[0])
         raise error(
-            f"{name} must be in [{lo:g}, {hi:g}] {unit}, got {float(arr[where])!r} at "
+            f"{name} must be in [{lo:g}, {hi:g}] {unit}, got {plain(float(arr[where]))} at "
             f"index {where if len(where) > 1 else where[0]}"
         )
     return arr
@@ -181,7 +182,7 @@ def seed(value: Any, error: type[SrfmError]) -> int:
         out = -1
     if isinstance(value, bool) or not 0 <= out <= MAX_SEED:
         raise error(
-            f"seed must be a non-negative integer at most {MAX_SEED} (2^32 - 1), got {value!r}"
+            f"seed must be a non-negative integer at most {MAX_SEED} (2^32 - 1), got {plain(value)}"
         )
     return out
 
@@ -211,7 +212,7 @@ def keyword_options(
 
 def _name_problem(value: Any, what: str) -> str | None:
     if not isinstance(value, str):
-        return f"{what} must be a string, got {value!r}"
+        return f"{what} must be a string, got {plain(value)}"
     if not value:
         return f"{what} must not be empty"
     if len(value) > MAX_NAME_LENGTH:
@@ -239,11 +240,18 @@ def path_name(value: Any, what: str, error: type[SrfmError]) -> str:
 
 def planner_name(value: Any, error: type[SrfmError]) -> str:
     """A planner as the command line and the benchmark name it: a registry name
-    (letters, digits, ``-``, ``_``) or ``module.path:attribute`` (Python identifiers),
-    also a valid :func:`path_name`."""
+    (letters, digits, ``-``, ``_``), ``external:NAME`` (an external planner, NAME a
+    registry-style name) or ``module.path:attribute`` (Python identifiers), also a
+    valid :func:`path_name`."""
     problem = _name_problem(value, "planner name")
     if problem is None:
-        if ":" in value:
+        if value.startswith("external:"):
+            if not _REGISTRY_NAME_RE.fullmatch(value[len("external:") :]):
+                problem = (
+                    f"planner {value!r}: an external planner's NAME must be letters, "
+                    "digits, '-' or '_'"
+                )
+        elif ":" in value:
             if not _SPEC_RE.fullmatch(value):
                 problem = (
                     f"planner {value!r} is not module:attribute (a dotted Python module "

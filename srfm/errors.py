@@ -25,6 +25,8 @@ __all__ = [
     "OutputError",
     "ParameterError",
     "PlannerError",
+    "PlannerFailedError",
+    "PlannerFailureWarning",
     "ResourceError",
     "ScenarioError",
     "SimulationError",
@@ -50,6 +52,14 @@ class ScenarioError(SrfmError, ValueError):
 
 class PlannerError(SrfmError, ValueError):
     """A planner name is unknown or a planner returned an unusable command."""
+
+
+class PlannerFailedError(PlannerError):
+    """An external planner failed during an episode (its process crashed, it did not
+    answer within its step timeout, it answered garbage, a non-finite command or one
+    outside the robot's limits): :func:`srfm.run_episode` ends that episode's robot
+    with the outcome ``planner_failed`` instead of raising, and warns with the message
+    (:class:`PlannerFailureWarning`), one line naming the planner and what it did."""
 
 
 class SimulationError(SrfmError, ValueError):
@@ -134,3 +144,8 @@ class SrfmWarning(UserWarning):
 
 class DatasetWarning(SrfmWarning):
     """Suspicious but readable data (e.g. implausible walking speeds for the given dt)."""
+
+
+class PlannerFailureWarning(SrfmWarning):
+    """An external planner failed and its episode ended with the outcome
+    ``planner_failed``; the message is the :class:`PlannerFailedError`'s line."""

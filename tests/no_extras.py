@@ -1,5 +1,6 @@
-"""Run the ``srfm`` command line as a plain ``pip install srfm`` would: with the
-optional dependencies (torch, stable-baselines3, gymnasium, JAX, SBX) blocked.
+"""Run the ``srfm`` command line as a plain ``pip install social-robot-force-model``
+would: with the optional dependencies (torch, stable-baselines3, gymnasium, JAX, SBX)
+blocked.
 
     python tests/no_extras.py benchmark --quick ...
 

@@ -88,7 +88,7 @@ def test_missing_dependency_error_is_importable_without_the_rl_extra() -> None:
 
 
 def test_version_comes_from_the_installed_metadata() -> None:
-    assert srfm.__version__ == metadata.version("srfm")
+    assert srfm.__version__ == metadata.version("social-robot-force-model")
 
 
 def test_version_without_installed_metadata() -> None:

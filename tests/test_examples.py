@@ -42,6 +42,7 @@ def test_every_example_has_a_test() -> None:
         "04_train_policy.py",
         "05_score_and_view_logs.py",
         "06_dask_sweep.py",
+        "07_external_planner.py",
     }
     assert {p.name for p in EXAMPLES.glob("*.py")} == tested
 
@@ -95,4 +96,20 @@ def test_dask_sweep(tmp_path: Path) -> None:
     report = tmp_path / "06_dask_sweep" / "results" / "report"
     assert (report / "report.md").is_file()
     assert (report / "a_robot.png").is_file()
+    assert "8 episodes in" in out
+
+
+def test_external_planner(tmp_path: Path) -> None:
+    out = _run("07_external_planner.py", tmp_path)
+    table = (tmp_path / "07_external_planner" / "results" / "table.md").read_text(encoding="utf-8")
+    for planner in ("straight", "external:cpp", "external:reactive", "external:py"):
+        assert f"| crosswalk | {planner} |" in table
+    # The C++ straight planner's row is the built-in one's, number for number.
+    rows = {
+        tuple(c.strip() for c in line.split("|")[1:3]): line.split("|")[3:]
+        for line in table.splitlines()
+        if line.startswith("| crosswalk |") or line.startswith("| circle |")
+    }
+    for scenario in ("crosswalk", "circle"):
+        assert rows[(scenario, "external:cpp")] == rows[(scenario, "straight")]
     assert "8 episodes in" in out

@@ -20,8 +20,10 @@ SRFM = Path(srfm.__file__).parent
 # import only packages of lower layers (and its own modules); the packages of one layer
 # do not import each other. "srfm" is the package's face, srfm/__init__.py.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "policies"),  # policies: the shipped policy files, no code
-    ("_deps", "_io", "_jit", "_lazy", "_streams", "_text", "_user_code", "_validate", "_version"),
+    # policies: the shipped policy files, no code; _text: message text; _version: the
+    # distribution's name and version, from its metadata
+    ("errors", "policies", "_text", "_version"),
+    ("_deps", "_io", "_jit", "_lazy", "_streams", "_user_code", "_validate"),
     ("models", "datasets"),
     ("world",),
     ("scenarios",),

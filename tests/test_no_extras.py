@@ -1,4 +1,4 @@
-"""A plain ``pip install srfm`` (no extras) runs the quick benchmark with every
+"""A plain ``pip install social-robot-force-model`` (no extras) runs the quick benchmark with every
 registered planner, including the shipped TD3 policies (NumPy policy files).
 
 torch, stable-baselines3, gymnasium and JAX are blocked in a subprocess by an import

@@ -1,6 +1,8 @@
-"""The release files: ``python -m build`` makes a wheel and an sdist that ``twine check``
-accepts; the wheel holds the package and its data only; installed into a fresh virtual
-environment without extras it runs the quick benchmark and the README's Python example.
+"""The release files: ``python -m build`` makes a wheel and an sdist of the distribution
+``social-robot-force-model`` that ``twine check`` accepts; the wheel holds the package
+``srfm`` and its data only; installed into a fresh virtual environment without extras it
+runs the quick benchmark (the ``srfm`` command) and the README's Python example
+(``import srfm``).
 
 Needs the ``release`` extra (build, twine) and the package registry for the fresh
 environment's dependencies (as any ``pip install``).
@@ -17,9 +19,13 @@ from pathlib import Path
 
 import pytest
 
+from srfm._version import DISTRIBUTION
 from tests.conftest import REPO
 
 pytest.importorskip("build", reason="needs the release extra (build, twine)")
+
+# The distribution's name in file names (the wheel's and the sdist's, PEP 427 / 625).
+STEM = DISTRIBUTION.replace("-", "_")
 
 WHEEL_LIMIT_BYTES = 3_000_000  # the package, scenarios and the two NumPy policies
 
@@ -45,7 +51,7 @@ def dist(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def _wheel(dist: Path) -> Path:
-    (wheel,) = dist.glob("srfm-*.whl")
+    (wheel,) = dist.glob(f"{STEM}-*.whl")
     return wheel
 
 
@@ -59,7 +65,7 @@ def test_twine_accepts_both_files(dist: Path) -> None:
 def test_the_wheel_holds_what_a_user_needs_only(dist: Path) -> None:
     wheel = _wheel(dist)
     names = zipfile.ZipFile(wheel).namelist()
-    package = [n for n in names if not n.startswith("srfm-")]  # less the .dist-info
+    package = [n for n in names if not n.startswith(f"{STEM}-")]  # less the .dist-info
     assert all(n.startswith("srfm/") for n in package), package
     assert not [n for n in package if "__pycache__" in n or n.endswith((".pyc", ".zip"))]
     scenarios = {p.name for p in (REPO / "srfm" / "scenarios").glob("*.toml")}
@@ -75,12 +81,12 @@ def test_the_wheel_holds_what_a_user_needs_only(dist: Path) -> None:
 def test_the_sdist_holds_the_package_and_its_notes(dist: Path) -> None:
     import tarfile
 
-    (sdist,) = dist.glob("srfm-*.tar.gz")
+    (sdist,) = dist.glob(f"{STEM}-*.tar.gz")
     with tarfile.open(sdist) as tar:
         top = {Path(n).parts[1] for n in tar.getnames() if len(Path(n).parts) > 1}
     assert top == {
         "CHANGELOG.md", "MANIFEST.in", "PKG-INFO", "README.md", "constraints.txt",
-        "pyproject.toml", "setup.cfg", "srfm", "srfm.egg-info",
+        "pyproject.toml", "setup.cfg", "srfm", f"{STEM}.egg-info",
     }  # fmt: skip
 
 
@@ -88,8 +94,27 @@ def test_the_version_comes_from_pyproject(dist: Path) -> None:
     text = (REPO / "pyproject.toml").read_text(encoding="utf-8")
     version = re.search(r'^version = "([^"]+)"', text, re.MULTILINE)
     assert version is not None
-    assert _wheel(dist).name.startswith(f"srfm-{version.group(1)}-")
+    assert _wheel(dist).name.startswith(f"{STEM}-{version.group(1)}-")
     assert f"## [{version.group(1)}]" in (REPO / "CHANGELOG.md").read_text(encoding="utf-8")
+
+
+def test_the_distribution_is_named_in_one_place(dist: Path) -> None:
+    """pyproject.toml's name is DISTRIBUTION; the wheel's metadata says it, installs the
+    ``srfm`` command and the ``srfm`` package, and its extras name the distribution."""
+    text = (REPO / "pyproject.toml").read_text(encoding="utf-8")
+    name = re.search(r'^name = "([^"]+)"', text, re.MULTILINE)
+    assert name is not None
+    assert name.group(1) == DISTRIBUTION
+    wheel = zipfile.ZipFile(_wheel(dist))
+    info = next(n for n in wheel.namelist() if n.endswith(".dist-info/METADATA"))
+    meta = wheel.read(info).decode("utf-8")
+    assert f"\nName: {DISTRIBUTION}\n" in meta
+    assert f'Requires-Dist: {DISTRIBUTION}[rl]; extra == "sbx"' in meta
+    scripts = wheel.read(info.replace("METADATA", "entry_points.txt")).decode("utf-8")
+    assert "srfm = srfm.cli:main" in scripts
+    readme = (REPO / "README.md").read_text(encoding="utf-8")
+    assert "**The name.**" in readme
+    assert f"The distribution is called `{DISTRIBUTION}`; you still\n`import srfm`" in readme
 
 
 def _readme_python_example() -> str:
@@ -101,8 +126,9 @@ def _readme_python_example() -> str:
 
 
 def test_the_wheel_in_a_fresh_environment_without_extras(dist: Path, tmp_path: Path) -> None:
-    """`pip install srfm-….whl` alone, then the quick benchmark (every registered
-    planner, the TD3 policies on NumPy) and the README's Python example."""
+    """`pip install social_robot_force_model-….whl` alone, then the quick benchmark
+    (every registered planner, the TD3 policies on NumPy) and the README's Python
+    example."""
     venv = tmp_path / "venv"
     _run(sys.executable, "-m", "venv", venv)
     python = venv / "bin" / "python"

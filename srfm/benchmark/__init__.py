@@ -2,6 +2,7 @@
 
 from srfm.benchmark._draws import (
     SENSITIVITY_RANGES,
+    WIDE_RANGES,
     ParamDraws,
     RankTable,
     draw_params,
@@ -9,6 +10,7 @@ from srfm.benchmark._draws import (
     rank_table,
 )
 from srfm.benchmark._html import REPORT, render_report, write_report
+from srfm.benchmark._models import ResponseModels, Robustness, robustness
 from srfm.benchmark._request import (
     MANIFEST,
     MAX_SEEDS,
@@ -32,11 +34,14 @@ __all__ = [
     "QUICK_SEEDS",
     "REPORT",
     "SENSITIVITY_RANGES",
+    "WIDE_RANGES",
     "BenchmarkRequest",
     "BenchmarkSummary",
     "EpisodeWriter",
     "ParamDraws",
     "RankTable",
+    "ResponseModels",
+    "Robustness",
     "default_planners",
     "draw_params",
     "episode_path",
@@ -45,6 +50,7 @@ __all__ = [
     "rank_table",
     "read_episode",
     "render_report",
+    "robustness",
     "run_benchmark",
     "write_report",
     "write_reports",

@@ -10,7 +10,7 @@ with the same bytes (an episode depends only on its scenario, planner, seed and
 parameters). The workers must therefore see the results folder at the same path (one
 machine, or a shared file system) and import the same srfm and user planners.
 
-Needs the ``dask`` extra (``pip install 'srfm[dask]'``).
+Needs the ``dask`` extra (``pip install 'social-robot-force-model[dask]'``).
 """
 
 from __future__ import annotations

@@ -17,6 +17,11 @@ The distributions:
   parameter at the run's own: the ranges of the sensitivity sweep
   (docs/sensitivity.md: half to twice the paper's A_r = 7.93, and B_r around the
   paper's 0.99), without A_r = 0, where every deviation is 0 and nothing is ranked.
+- ``"wide"``: A_r ~ log-U(0.25, 15.86) m/s² and B_r ~ log-U(0.1, 1.5) m, independent
+  (uniform in the logarithm: every factor of two gets the same share of the draws),
+  every other parameter at the run's own: from below the real-data fit of the robot
+  force (A_r = 0.55 m/s², 0.26–0.75, B_r = 0.23 m, 0.14–0.29 over its bootstrap;
+  docs/real_encounters.md) to the top of the sensitivity ranges.
 - a CSV file of parameter sets, one a row, its header naming :class:`SRFMParams`
   fields (e.g. the bootstrap replicates of a fit over scenes: ``a_robot,b_robot,
   lambda_robot``); the fields it does not name stay at the run's own. K rows are
@@ -43,8 +48,10 @@ import attrs
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from srfm._io import MAX_DOCUMENT_BYTES, atomic_write_text, read_input_bytes
+from srfm._io import MAX_DOCUMENT_BYTES, atomic_write_text, check_columns, read_input_bytes
+from srfm._text import plain
 from srfm.errors import BenchmarkError, ParameterError, SrfmError
+from srfm.metrics.stats import wilson
 from srfm.models.params import SRFMParams
 
 __all__ = [
@@ -53,6 +60,7 @@ __all__ = [
     "RANKINGS_JSON",
     "RANKINGS_MD",
     "SENSITIVITY_RANGES",
+    "WIDE_RANGES",
     "ParamDraws",
     "RankTable",
     "draw_folder",
@@ -68,7 +76,8 @@ PARAM_DRAWS: Final = "param_draws.json"
 RANKINGS_MD: Final = "rankings.md"
 RANKINGS_JSON: Final = "rankings.json"
 _SCHEMA: Final = "srfm.param_draws/1"
-_RANKINGS_SCHEMA: Final = "srfm.rankings/1"
+_RANKINGS_SCHEMA: Final = "srfm.rankings/2"
+"""2: each rank probability's Monte-Carlo interval (``rank_probability_intervals``)."""
 RANK_METRIC: Final = "frechet_m"
 """The metric planners are ranked by: the mean Fréchet deviation over the seeds."""
 INTERVAL: Final = (2.5, 97.5)
@@ -81,7 +90,19 @@ SENSITIVITY_RANGES: Final[dict[str, tuple[float, float]]] = {
 """The ``"sensitivity"`` distribution: independent uniform ranges (low, high) of the
 robot force's strength A_r (m/s²) and range B_r (m), those of docs/sensitivity.md
 without A_r = 0."""
+WIDE_RANGES: Final[dict[str, tuple[float, float]]] = {
+    "a_robot": (0.25, 15.86),
+    "b_robot": (0.1, 1.5),
+}
+"""The ``"wide"`` distribution: independent log-uniform ranges (low, high) of A_r (m/s²)
+and B_r (m), from below the real-data fit (A_r = 0.55, B_r = 0.23) to the top of
+:data:`SENSITIVITY_RANGES`."""
+DISTRIBUTIONS: Final = ("sensitivity", "wide")
+"""The named distributions of :func:`draw_params` (any other source is a CSV file)."""
 MAX_DRAWS: Final = 1000
+PROBABILITY_LEVEL: Final = 0.95
+"""The level of each rank probability's Monte-Carlo interval (Wilson's, over the K
+draws)."""
 
 
 @attrs.frozen(kw_only=True)
@@ -89,11 +110,12 @@ class ParamDraws:
     """K parameter sets and where they came from.
 
     Attributes:
-        source: ``"sensitivity"`` or the path of a CSV file of parameter sets.
+        source: ``"sensitivity"``, ``"wide"`` or the path of a CSV file of parameter
+            sets.
         seed: the seed of the draw.
         params: the K parameter sets, in draw order.
         description: the distribution in words (shown in the reports).
-        file_sha256: SHA-256 of the CSV file (None for ``"sensitivity"``).
+        file_sha256: SHA-256 of the CSV file (None for a named distribution).
     """
 
     source: str
@@ -118,7 +140,7 @@ class ParamDraws:
 def _check_k(k: int) -> int:
     if isinstance(k, bool) or not isinstance(k, int) or not 1 <= k <= MAX_DRAWS:
         raise ParameterError(
-            f"the number of parameter draws must be in [1, {MAX_DRAWS}], got {k!r}"
+            f"the number of parameter draws must be in [1, {MAX_DRAWS}], got {plain(k)}"
         )
     return k
 
@@ -126,7 +148,7 @@ def _check_k(k: int) -> int:
 def _check_seed(seed: int) -> int:
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise ParameterError(
-            f"the seed of the parameter draws must be an integer >= 0, got {seed!r}"
+            f"the seed of the parameter draws must be an integer >= 0, got {plain(seed)}"
         )
     return seed
 
@@ -141,8 +163,9 @@ def draw_params(
             its value.
         k: the number of draws, in [1, 1000].
         seed: the seed of ``numpy.random.default_rng``.
-        source: ``"sensitivity"`` (:data:`SENSITIVITY_RANGES`) or a CSV file (header:
-            :class:`SRFMParams` field names; one parameter set a row).
+        source: ``"sensitivity"`` (:data:`SENSITIVITY_RANGES`), ``"wide"``
+            (:data:`WIDE_RANGES`) or a CSV file (header: :class:`SRFMParams` field names;
+            one parameter set a row).
 
     Raises:
         ParameterError: a bad k or seed, a file that cannot be read, an unknown field,
@@ -156,9 +179,6 @@ def draw_params(
         low = np.array([SENSITIVITY_RANGES[n][0] for n in names])
         high = np.array([SENSITIVITY_RANGES[n][1] for n in names])
         values = rng.uniform(low, high, size=(k, len(names)))
-        params = tuple(
-            base.replace(**{n: float(v) for n, v in zip(names, row, strict=True)}) for row in values
-        )
         ranges = ", ".join(
             f"{n} ~ U({SENSITIVITY_RANGES[n][0]:g}, {SENSITIVITY_RANGES[n][1]:g})" for n in names
         )
@@ -166,7 +186,21 @@ def draw_params(
             f"{k} draws, seed {seed}: {ranges}, independent (the ranges of docs/sensitivity.md "
             "without A_r = 0); every other parameter at the run's own"
         )
-        return ParamDraws(source="sensitivity", seed=seed, params=params, description=text)
+        return _named_draws("sensitivity", seed, base, names, values, text)
+    if str(source) == "wide":
+        names = list(WIDE_RANGES)
+        low = np.log([WIDE_RANGES[n][0] for n in names])
+        high = np.log([WIDE_RANGES[n][1] for n in names])
+        values = np.exp(rng.uniform(low, high, size=(k, len(names))))
+        ranges = ", ".join(
+            f"{n} ~ log-U({WIDE_RANGES[n][0]:g}, {WIDE_RANGES[n][1]:g})" for n in names
+        )
+        text = (
+            f"{k} draws, seed {seed}: {ranges}, independent (uniform in the logarithm; from "
+            "below the real-data fit A_r = 0.55, B_r = 0.23 to the top of the sensitivity "
+            "ranges); every other parameter at the run's own"
+        )
+        return _named_draws("wide", seed, base, names, values, text)
     path = Path(source)
     rows, digest = _read_draws_file(path, base)
     if len(rows) < k:
@@ -188,6 +222,16 @@ def draw_params(
     )
 
 
+def _named_draws(
+    source: str, seed: int, base: SRFMParams, names: list[str], values: Any, text: str
+) -> ParamDraws:
+    """The draws of a named distribution: row k of ``values`` sets the fields ``names``."""
+    params = tuple(
+        base.replace(**{n: float(v) for n, v in zip(names, row, strict=True)}) for row in values
+    )
+    return ParamDraws(source=source, seed=seed, params=params, description=text)
+
+
 def _read_draws_file(path: Path, base: SRFMParams) -> tuple[list[SRFMParams], str]:
     data = read_input_bytes(
         path, max_bytes=MAX_DOCUMENT_BYTES, error=ParameterError, what="parameter draws file"
@@ -199,12 +243,13 @@ def _read_draws_file(path: Path, base: SRFMParams) -> tuple[list[SRFMParams], st
         raise ParameterError(f"{path}: not UTF-8 text ({exc})") from None
     reader = csv.reader(io.StringIO(text))
     header = [h.strip() for h in next(reader, [])]
+    check_columns(header, f"{path}, line 1", ParameterError)
     known = set(base.as_dict())
     unknown = [h for h in header if h not in known]
     if not header or unknown:
         raise ParameterError(
             f"{path}: the header must name SRFM parameters ({', '.join(sorted(known))}); "
-            f"got {unknown or header!r}"
+            f"got {plain(unknown or header)}"
         )
     rows = []
     for line, row in enumerate(reader, start=2):
@@ -307,6 +352,15 @@ class RankTable:
     means: Mapping[str, Mapping[str, tuple[float, ...]]]
     description: str
 
+    def probability_interval(self, scenario: str, planner: str, rank: int) -> tuple[float, float]:
+        """The Monte-Carlo interval of P(planner takes ``rank``) (1 = first): Wilson's
+        95 % score interval over the K draws (a planner tied in a draw counts the share
+        of the rank it holds). It says how far the probability could move with more
+        draws from the same distribution, not how the seeds' sampling moves it."""
+        share = self.probabilities[scenario][planner][rank - 1]
+        _, low, high = wilson(share * self.n_draws, self.n_draws)
+        return low, high
+
     def interval(self, scenario: str, planner: str) -> tuple[float, float, float]:
         """(low, median, high): the :data:`INTERVAL` percentiles and the median of the
         planner's mean deviation over the draws (linear interpolation)."""
@@ -356,8 +410,10 @@ def rankings_legend(table: RankTable) -> str:
         "seeds (lowest first); a cell is the share of the draws in which the planner took "
         "that rank (planners tied in a draw share the ranks they span), so every row and "
         "every column sums to 1. The per-draw means carry the seeds' sampling error as well "
-        "as the parameters'. Interval: the 2.5–97.5 % percentiles of the planner's mean "
-        "deviation over the draws, median in the middle."
+        "as the parameters'. P(1st) [95 %]: the share of the draws in which the planner "
+        f"ranks first with its Monte-Carlo interval (Wilson's, over the {table.n_draws} "
+        "draws). Interval: the 2.5–97.5 % percentiles of the planner's mean deviation over "
+        "the draws, median in the middle."
     )
 
 
@@ -369,13 +425,20 @@ def rankings_markdown(table: RankTable) -> str:
         lines += [
             f"## {scenario}",
             "",
-            "| Planner | " + " | ".join(ranks) + " | Fréchet dev. (m): 2.5 % · median · 97.5 % |",
-            "|---|" + "--:|" * len(ranks) + "--:|",
+            "| Planner | "
+            + " | ".join(ranks)
+            + " | P(1st) [95 %] | Fréchet dev. (m): 2.5 % · median · 97.5 % |",
+            "|---|" + "--:|" * len(ranks) + "--:|--:|",
         ]
         for planner in table.planners:
             probs = " | ".join(f"{v:.2f}" for v in table.probabilities[scenario][planner])
+            first = table.probabilities[scenario][planner][0]
+            p_low, p_high = table.probability_interval(scenario, planner, 1)
             low, mid, high = table.interval(scenario, planner)
-            lines.append(f"| {planner} | {probs} | {low:.3f} · {mid:.3f} · {high:.3f} |")
+            lines.append(
+                f"| {planner} | {probs} | {first:.2f} [{p_low:.2f}, {p_high:.2f}] "
+                f"| {low:.3f} · {mid:.3f} · {high:.3f} |"
+            )
         lines.append("")
     return "\n".join(lines)
 
@@ -388,6 +451,7 @@ def rankings_document(table: RankTable) -> dict[str, Any]:
         "n_draws": table.n_draws,
         "n_seeds": table.n_seeds,
         "interval_percentiles": list(INTERVAL),
+        "probability_level": PROBABILITY_LEVEL,
         "description": table.description,
         "legend": rankings_legend(table),
         "planners": list(table.planners),
@@ -395,6 +459,10 @@ def rankings_document(table: RankTable) -> dict[str, Any]:
             s: {
                 p: {
                     "rank_probabilities": list(table.probabilities[s][p]),
+                    "rank_probability_intervals": [
+                        list(table.probability_interval(s, p, r + 1))
+                        for r in range(len(table.planners))
+                    ],
                     "interval": list(table.interval(s, p)),
                     "draw_means": list(table.means[s][p]),
                 }

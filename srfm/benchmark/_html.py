@@ -18,7 +18,13 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, Final
 
-from srfm._io import MAX_DOCUMENT_BYTES, atomic_write_bytes, folder_lock, read_input_bytes
+from srfm._io import (
+    MAX_DOCUMENT_BYTES,
+    atomic_write_bytes,
+    check_columns,
+    folder_lock,
+    read_input_bytes,
+)
 from srfm._text import count
 from srfm.benchmark._request import check_manifest_schema
 from srfm.benchmark._results import episode_path, read_episode
@@ -42,6 +48,7 @@ _OUTCOME_TITLES: Final = {
     "collision": "collision",
     "timeout": "timeout",
     "out_of_bounds": "out of bounds",
+    "planner_failed": "planner failed",
 }
 _DATA_FILES: Final = (
     ("table.md", "the paper's Table 3 layout (Markdown)"),
@@ -58,6 +65,9 @@ _DATA_FILES: Final = (
     ("rankings.md", "rank probabilities under the parameter draws (Markdown)"),
     ("rankings.json", "the same with every draw's means"),
     ("param_draws.json", "the parameter draws"),
+    ("robustness.md", "orderings of planners under every response model (Markdown)"),
+    ("robustness.json", "the same with every test"),
+    ("models.json", "the response models of the run"),
     (MANIFEST, "versions, parameters, request and command"),
 )
 
@@ -463,11 +473,88 @@ def _rankings(doc: Mapping[str, Any]) -> str:
     return "".join(parts)
 
 
+def _robustness(doc: Mapping[str, Any]) -> str:
+    """Which orderings of planners hold under every response model: the verdict counts
+    and Kendall's τ per scenario, then every pair's differences under each model."""
+    models = [str(m) for m in doc["models"]]
+    legend = (
+        f"Response models: {', '.join(models)} (the first is this run's own). For each "
+        f"pair of planners A, B: the mean paired difference A − B of the Fréchet "
+        f"deviation over {doc['n_seeds']} seeds, under each model; * = significant "
+        f"({doc['test']}, adjusted p < {doc['alpha']}). holds: significant in the same "
+        "direction under every model; flips: significant in opposite directions under two "
+        "models; unresolved: otherwise. τ: Kendall's τ-b between two models' orderings "
+        f"of the planners, 95 % bootstrap interval over the seeds "
+        f"({doc['bootstrap_resamples']} resamples)."
+    )
+    rows = []
+    for scenario, counts in doc["counts"].items():
+        rows.append(
+            f'<tr><td class="name">{_esc(scenario)}</td><td>{counts["holds"]}</td>'
+            f"<td>{counts['flips']}</td><td>{counts['unresolved']}</td></tr>"
+        )
+    parts = [
+        f'<p class="legend">{_esc(legend)}</p>',
+        '<div class="scroll"><table class="robustness"><thead><tr><th class="name">Scenario'
+        "</th><th>holds</th><th>flips</th><th>unresolved</th></tr></thead><tbody>"
+        + "".join(rows)
+        + "</tbody></table></div>",
+    ]
+    taus = "".join(
+        f'<tr><td class="name">{_esc(t["scenario"])}</td><td>{_esc(" vs ".join(t["models"]))}'
+        f"</td><td>{_tau(t['tau'])}</td><td>[{_tau(t['interval'][0])}, "
+        f"{_tau(t['interval'][1])}]</td></tr>"
+        for t in doc["kendall_tau"]
+    )
+    parts.append(
+        '<div class="scroll"><table class="taus"><thead><tr><th class="name">Scenario</th>'
+        "<th>Models</th><th>Kendall τ</th><th>95 % interval</th></tr></thead><tbody>"
+        + taus
+        + "</tbody></table></div>"
+    )
+    heads = "".join(f"<th>A − B (m), {_esc(m)}</th>" for m in models)
+    for scenario, pairs in doc["pairs"].items():
+        trs = []
+        for pair in pairs:
+            cells = "".join(
+                f"<td>{_tau(d, 3)}{' *' if p is not None and p < doc['alpha'] else ''}</td>"
+                for d, p in zip(pair["difference_m"], pair["p_holm"], strict=True)
+            )
+            trs.append(
+                f'<tr><td class="name">{_esc(pair["a"])}</td><td>{_esc(pair["b"])}</td>'
+                f'{cells}<td class="verdict">{_esc(pair["verdict"])}</td></tr>'
+            )
+        parts.append(
+            f"<details><summary>{_esc(scenario)}</summary>"
+            '<div class="scroll"><table><thead><tr><th class="name">A</th><th>B</th>'
+            f"{heads}<th>verdict</th></tr></thead><tbody>"
+            + "".join(trs)
+            + "</tbody></table></div></details>"
+        )
+    return "".join(parts)
+
+
+def _model_name(request: Mapping[str, Any]) -> str:
+    """The response model a summary's request ran under (a preset's name, or custom)."""
+    from srfm.models.params import SRFMParams, response_model_name
+
+    try:
+        return response_model_name(SRFMParams(**request["params"]))
+    except (KeyError, TypeError, SrfmError):
+        return "unknown (the summary names no valid parameter set)"
+
+
+def _tau(value: float | None, digits: int = 2) -> str:
+    return "–" if value is None else f"{float(value):+.{digits}f}"
+
+
 def _episodes(out: Path, files: Mapping[str, bytes]) -> list[dict[str, str]]:
     data = _read_bytes(out, "episodes.csv", files)
     if data is None:
         raise BenchmarkError(f"{out / 'episodes.csv'} is missing: not a complete results folder")
-    return list(csv.DictReader(io.StringIO(data.decode("utf-8"))))
+    rows = csv.DictReader(io.StringIO(data.decode("utf-8")))
+    check_columns(rows.fieldnames or [], str(out / "episodes.csv"), BenchmarkError)
+    return list(rows)
 
 
 def _outcomes(
@@ -687,11 +774,13 @@ def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
     intro = (
         f"{count(len(scenarios), 'scenario')} × {count(len(planners), 'planner')} × "
         f"{count(len(seeds), 'seed')} = {count(len(rows), 'twin episode')}. Reference planner "
-        f"for the significance tests: {reference or 'none'}."
+        f"for the significance tests: {reference or 'none'}. Response model of the "
+        f"pedestrians: {_model_name(request)}."
     )
     rankings = (
         _json_file(out, "rankings.json", files) if _has(out, "rankings.json", files) else None
     )
+    robust = summary.get("robustness")
     nav = "".join(
         f'<a href="#{k}">{_esc(v)}</a>'
         for k, v in (
@@ -701,6 +790,7 @@ def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
             ("attribution", "Attribution"),
             ("suite", "Suite statistics"),
             *((("rankings", "Rankings under parameter draws"),) if rankings else ()),
+            *((("robustness", "Under every response model"),) if robust else ()),
             ("figures", "Figures"),
             ("planners", "Per planner"),
             ("logs", "Episode logs"),
@@ -735,6 +825,14 @@ def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
                 _rankings(rankings),
             )
             if rankings
+            else ()
+        ),
+        *(
+            (
+                '<h2 id="robustness">Orderings under every response model</h2>',
+                _robustness(robust),
+            )
+            if robust
             else ()
         ),
         '<h2 id="figures">Figures</h2>',

@@ -23,6 +23,7 @@ import attrs
 from srfm import _validate
 from srfm._io import MAX_DOCUMENT_BYTES, read_input_bytes
 from srfm._validate import path_name, planner_name
+from srfm._version import DISTRIBUTION
 from srfm.benchmark._results import fingerprint
 from srfm.errors import BenchmarkError
 from srfm.metrics import MetricParams
@@ -166,12 +167,20 @@ without those metrics and is refused."""
 
 
 def package_versions() -> dict[str, str]:
+    """The versions a results folder was made with: Python, srfm (the version of the
+    installed distribution, :data:`srfm._version.DISTRIBUTION`, under the key ``srfm``),
+    NumPy, numba and SciPy."""
     out = {"python": platform.python_version()}
-    for dist in ("srfm", "numpy", "numba", "scipy"):
+    for key, dist in (
+        ("srfm", DISTRIBUTION),
+        ("numpy", "numpy"),
+        ("numba", "numba"),
+        ("scipy", "scipy"),
+    ):
         try:
-            out[dist] = metadata.version(dist)
+            out[key] = metadata.version(dist)
         except metadata.PackageNotFoundError:  # pragma: no cover - always installed
-            out[dist] = "unknown"
+            out[key] = "unknown"
     return out
 
 

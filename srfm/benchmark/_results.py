@@ -20,6 +20,7 @@ import numpy as np
 
 from srfm import _validate
 from srfm._io import MAX_DOCUMENT_BYTES, atomic_write_text, read_input_bytes
+from srfm._text import plain
 from srfm._validate import path_name
 from srfm.errors import BenchmarkError, SrfmError
 from srfm.metrics import EpisodeMetrics
@@ -117,13 +118,13 @@ def _check_document(doc: Any, raw: str | None = None) -> str | None:
             return f"checksum mismatch (stored {stored!r}, content {crc!r}): the file was changed"
     for key in ("scenario", "planner", "outcome"):
         if not isinstance(doc.get(key), str):
-            return f"{key!r} must be a string, got {doc.get(key)!r}"
+            return f"{key!r} must be a string, got {plain(doc.get(key))}"
     if doc["outcome"] not in ROBOT_OUTCOMES:
         return f"unknown outcome {doc['outcome']!r}"
     for key in ("seed", "end_step"):
         value = doc.get(key)
         if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-            return f"{key!r} must be a non-negative integer, got {value!r}"
+            return f"{key!r} must be a non-negative integer, got {plain(value)}"
     metrics, peds = doc.get("metrics"), doc.get("pedestrians")
     if not isinstance(metrics, dict) or not isinstance(peds, dict):
         return "'metrics' and 'pedestrians' must be objects"
@@ -131,15 +132,17 @@ def _check_document(doc: Any, raw: str | None = None) -> str | None:
         if m.name not in metrics:
             return f"metrics: {m.name!r} is missing"
         if not _number_or_null(metrics[m.name]):
-            return f"metrics: {m.name!r} must be a finite number or null, got {metrics[m.name]!r}"
+            return (
+                f"metrics: {m.name!r} must be a finite number or null, got {plain(metrics[m.name])}"
+            )
     lengths = set()
     for m in PEDESTRIAN_METRICS:
         values = peds.get(m.name)
         if not isinstance(values, list):
-            return f"pedestrians: {m.name!r} must be a list, got {values!r}"
+            return f"pedestrians: {m.name!r} must be a list, got {plain(values)}"
         bad = next((v for v in values if not _number_or_null(v)), "ok")
         if bad != "ok":
-            return f"pedestrians: {m.name!r} must hold finite numbers or null, got {bad!r}"
+            return f"pedestrians: {m.name!r} must hold finite numbers or null, got {plain(bad)}"
         lengths.add(len(values))
     if len(lengths) > 1:
         return f"pedestrians: lists of different lengths {sorted(lengths)} (cut short?)"

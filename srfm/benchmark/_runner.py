@@ -37,10 +37,22 @@ from srfm._io import (
     remove_stale_temporaries,
     write_file_set,
 )
+from srfm._text import plain
 from srfm.benchmark._dask import check_scheduler, map_on_dask
 from srfm.benchmark._draws import ParamDraws, check_param_draws, draw_folder, render_rankings
 from srfm.benchmark._floor import FloorTask, pending_floors, run_floor_task
 from srfm.benchmark._html import REPORT, render_report
+from srfm.benchmark._models import (
+    ROBUSTNESS_JSON,
+    ROBUSTNESS_MD,
+    ResponseModels,
+    check_models,
+    folder_models,
+    model_folder,
+    robustness,
+    robustness_document,
+    robustness_markdown,
+)
 from srfm.benchmark._request import MANIFEST, BenchmarkRequest, check_manifest
 from srfm.benchmark._results import episode_path, read_episode, write_episode
 from srfm.benchmark._workers import init_worker
@@ -55,6 +67,7 @@ from srfm.metrics import EpisodeMetrics, episode_metrics
 from srfm.metrics.floor_files import load_floors
 from srfm.metrics.report import render_tables
 from srfm.models.params import SRFMParams
+from srfm.planners.external import is_external
 from srfm.scenarios import Scenario
 from srfm.sim.budget import RunEstimate, check_run, estimate_run
 from srfm.sim.episode import build_planner, check_episode_memory, first_command, run_episode
@@ -108,6 +121,8 @@ class BenchmarkSummary:
     jobs: int = 1
     draws: int = 0
 
+
+_SUMMARY: Final = "summary.json"
 
 EpisodeWriter = Callable[[Path, EpisodeRecord, EpisodeMetrics], None]
 """Called in the worker after each episode, before its metrics file is written, with the
@@ -222,10 +237,11 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
     """
     first: dict[str, _Task] = {}
     for task in tasks:
-        first.setdefault(task.planner, task)
-    if not first:
+        if not is_external(task.planner):  # its process is its own: nothing to compile
+            first.setdefault(task.planner, task)
+    if not tasks:
         return
-    straight = attrs.evolve(next(iter(first.values())), planner="straight")
+    straight = attrs.evolve(next(iter(first.values()), tasks[0]), planner="straight")
     groups: dict[type, list[_Task]] = {}
     for name, task in first.items():
         if name != "straight":
@@ -294,7 +310,7 @@ def check_executor(
     if jobs < 1:
         raise BenchmarkError(f"jobs must be at least 1, got {jobs}")
     if executor not in EXECUTORS:
-        raise BenchmarkError(f"unknown executor {executor!r}; known: {', '.join(EXECUTORS)}")
+        raise BenchmarkError(f"unknown executor {plain(executor)}; known: {', '.join(EXECUTORS)}")
     if executor != "dask" and (scheduler is not None or scheduler_file is not None):
         raise BenchmarkError("--scheduler and --scheduler-file need --executor dask")
     if executor == "dask":
@@ -438,6 +454,7 @@ def run_benchmark(
     scheduler: str | None = None,
     scheduler_file: str | Path | None = None,
     param_draws: ParamDraws | None = None,
+    models: ResponseModels | None = None,
 ) -> BenchmarkSummary:
     """Run (or finish) a benchmark into ``out`` and write its reports.
 
@@ -476,6 +493,11 @@ def run_benchmark(
             ``out/draws/draw-NNN`` (no logs, no figures), and add the planners' rank
             probabilities over the draws to the reports (``rankings.md``,
             ``rankings.json``, ``report.html``).
+        models: response models (:mod:`srfm.benchmark._models`): the first must be
+            ``request.params`` (the folder's own results); every episode runs again
+            under each other model, into ``out/models/<name>`` (no logs, no figures),
+            and the reports add which orderings of planners hold under every model
+            (``robustness.md``, ``robustness.json``, ``summary.json``, ``report.html``).
 
     Returns:
         A :class:`BenchmarkSummary`.
@@ -501,7 +523,12 @@ def run_benchmark(
         jobs = check_episode_memory(scenario, jobs=jobs, **logs)
     remote = executor == "dask" and (scheduler is not None or scheduler_file is not None)
     n_draws = 0 if param_draws is None else len(param_draws.params)
-    estimate = estimate_benchmark(request, jobs=jobs, remote=remote, writer=writer, draws=n_draws)
+    others = () if models is None else tuple(zip(models.names, models.params, strict=True))[1:]
+    if models is not None and models.params[0] != request.params:
+        raise BenchmarkError("the first response model must be the request's parameters")
+    estimate = estimate_benchmark(
+        request, jobs=jobs, remote=remote, writer=writer, draws=n_draws + len(others)
+    )
     estimate = check_run(
         estimate, what="the benchmark", smaller="fewer scenarios, planners or seeds", force=force
     )
@@ -512,12 +539,23 @@ def run_benchmark(
         manifest = check_manifest(out, request, command)
         if param_draws is not None:  # other draws are refused before anything is written
             check_param_draws(out, param_draws)
+        if models is not None:  # so are other models
+            check_models(out, models)
+        drawn_params = param_draws.params if param_draws is not None else ()
+        folders = [
+            *((draw_folder(out, k), p) for k, p in enumerate(drawn_params)),
+            *((model_folder(out, name), p) for name, p in others),
+        ]
+        for folder, params in folders:
+            # each draw's (model's) folder as its own run below checks it, before on_start
+            claim_output_folder(folder, kind="benchmark", force=force, legacy_markers=(MANIFEST,))
+            check_manifest(folder, attrs.evolve(request, params=params), command)
         atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
         damaged: list[str] = []
         tasks = _pending_tasks(out, request, writer, figures, damaged)
         floor_tasks = pending_floors(out, request.scenarios, request.seeds, request.params, _CHUNK)
         cells = len(request.scenarios) * len(request.planners) * len(request.seeds)
-        total = cells * (1 + n_draws)
+        total = cells * (1 + n_draws + len(others))
         pending = sum(len(t.seeds) for t in tasks)
         if on_start is not None:
             on_start(estimate)
@@ -540,10 +578,10 @@ def run_benchmark(
                     on_progress(done)
                 if figure:
                     drawn.task_done(scenario)
-        for k, params in enumerate(param_draws.params if param_draws is not None else ()):
+        for folder, params in folders:
             draw = run_benchmark(
                 attrs.evolve(request, params=params),
-                draw_folder(out, k),
+                folder,
                 jobs=jobs,
                 on_progress=on_progress,
                 figures=False,
@@ -625,6 +663,43 @@ def _write_reports(
     files.update(
         render_rankings(out, [s.name for s in request.scenarios], request.planners, request.seeds)
     )
+    files.update(render_robustness(out, request, results, files))
     files[REPORT] = render_report(out, files)
     write_file_set(out, files)
     return tuple(files)
+
+
+def render_robustness(
+    out: Path,
+    request: BenchmarkRequest,
+    results: Sequence[EpisodeMetrics],
+    files: Mapping[str, bytes],
+) -> dict[str, bytes]:
+    """``robustness.md``, ``robustness.json`` and ``summary.json`` with its
+    ``robustness`` entry, once every response model of the folder is finished for this
+    request (:mod:`srfm.benchmark._models`); nothing for a folder of one model or while
+    one is unfinished."""
+    names = folder_models(out)
+    if names is None:
+        return {}
+    per_model = [results]
+    for name in names[1:]:
+        try:
+            per_model.append(load_results(model_folder(out, name), request))
+        except BenchmarkError:  # not finished: the reports of the run's own model only
+            return {}
+    table = robustness(
+        per_model,
+        models=names,
+        scenarios=[s.name for s in request.scenarios],
+        planners=request.planners,
+        n_seeds=len(request.seeds),
+    )
+    doc = robustness_document(table)
+    summary = json.loads(files[_SUMMARY])
+    summary["robustness"] = doc
+    return {
+        ROBUSTNESS_MD: robustness_markdown(table).encode("utf-8"),
+        ROBUSTNESS_JSON: (json.dumps(doc, indent=1) + "\n").encode("utf-8"),
+        _SUMMARY: (json.dumps(summary, indent=1) + "\n").encode("utf-8"),
+    }

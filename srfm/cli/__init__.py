@@ -12,6 +12,7 @@ from typing import Any
 
 import click
 
+from srfm._version import DISTRIBUTION, __version__
 from srfm.cli._common import (
     DEBUG_ENV,
     EXIT_INTERRUPTED,
@@ -21,7 +22,7 @@ from srfm.cli._common import (
 from srfm.cli.benchmark import benchmark, report
 from srfm.cli.data import ade, data, fit
 from srfm.cli.logs import score, view
-from srfm.cli.simulate import planners, scenarios, simulate
+from srfm.cli.simulate import planners, scenarios, simulate, suites
 from srfm.cli.sweep import sweep
 from srfm.cli.train import export_policy, train
 
@@ -91,7 +92,12 @@ class _Main(click.Group):
 
 
 @click.group(cls=_Main, context_settings={"help_option_names": ["-h", "--help"]})
-@click.version_option(package_name="srfm")
+@click.version_option(
+    __version__,  # srfm's one version lookup (a tree never installed: 0+unknown, no crash)
+    package_name=DISTRIBUTION,
+    prog_name="srfm",
+    message="%(prog)s, version %(version)s (%(package)s)",
+)
 @click.option(
     "--debug",
     is_flag=True,
@@ -120,6 +126,7 @@ def _current_folder_importable() -> None:
 
 for _command in (
     scenarios,
+    suites,
     planners,
     simulate,
     benchmark,

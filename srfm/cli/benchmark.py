@@ -11,11 +11,12 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
-from srfm._text import count
+from srfm._text import count, plain
 from srfm.cli._common import EXIT_INTERRUPTED, load_params_option, progressbar, user_errors
+from srfm.cli._external import external_options
 
 if TYPE_CHECKING:
-    from srfm.benchmark import BenchmarkRequest, BenchmarkSummary
+    from srfm.benchmark import BenchmarkRequest, BenchmarkSummary, ResponseModels
     from srfm.logs import EpisodeLogger
     from srfm.sim.budget import RunEstimate
 
@@ -45,7 +46,8 @@ def _parse_seeds(text: str) -> list[int]:
             )
         if b > MAX_SEED:
             raise click.BadParameter(
-                f"seeds must be in [0, {MAX_SEED}] (2^32 - 1), got {part!r}", param_hint="--seeds"
+                f"seeds must be in [0, {MAX_SEED}] (2^32 - 1), got {plain(part)}",
+                param_hint="--seeds",
             )
         count += b - a + 1
         if count > MAX_SEEDS:
@@ -195,7 +197,7 @@ def _split(values: tuple[str, ...]) -> list[str]:
     default=None,
     help="Where the episodes run: 'process' (a local process pool, the default) or "
     "'dask' (a Dask LocalCluster of --jobs workers, or the cluster of --scheduler / "
-    "--scheduler-file). Same results, byte for byte. Needs srfm[dask] for 'dask'.",
+    "--scheduler-file). Same results, byte for byte. Needs the dask extra for 'dask'.",
 )
 @click.option(
     "--scheduler",
@@ -213,8 +215,11 @@ def _split(values: tuple[str, ...]) -> list[str]:
     "--params",
     "params_spec",
     default=None,
-    metavar="PRESET|FILE",
-    help="SRFM parameters: a preset or a parameter TOML file. Default: agrawal2024.",
+    metavar="PRESET|FILE[,...]",
+    help="SRFM parameters: a preset or a parameter TOML file. Default: agrawal2024. "
+    "Several, comma-separated (agrawal2024,navwareset2026_ttc,my.toml): the same episodes "
+    "under each response model (the first is the folder's own; the others in "
+    "OUT/models/NAME/) and which orderings of planners hold under all (robustness.md).",
 )
 @click.option(
     "--reference",
@@ -269,10 +274,11 @@ def _split(values: tuple[str, ...]) -> list[str]:
     "--param-draws-from",
     default="sensitivity",
     show_default=True,
-    metavar="sensitivity|FILE",
+    metavar="sensitivity|wide|FILE",
     help="The distribution of the draws: 'sensitivity' (A_r ~ U(3.965, 15.86), "
-    "B_r ~ U(0.5, 1.5)) or a CSV file of parameter sets (header: parameter names), "
-    "e.g. the bootstrap replicates of a fit.",
+    "B_r ~ U(0.5, 1.5)), 'wide' (A_r ~ log-U(0.25, 15.86), B_r ~ log-U(0.1, 1.5): "
+    "from below the real-data fit to the top of the sensitivity ranges) or a CSV file "
+    "of parameter sets (header: parameter names), e.g. the bootstrap replicates of a fit.",
 )
 @click.option(
     "--param-draws-seed",
@@ -282,6 +288,7 @@ def _split(values: tuple[str, ...]) -> list[str]:
     help="Seed of the parameter draws.",
 )
 @user_errors
+@external_options
 def benchmark(
     scenarios: tuple[str, ...],
     suite: str | None,
@@ -338,11 +345,12 @@ def benchmark(
         if names:
             raise click.UsageError("give --suite or --scenario, not both")
         names = list(SUITES[suite])
+    models = _response_models(params_spec)
     request = BenchmarkRequest.create(
         scenarios=names,
         planners=_split(planners) or None,
         seeds=_parse_seeds(seeds) if seeds is not None else None,
-        params=load_params_option(params_spec),
+        params=models.params[0] if models else load_params_option(params_spec),
         reference=reference,
         quick=quick,
         crowd_substeps=crowd_substeps,
@@ -356,7 +364,7 @@ def benchmark(
     )
     writer = _log_writer(request, out, logs, mcap, mcap_profile, rrd_seeds, forces)
     cells = len(request.scenarios) * len(request.planners) * len(request.seeds)
-    total = cells * (1 + (param_draws or 0))
+    total = cells * (1 + (param_draws or 0) + (len(models.names) - 1 if models else 0))
     bar: Any = None
     # Nothing is printed before every check has passed (run_benchmark calls start):
     # a mistake is one line. Ctrl-C, up to the last line, keeps what is done.
@@ -374,6 +382,7 @@ def benchmark(
                         if draws
                         else ""
                     )
+                    + (f", under {count(len(models.names), 'response model')}" if models else "")
                     + f" -> {out}",
                     err=True,
                 )
@@ -398,6 +407,7 @@ def benchmark(
                 scheduler=scheduler,
                 scheduler_file=scheduler_file,
                 param_draws=draws,
+                models=models,
             )
         _print_summary(summary, out, jobs, writer is not None)
     except KeyboardInterrupt:
@@ -408,6 +418,24 @@ def benchmark(
             err=True,
         )
         sys.exit(EXIT_INTERRUPTED)
+
+
+def _response_models(spec: str | None) -> ResponseModels | None:
+    """The response models of ``--params A,B,...`` (None for one model): each a preset
+    or a parameter file, named by the preset or the file's stem."""
+    import os
+
+    from srfm.benchmark import ResponseModels
+
+    if spec is None or "," not in spec or os.path.lexists(spec):
+        return None
+    parts = [part.strip() for part in spec.split(",")]
+    if any(not part for part in parts):
+        raise click.BadParameter(f"an empty name in {spec!r}", param_hint="--params")
+    names = [Path(part).stem if part.endswith(".toml") else part for part in parts]
+    return ResponseModels(
+        names=tuple(names), params=tuple(load_params_option(part) for part in parts)
+    )
 
 
 def _print_summary(summary: BenchmarkSummary, out: Path, jobs: int | None, logs: bool) -> None:

@@ -17,6 +17,7 @@ from typing import Any, TypeVar
 
 import click
 
+from srfm._text import plain
 from srfm.cli._common import load_params_option, progressbar, user_errors
 from srfm.errors import DatasetError
 from srfm.models._forms import ROBOT_FORMS
@@ -50,9 +51,9 @@ def _parse_dt(values: Sequence[str]) -> tuple[float | None, dict[str, float]]:
         try:
             value = float(text)
         except ValueError:
-            raise DatasetError(f"--dt expects SECONDS or FILE=SECONDS, got {item!r}") from None
+            raise DatasetError(f"--dt expects SECONDS or FILE=SECONDS, got {plain(item)}") from None
         if not 0.0 < value <= MAX_DURATION_S:  # also false for NaN
-            raise DatasetError(f"--dt must be in (0, {MAX_DURATION_S:g}] s, got {item!r}")
+            raise DatasetError(f"--dt must be in (0, {MAX_DURATION_S:g}] s, got {plain(item)}")
         if sep:
             per_file[key] = value
         else:
@@ -430,7 +431,8 @@ def _load_windows(files: Sequence[Path], **config: Any) -> Any:
     default=None,
     help="The form of the robot force (docs/model.md) that the result uses and the robot "
     "stage fits: its strength and range (exponential: A_r, B_r; ttc: k, τ0; "
-    "collision_prediction: A, B; elliptical: A_e, B_e, Δt). Default: the --start "
+    "collision_prediction: A, B; elliptical: A_e, B_e, Δt; sidestep: A, d_on, T, γ). "
+    "Default: the --start "
     "parameters' form (the paper's exponential one for a preset).",
 )
 @click.option(

@@ -1,40 +1,96 @@
-"""``srfm simulate``, ``srfm scenarios`` and ``srfm planners``: one episode, and what
-there is to run."""
+"""``srfm simulate``, ``srfm scenarios``, ``srfm suites`` and ``srfm planners``: one
+episode, and what there is to run."""
 
 from __future__ import annotations
 
 import json
 import time
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import click
 
 from srfm.cli._common import SEED, UserError, load_params_option, user_errors
+from srfm.cli._external import external_options
 
-__all__ = ["planners", "scenarios", "simulate"]
+__all__ = ["planners", "scenarios", "simulate", "suites"]
 
 
 @click.command()
 def scenarios() -> None:
-    """List the built-in scenarios with a one-line description."""
-    from srfm.scenarios import builtin_scenarios
+    """List every scenario --scenario accepts by name, with a one-line description and
+    whether `srfm benchmark` runs it when no scenario is named (default: yes for the
+    paper suite). A scenario TOML file of your own runs by its path; `srfm suites`
+    lists the named sets of scenarios."""
+    from srfm.scenarios import load_scenario, scenario_names
+    from srfm.scenarios.generated import GENERATED_KINDS, GENERATED_PREFIX
+    from srfm.scenarios.suites import DEFAULT_SUITE, SUITES
 
-    items = builtin_scenarios()
-    width = max(len(s.name) for s in items)
-    for s in items:
-        click.echo(f"{s.name:<{width}}  {s.description}")
+    default = SUITES[DEFAULT_SUITE]
+    rows = []
+    for name in scenario_names():
+        scenario = load_scenario(name)
+        rows.append((name, _yes(name in default), scenario.description))
+    kinds = ", ".join(GENERATED_KINDS)
+    rows.append(
+        (
+            f"{GENERATED_PREFIX}:[KIND:]SEED",
+            "no",
+            f"Generated: a new walled layout for every SEED, of a KIND drawn from it or "
+            f"given ({kinds}).",
+        )
+    )
+    _table(("scenario", "default", "description"), rows)
+
+
+@click.command()
+def suites() -> None:
+    """List the scenario suites `srfm benchmark --suite` accepts: what each is for,
+    whether the benchmark runs it when no scenario is named, and its scenarios."""
+    from srfm.scenarios.suites import DEFAULT_SUITE, SUITE_DESCRIPTIONS, SUITES
+
+    rows = [
+        (name, _yes(name == DEFAULT_SUITE), f"{SUITE_DESCRIPTIONS[name]} [{', '.join(names)}]")
+        for name, names in SUITES.items()
+    ]
+    _table(("suite", "default", "what it is for [its scenarios]"), rows)
 
 
 @click.command()
 def planners() -> None:
-    """List the registered planners with a one-line description."""
+    """List every planner -p/--planner accepts by name, the reference planners
+    included: what each is for, and whether `srfm benchmark` runs it when no planner is
+    named (default); then the two forms of a planner of your own."""
     from srfm.planners import available_planners
 
-    items = available_planners()
-    width = max(len(p.name) for p in items)
-    for p in items:
-        click.echo(f"{p.name:<{width}}  {p.description}")
+    rows = [(p.name, _yes(p.default), p.description) for p in available_planners()]
+    rows += [
+        (
+            "external:NAME",
+            "no",
+            "a planner in any language, a program that speaks the external planner "
+            "protocol, defined with --external NAME=COMMAND (docs/planners-any-language.md)",
+        ),
+        (
+            "MODULE:ATTRIBUTE",
+            "no",
+            "a planner of your own Python code: a class or a factory in an importable module",
+        ),
+    ]
+    _table(("planner", "default", "what it is for"), rows)
+
+
+def _yes(flag: bool) -> str:
+    return "yes" if flag else "no"
+
+
+def _table(header: tuple[str, str, str], rows: Sequence[tuple[str, str, str]]) -> None:
+    """``rows`` under ``header``, every column but the last padded to its widest cell."""
+    widths = [max(len(r[i]) for r in (header, *rows)) for i in range(len(header) - 1)]
+    for row in (header, *rows):
+        cells = [f"{cell:<{w}}" for cell, w in zip(row, widths, strict=False)]
+        click.echo("  ".join([*cells, row[-1]]))
 
 
 @click.command()
@@ -92,6 +148,7 @@ def planners() -> None:
 )
 @click.option("--forces", is_flag=True, help="With --out: force arrows in the recording.")
 @user_errors
+@external_options
 def simulate(
     scenario_name: str,
     seed: int,

@@ -3,13 +3,17 @@
 
 from __future__ import annotations
 
+import contextlib
 import shlex
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
 from srfm.cli._common import SEED, on_terminal, progressbar, user_errors
+
+if TYPE_CHECKING:
+    from srfm.rl.training import TrainOptions
 
 __all__ = ["export_policy", "train"]
 
@@ -171,6 +175,7 @@ class _ConfigDefault(click.Option):
 @click.option("--seed", type=SEED, default=0, show_default=True)
 @click.option(
     "--steps",
+    "total_steps",
     type=click.IntRange(min=1),
     cls=_ConfigDefault,
     config_field="total_steps",
@@ -261,6 +266,7 @@ class _ConfigDefault(click.Option):
 )
 @click.option(
     "--twin/--no-twin",
+    "counterfactual_twin",
     cls=_ConfigDefault,
     config_field="counterfactual_twin",
     show_default=True,
@@ -368,6 +374,17 @@ class _ConfigDefault(click.Option):
     help="Probability that an episode runs a --library scenario.",
 )
 @click.option(
+    "--generated-share",
+    type=click.FloatRange(0.0, 1.0),
+    cls=_ConfigDefault,
+    config_field="generated_share",
+    show_default=True,
+    help=(
+        "For --scenario mixed: probability that an episode runs a generated walled "
+        "layout (generated:SEED of the episode seed; docs/scenarios.md)."
+    ),
+)
+@click.option(
     "--eval-scenarios",
     callback=_scenario_list,
     default="paper",
@@ -388,13 +405,17 @@ class _ConfigDefault(click.Option):
     ),
 )
 @click.option("--progress/--no-progress", default=True, show_default=True)
+@user_errors
 def train(**options: Any) -> None:
     """Train a TD3 navigation policy on srfm/SocialNav-v0 (stable-baselines3).
 
     Defaults are the paper's TD3 set-up (docs/rl.md). Policy zips are loaded with
     SB3's loader, which unpickles: use only checkpoints from a trusted source.
     """
-    user_errors(_train)(**options)
+    from srfm.rl.training import TrainOptions
+
+    # The options are named as TrainConfig's fields, and run_dir, resume, progress.
+    _train(TrainOptions.from_settings(**options))
 
 
 def _command_line() -> str:
@@ -419,111 +440,65 @@ def _command_line() -> str:
     return shlex.join(words)
 
 
-def _train(
-    run_dir: Path,
-    k_div: float,
-    k_dist: float,
-    k_progress: float,
-    success_reward: float,
-    timeout_penalty: float,
-    k_div_start: int,
-    k_div_ramp: int,
-    seed: int,
-    steps: int,
-    scenario: str,
-    learning_rate: float,
-    action_repeat: int,
-    gamma: float,
-    buffer_size: int,
-    learning_starts: int,
-    batch_size: int,
-    eval_every: int,
-    eval_seeds: int,
-    checkpoint_every: int,
-    resume: Path | None,
-    twin: bool,
-    save_replay_buffer: bool,
-    torch_threads: int,
-    backend: str,
-    net_arch: tuple[int, ...],
-    train_freq: int,
-    gradient_steps: int,
-    n_envs: int,
-    family_weights: tuple[float, ...] | None,
-    range_beams: int,
-    range_max_m: float,
-    library: tuple[str, ...],
-    library_share: float,
-    eval_scenarios: tuple[str, ...],
-    select_by_deviation: bool,
-    progress: bool,
-) -> None:
+def _train(options: TrainOptions) -> None:
+    """Run ``options`` as ``srfm train``: the run directory is checked before anything
+    else; the progress bar (on a terminal) opens with the first progress report, after
+    the set-up, so that an error of the set-up is the only line printed."""
     from srfm._io import check_writable
-    from srfm.rl.training import TrainConfig
     from srfm.rl.training import train as run_training
 
-    check_writable(run_dir, folder=True)  # before any training, not at the first checkpoint
-
-    config = TrainConfig(
-        total_steps=steps,
-        seed=seed,
-        scenario=scenario,
-        k_dist=k_dist,
-        k_div=k_div,
-        k_progress=k_progress,
-        success_reward=success_reward,
-        timeout_penalty=timeout_penalty,
-        k_div_start=k_div_start,
-        k_div_ramp=k_div_ramp,
-        learning_rate=learning_rate,
-        action_repeat=action_repeat,
-        gamma=gamma,
-        buffer_size=buffer_size,
-        learning_starts=learning_starts,
-        batch_size=batch_size,
-        eval_every=eval_every,
-        eval_seeds=eval_seeds,
-        checkpoint_every=checkpoint_every,
-        counterfactual_twin=twin,
-        save_replay_buffer=save_replay_buffer,
-        torch_threads=torch_threads,
-        backend=backend,
-        net_arch=net_arch,
-        train_freq=train_freq,
-        gradient_steps=gradient_steps,
-        n_envs=n_envs,
-        family_weights=family_weights,
-        range_beams=range_beams,
-        range_max_m=range_max_m,
-        library=library,
-        library_share=library_share,
-        eval_scenarios=eval_scenarios,
-        select_by_deviation=select_by_deviation,
-    )
+    check_writable(options.run_dir, folder=True)  # before any training, not at the first checkpoint
     command = _command_line()
-    if not progress:
-        result = run_training(config, run_dir, resume=resume, log=click.echo, command=command)
+    if not options.progress:
+        result = run_training(
+            options.config, options.run_dir, resume=options.resume, log=click.echo, command=command
+        )
     else:
-        with progressbar(length=steps, label="training", show_pos=True, show_eta=True) as bar:
-            done = [0]
-
-            def advance(n: int) -> None:
-                if n > done[0]:
-                    bar.update(n - done[0])
-                    done[0] = n
-
-            def say(message: str) -> None:
-                if on_terminal():
-                    click.echo("", err=True)  # end the progress bar's line
-                click.echo(message)
-
+        with _TrainingBar(options.config.total_steps) as bar:
             result = run_training(
-                config, run_dir, resume=resume, progress=advance, log=say, command=command
+                options.config,
+                options.run_dir,
+                resume=options.resume,
+                progress=bar.advance,
+                log=bar.say,
+                command=command,
             )
     click.echo(
         f"trained {result.steps} steps in {result.wall_time_s:.0f} s "
         f"({result.session_wall_time_s:.0f} s in this session); run in {result.run_dir}"
     )
+
+
+class _TrainingBar:
+    """The progress bar of ``srfm train`` (on a terminal), opened at the first report."""
+
+    def __init__(self, steps: int) -> None:
+        self.steps = steps
+        self.done = 0
+        self.bar: Any = None
+        self.stack = contextlib.ExitStack()
+
+    def __enter__(self) -> _TrainingBar:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.stack.close()
+
+    def advance(self, steps: int) -> None:
+        """Steps done so far."""
+        if self.bar is None:
+            self.bar = self.stack.enter_context(
+                progressbar(length=self.steps, label="training", show_pos=True, show_eta=True)
+            )
+        if steps > self.done:
+            self.bar.update(steps - self.done)
+            self.done = steps
+
+    def say(self, message: str) -> None:
+        """A line of the training's log, below the bar."""
+        if self.bar is not None and on_terminal():
+            click.echo("", err=True)  # end the progress bar's line
+        click.echo(message)
 
 
 @click.command("export-policy")

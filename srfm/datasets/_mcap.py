@@ -40,6 +40,7 @@ import attrs
 import numpy as np
 
 from srfm._io import atomic_write_bytes
+from srfm._text import plain
 from srfm._version import __version__
 from srfm.datasets._trajectories import AGENT_KINDS, FRAMES_OF_REFERENCE, Trajectories
 from srfm.errors import DatasetError
@@ -162,7 +163,7 @@ def write_mcap(
     extra = dict(metadata or {})
     for key, value in extra.items():
         if not isinstance(key, str) or not isinstance(value, str):
-            raise DatasetError(f"{path}: metadata must map str to str, got {key!r}: {value!r}")
+            raise DatasetError(f"{path}: metadata must map str to str, got {plain(key)}: {value!r}")
 
     buf = io.BytesIO()
     writer = Writer(buf, compression=CompressionType.ZSTD, enable_data_crcs=True)
@@ -392,7 +393,7 @@ def _check_schema(path: Path, name: str, encoding: str, message_encoding: str, w
     if encoding != "jsonschema" or message_encoding != "json":
         raise DatasetError(
             f"{path}: schema {name!r} must use schema encoding 'jsonschema' and message "
-            f"encoding 'json', got {encoding!r} and {message_encoding!r}"
+            f"encoding 'json', got {plain(encoding)} and {message_encoding!r}"
         )
 
 
@@ -455,7 +456,7 @@ def _scene_from_messages(
                 raise DatasetError(f"{at}: expected an object with id, kind, x, y")
             aid, kind = item["id"], item["kind"]
             if not isinstance(aid, str):
-                raise DatasetError(f"{at}: id must be a string, got {aid!r}")
+                raise DatasetError(f"{at}: id must be a string, got {plain(aid)}")
             if aid not in index:
                 if meta:
                     raise DatasetError(f"{at}: agent {aid!r} is not in the scene's agent table")
@@ -489,11 +490,11 @@ def _scene_from_messages(
 
 def _json_int(value: Any, name: str, where: str) -> int:
     if isinstance(value, bool) or not isinstance(value, int):
-        raise DatasetError(f"{where}: {name} must be an integer, got {value!r}")
+        raise DatasetError(f"{where}: {name} must be an integer, got {plain(value)}")
     return value
 
 
 def _json_float(value: Any, name: str, where: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise DatasetError(f"{where}: {name} must be a finite number, got {value!r}")
+        raise DatasetError(f"{where}: {name} must be a finite number, got {plain(value)}")
     return float(value)

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm._io import MAX_DATASET_FILE_BYTES, read_input_text
+from srfm._text import plain
 from srfm._validate import BOUNDS, MAX_INT64
 from srfm.datasets._trajectories import DatasetWarning
 from srfm.errors import DatasetError
@@ -33,7 +34,7 @@ def number(text: str, where: str, what: str) -> float:
     except ValueError:
         raise DatasetError(f"{where}: {what} is not a number: {text!r}") from None
     if not math.isfinite(value):
-        raise DatasetError(f"{where}: {what} must be finite, got {text!r}")
+        raise DatasetError(f"{where}: {what} must be finite, got {plain(text)}")
     return value
 
 
@@ -42,7 +43,7 @@ def coordinate(text: str, where: str, what: str) -> float:
     value = number(text, where, what)
     lo, hi, unit = BOUNDS["coordinate"]
     if not lo <= value <= hi:
-        raise DatasetError(f"{where}: {what} must be in [{lo:g}, {hi:g}] {unit}, got {text!r}")
+        raise DatasetError(f"{where}: {what} must be in [{lo:g}, {hi:g}] {unit}, got {plain(text)}")
     return value
 
 
@@ -54,7 +55,7 @@ def integer(text: str, where: str, what: str, *, signed: bool = True) -> int:
     except ValueError:
         as_float = number(text, where, what)
         if not as_float.is_integer():
-            raise DatasetError(f"{where}: {what} must be an integer, got {text!r}") from None
+            raise DatasetError(f"{where}: {what} must be an integer, got {plain(text)}") from None
         value = int(as_float)
     return bounded_int(value, where, what, signed=signed)
 
@@ -72,7 +73,8 @@ def seconds_to_ns(seconds: float, where: str, what: str = "timestamp") -> int:
     """A time in seconds (>= 0) as integer nanoseconds that fit int64."""
     if not (math.isfinite(seconds) and 0.0 <= seconds <= MAX_INT64 * 1e-9):
         raise DatasetError(
-            f"{where}: {what} must be in [0, {MAX_INT64 * 1e-9:.4g}] s (int64 ns), got {seconds!r}"
+            f"{where}: {what} must be in [0, {MAX_INT64 * 1e-9:.4g}] s (int64 ns), "
+            f"got {plain(seconds)}"
         )
     return bounded_int(round(seconds * 1e9), where, what)
 
@@ -85,17 +87,17 @@ def frame_interval(dt_s: object, where: str) -> float:
         or not isinstance(dt_s, int | float)
         or not lo < float(dt_s) <= hi  # also false for NaN
     ):
-        raise DatasetError(f"{where}: dt_s must be in (0, {hi:g}] s, got {dt_s!r}")
+        raise DatasetError(f"{where}: dt_s must be in (0, {hi:g}] s, got {plain(dt_s)}")
     return float(dt_s)
 
 
 def json_number(value: Any, where: str) -> float:
     """A finite JSON number (not a bool, not a string)."""
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise DatasetError(f"{where}: expected a number, got {value!r}")
+        raise DatasetError(f"{where}: expected a number, got {plain(value)}")
     out = float(value)
     if not math.isfinite(out):
-        raise DatasetError(f"{where}: expected a finite number, got {value!r}")
+        raise DatasetError(f"{where}: expected a finite number, got {plain(value)}")
     return out
 
 

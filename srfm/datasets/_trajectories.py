@@ -16,6 +16,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm._validate import BOUNDS
 from srfm.errors import DatasetError, DatasetWarning
 
@@ -83,11 +84,11 @@ class Trajectories:
     def __attrs_post_init__(self) -> None:
         where = f"scene {self.scene!r}"
         if not isinstance(self.scene, str) or not self.scene:
-            raise DatasetError(f"scene name must be a non-empty string, got {self.scene!r}")
+            raise DatasetError(f"scene name must be a non-empty string, got {plain(self.scene)}")
         if self.frame_of_reference not in FRAMES_OF_REFERENCE:
             raise DatasetError(
                 f"{where}: frame_of_reference must be one of {FRAMES_OF_REFERENCE}, "
-                f"got {self.frame_of_reference!r}"
+                f"got {plain(self.frame_of_reference)}"
             )
         ids = tuple(self.agent_ids)
         kinds = tuple(self.kinds)
@@ -95,7 +96,9 @@ class Trajectories:
             raise DatasetError(f"{where}: {len(ids)} agent ids but {len(kinds)} kinds")
         for aid in ids:
             if not isinstance(aid, str) or not aid:
-                raise DatasetError(f"{where}: agent ids must be non-empty strings, got {aid!r}")
+                raise DatasetError(
+                    f"{where}: agent ids must be non-empty strings, got {plain(aid)}"
+                )
         if len(set(ids)) != len(ids):
             dup = next(a for a in ids if ids.count(a) > 1)
             raise DatasetError(f"{where}: duplicate agent id {dup!r}")
@@ -109,7 +112,9 @@ class Trajectories:
         source = dict(self.source)
         for key, value in source.items():
             if not isinstance(key, str) or not isinstance(value, str):
-                raise DatasetError(f"{where}: source metadata must map str to str, got {key!r}")
+                raise DatasetError(
+                    f"{where}: source metadata must map str to str, got {plain(key)}"
+                )
 
         agent = _int_array(self.agent, "agent", where)
         frame = _int_array(self.frame, "frame", where)

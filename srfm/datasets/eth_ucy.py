@@ -27,6 +27,7 @@ from typing import Final
 
 import numpy as np
 
+from srfm._text import plain
 from srfm._validate import MAX_INT64
 from srfm.datasets._parse import (
     coordinate,
@@ -160,7 +161,7 @@ def read_file(path: str | Path, dt_s: float = DEFAULT_DT_S) -> Trajectories:
                 coordinate(fields[k], where, f"{OBSMAT_NAMES[k]} (column {k + 1})")
             if number(fields[3], where, "z (column 4)") != 0.0:
                 raise DatasetError(
-                    f"{where}: z (column 4) of the obsmat layout must be 0, got {fields[3]!r}"
+                    f"{where}: z (column 4) of the obsmat layout must be 0, got {plain(fields[3])}"
                 )
         else:
             y = coordinate(fields[3], where, "y (column 4)")

@@ -31,6 +31,7 @@ from typing import Any, Final
 
 import numpy as np
 
+from srfm._text import plain
 from srfm._validate import BOUNDS
 from srfm.datasets._parse import bounded_int, json_number, load_json, seconds_to_ns
 from srfm.datasets._trajectories import PEDESTRIAN, ROBOT, DatasetWarning, Trajectories
@@ -120,7 +121,9 @@ def read_jrdb(src: str | Path, *, odometry: str | Path | None = None) -> list[Tr
 def _frame_number(name: str, where: str) -> int:
     match = _FRAME_NAME.fullmatch(Path(name).name)
     if match is None:
-        raise DatasetError(f"{where}: frame name must be a number like '000123.pcd', got {name!r}")
+        raise DatasetError(
+            f"{where}: frame name must be a number like '000123.pcd', got {plain(name)}"
+        )
     return bounded_int(int(match.group(1)), where, "frame number")
 
 
@@ -147,7 +150,7 @@ def _read_timestamps(path: Path) -> dict[int, int]:
         elif "frame_id" in entry and "timestamp" in entry:
             fid = entry["frame_id"]
             if isinstance(fid, bool) or not isinstance(fid, int):
-                raise DatasetError(f"{where}.frame_id: expected an integer, got {fid!r}")
+                raise DatasetError(f"{where}.frame_id: expected an integer, got {plain(fid)}")
             frame = bounded_int(fid, f"{where}.frame_id", "frame_id")
             t_s = json_number(entry["timestamp"], f"{where}.timestamp")
         else:
@@ -175,14 +178,14 @@ def _coordinate(value: Any, where: str) -> float:
     out = json_number(value, where)
     lo, hi, unit = BOUNDS["coordinate"]
     if not lo <= out <= hi:
-        raise DatasetError(f"{where}: must be in [{lo:g}, {hi:g}] {unit}, got {value!r}")
+        raise DatasetError(f"{where}: must be in [{lo:g}, {hi:g}] {unit}, got {plain(value)}")
     return out
 
 
 def _yaw_from_pose(pose: Any, where: str) -> tuple[float, float, float]:
     """(x, y, yaw) of a pose entry in either accepted layout."""
     if not isinstance(pose, dict):
-        raise DatasetError(f"{where}: expected a pose object, got {pose!r}")
+        raise DatasetError(f"{where}: expected a pose object, got {plain(pose)}")
     if "position" in pose or "orientation" in pose:
         pos, ori = pose.get("position"), pose.get("orientation")
         if not isinstance(pos, dict) or not isinstance(ori, dict):
@@ -318,7 +321,7 @@ def read_sequence(
                 raise DatasetError(f"{where}: missing key 'label_id'")
             label_id = item["label_id"]
             if not isinstance(label_id, str) or not label_id:
-                raise DatasetError(f"{where}.label_id: expected a string, got {label_id!r}")
+                raise DatasetError(f"{where}.label_id: expected a string, got {plain(label_id)}")
             if not label_id.startswith(PEDESTRIAN):
                 skipped += 1
                 continue

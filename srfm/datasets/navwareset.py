@@ -36,6 +36,8 @@ from typing import Final
 
 import numpy as np
 
+from srfm._io import check_columns
+from srfm._text import plain
 from srfm.datasets._parse import (
     bounded_int,
     coordinate,
@@ -191,7 +193,7 @@ def _timestamp_ns(text: str, where: str) -> int:
     except ValueError:
         value = round(number(text, where, "timestamp"))
     if value < 0:
-        raise DatasetError(f"{where}: timestamp must be >= 0 ns, got {text!r}")
+        raise DatasetError(f"{where}: timestamp must be >= 0 ns, got {plain(text)}")
     return bounded_int(value, where, "timestamp (ns)")
 
 
@@ -199,7 +201,7 @@ def _yaw(text: str, where: str) -> float:
     value = number(text, where, YAW_COLUMN)
     if abs(value) > MAX_YAW_RAD:
         raise DatasetError(
-            f"{where}: {YAW_COLUMN} must be in [-2π, 2π] rad, got {text!r} (degrees?)"
+            f"{where}: {YAW_COLUMN} must be in [-2π, 2π] rad, got {plain(text)} (degrees?)"
         )
     return value
 
@@ -221,14 +223,7 @@ def _check_header(path: Path, header: list[str]) -> None:
             f"expected a header such as {','.join(FORMAT1_COLUMNS)} (format 1) or "
             f"{','.join(FULL_SCENE_COLUMNS)},{YAW_COLUMN},x1,y1,... (format 2)"
         )
-    seen: set[str] = set()
-    for name in header:
-        if name in seen:
-            raise DatasetError(
-                f"{path}:1: column {name!r} appears twice in the header "
-                f"({','.join(header)}); which one holds the data is ambiguous"
-            )
-        seen.add(name)
+    check_columns(header, f"{path}:1", DatasetError)
     full = "x" not in header and "x1" in header
     if not full and any(re.fullmatch(r"[xy]\d+", c) for c in header):
         raise DatasetError(

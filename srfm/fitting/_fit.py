@@ -26,6 +26,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm.errors import ParameterError
 from srfm.fitting._predict import Mode, displacement_errors, predict
 from srfm.fitting._windows import Windows
@@ -57,6 +58,11 @@ BOUNDS: Final[dict[str, tuple[float, float]]] = {
     "ell_a": (0.0, 100.0),
     "ell_b": (0.05, 3.0),
     "ell_dt": (0.0, 5.0),
+    "ss_a": (0.0, 5.0),
+    "ss_miss": (0.1, 3.0),
+    "ss_horizon": (0.3, 8.0),
+    "ss_speed_gain": (-3.0, 3.0),
+    "robot_force_cap": (0.02, 20.0),
 }
 # The parameters a robot-stage fit of each robot-force form varies by default: its
 # strength and range (the exponential form's λ_r, and the elliptical form's too, only when
@@ -67,6 +73,7 @@ FORM_FIT_FIELDS: Final[dict[str, tuple[str, ...]]] = {
     "ttc": ("ttc_k", "ttc_tau0"),
     "collision_prediction": ("cp_a", "cp_b"),
     "elliptical": ("ell_a", "ell_b", "ell_dt"),
+    "sidestep": ("ss_a", "ss_miss", "ss_horizon", "ss_speed_gain"),
 }
 _MAX_NFEV: Final = 1_000_000
 # The published parameter sets every fit also starts from (not fitted presets such as
@@ -188,17 +195,19 @@ def fit_params(
 
     unknown = [s for s in stages if s not in STAGE_FIELDS]
     if unknown:
-        raise ParameterError(f"unknown fitting stage {unknown[0]!r}; known: pedestrian, robot")
+        raise ParameterError(f"unknown fitting stage {plain(unknown[0])}; known: pedestrian, robot")
     if (
         isinstance(max_nfev, bool)
         or not isinstance(max_nfev, int | np.integer)
         or not 1 <= max_nfev <= _MAX_NFEV
     ):
-        raise ParameterError(f"max_nfev must be an integer in [1, {_MAX_NFEV}], got {max_nfev!r}")
+        raise ParameterError(
+            f"max_nfev must be an integer in [1, {_MAX_NFEV}], got {plain(max_nfev)}"
+        )
     chosen_fields = {**STAGE_FIELDS, **{k: tuple(v) for k, v in (fields or {}).items()}}
     for stage_name, names in chosen_fields.items():
         if stage_name not in STAGE_FIELDS:
-            raise ParameterError(f"unknown fitting stage {stage_name!r} in fields")
+            raise ParameterError(f"unknown fitting stage {plain(stage_name)} in fields")
         bad = [f for f in names if f not in BOUNDS]
         if bad or not names:
             raise ParameterError(

@@ -17,6 +17,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm.datasets._trajectories import Trajectories
 from srfm.errors import ParameterError
 from srfm.fitting._ade import displacement_summary, pass_errors
@@ -41,6 +42,7 @@ __all__ = [
     "leave_one_scene_out",
     "paired_test",
     "scene_groups",
+    "window_metrics",
 ]
 
 IntArray = NDArray[np.int64]
@@ -184,7 +186,7 @@ def leave_one_scene_out(
     if isinstance(k, bool) or not isinstance(k, int) or not 2 <= k <= groups.n_groups:
         raise ParameterError(
             f"n_folds must be an integer in [2, {groups.n_groups}] (the number of scenes), "
-            f"got {n_folds!r}"
+            f"got {plain(n_folds)}"
         )
     out: list[SRFMParams | None] = [None] * groups.n_groups
     for fold in range(k):
@@ -229,7 +231,7 @@ def bootstrap_robot_part(
         Deterministic for a given ``seed``.
     """
     if isinstance(n_boot, bool) or not isinstance(n_boot, int) or n_boot < 1:
-        raise ParameterError(f"n_boot must be a positive integer, got {n_boot!r}")
+        raise ParameterError(f"n_boot must be a positive integer, got {plain(n_boot)}")
     pool = np.arange(groups.n_groups) if among is None else np.asarray(among, dtype=np.int64)
     if pool.size == 0:
         raise ParameterError("no scenes to bootstrap over")
@@ -288,6 +290,22 @@ class WindowMetrics:
     path_offset: NDArray[np.float64]
 
 
+def window_metrics(
+    windows: Windows, sel: IntArray, params: SRFMParams, mode: Mode
+) -> WindowMetrics:
+    """Per-window ADE, FDE, pass-distance and path-offset errors, each (Q,), of one model
+    on the windows ``sel`` (:class:`WindowMetrics`; signed pass-distance and path-offset
+    errors, predicted minus observed)."""
+    sel = np.ascontiguousarray(sel, dtype=np.int64)
+    if sel.size == 0:
+        empty = np.zeros(0)
+        return WindowMetrics(ade=empty, fde=empty, pass_distance=empty, path_offset=empty)
+    predicted = predict(windows, params, sel, mode)
+    ade, fde = displacement_summary(windows, sel, predicted)
+    distance, offset = pass_errors(windows, sel, predicted)
+    return WindowMetrics(ade=ade, fde=fde, pass_distance=distance, path_offset=offset)
+
+
 def heldout_metrics(
     windows: Windows,
     groups: SceneGroups,
@@ -316,11 +334,9 @@ def heldout_metrics(
         else:
             parts = [(every, base)]
         for sel, params in parts:
-            if sel.size == 0:
-                continue
-            predicted = predict(windows, params, sel, mode)
-            cols[0][sel], cols[1][sel] = displacement_summary(windows, sel, predicted)
-            cols[2][sel], cols[3][sel] = pass_errors(windows, sel, predicted)
+            m = window_metrics(windows, sel, params, mode)
+            cols[0][sel], cols[1][sel] = m.ade, m.fde
+            cols[2][sel], cols[3][sel] = m.pass_distance, m.path_offset
         out[mode] = WindowMetrics(
             ade=cols[0], fde=cols[1], pass_distance=cols[2], path_offset=cols[3]
         )

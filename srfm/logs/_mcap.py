@@ -47,6 +47,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm._io import atomic_write_bytes
+from srfm._text import plain
+from srfm._version import DISTRIBUTION
 from srfm.errors import LogError, SrfmError
 from srfm.logs._foxglove import scene_messages
 from srfm.logs._planes import from_planes, to_planes
@@ -80,7 +82,7 @@ FloatArray = NDArray[np.float64]
 @functools.cache
 def _version() -> str:
     try:
-        return metadata.version("srfm")
+        return metadata.version(DISTRIBUTION)
     except metadata.PackageNotFoundError:  # pragma: no cover - always installed
         return "unknown"
 
@@ -347,7 +349,7 @@ def write_episode_mcap(
         The size of the file (bytes).
     """
     if profile not in PROFILES:
-        raise LogError(f"unknown MCAP profile {profile!r}; choose from {list(PROFILES)}")
+        raise LogError(f"unknown MCAP profile {plain(profile)}; choose from {list(PROFILES)}")
     stride = _SCENE_STRIDE[profile] if scene_stride is None else scene_stride
     if stride < 1:
         raise LogError(f"scene stride must be at least 1, got {stride}")

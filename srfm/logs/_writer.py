@@ -14,6 +14,7 @@ lock (:func:`srfm._io.remove_stale_temporaries`).
 
 from __future__ import annotations
 
+import operator
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -21,6 +22,7 @@ from typing import Any, Final
 
 import attrs
 
+from srfm._text import plain
 from srfm._validate import path_name
 from srfm._validate import seed as validate_seed
 from srfm.errors import LogError
@@ -71,6 +73,15 @@ def counterfactual_log_path(out: Path, scenario: str, seed: int) -> Path:
     return Path(out) / LOGS_DIR / scenario / COUNTERFACTUAL_DIR / f"seed-{seed:06d}.mcap"
 
 
+def _at_least(value: Any, minimum: int) -> bool:
+    """``value`` is an integer (not a bool) >= ``minimum``."""
+    try:
+        number = operator.index(value)
+    except TypeError:
+        return False
+    return not isinstance(value, bool) and number >= minimum
+
+
 @attrs.frozen(kw_only=True)
 class LogOptions:
     """Which logs to write.
@@ -99,16 +110,16 @@ class LogOptions:
 
     @rrd_seeds.validator
     def _rrd_seeds(self, attribute: Any, value: int | None) -> None:
-        if value is not None and value < 0:
-            raise LogError(f"rrd_seeds must be None (every seed) or >= 0, got {value}")
+        if value is not None and not _at_least(value, 0):
+            raise LogError(f"rrd_seeds must be None (every seed) or >= 0, got {plain(value)}")
 
     def __attrs_post_init__(self) -> None:
-        if self.mcap_profile not in PROFILES:
+        if not isinstance(self.mcap_profile, str) or self.mcap_profile not in PROFILES:
             raise LogError(
-                f"unknown MCAP profile {self.mcap_profile!r}; choose from {list(PROFILES)}"
+                f"unknown MCAP profile {plain(self.mcap_profile)}; choose from {list(PROFILES)}"
             )
-        if self.scene_stride is not None and self.scene_stride < 1:
-            raise LogError(f"scene stride must be at least 1, got {self.scene_stride}")
+        if self.scene_stride is not None and not _at_least(self.scene_stride, 1):
+            raise LogError(f"scene stride must be at least 1, got {plain(self.scene_stride)}")
 
     @classmethod
     def benchmark_default(cls) -> LogOptions:

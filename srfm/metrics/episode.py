@@ -22,6 +22,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm.errors import MetricError
 from srfm.metrics._social_kernels import (
     force_exposure,
@@ -64,7 +65,7 @@ _OWN = "this project"
 
 def _finite_positive(inst: Any, attribute: attrs.Attribute[float], value: float) -> None:
     if not (isinstance(value, float) and math.isfinite(value) and value > 0.0):
-        raise MetricError(f"{attribute.name} must be a finite number > 0, got {value!r}")
+        raise MetricError(f"{attribute.name} must be a finite number > 0, got {plain(value)}")
 
 
 def _to_float(value: Any) -> Any:

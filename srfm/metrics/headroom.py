@@ -39,6 +39,7 @@ import attrs
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from srfm._text import plain
 from srfm.errors import MetricError
 from srfm.metrics.stats import ALPHA
 
@@ -60,6 +61,7 @@ __all__ = [
     "paired_sd",
     "scenario_references",
     "seeds_needed",
+    "sigma_d",
     "standard_error",
 ]
 
@@ -118,7 +120,7 @@ def _aligned(*arrays: tuple[ArrayLike, str]) -> list[FloatArray]:
 
 def _level(level: float) -> float:
     if not (isinstance(level, float) and 0.0 < level < 1.0):
-        raise MetricError(f"interval level must be in (0, 1), got {level!r}")
+        raise MetricError(f"interval level must be in (0, 1), got {plain(level)}")
     return level
 
 
@@ -157,7 +159,7 @@ def normalised_score(
     n = int(s.size)
     _level(level)
     if n_bootstrap < 1:
-        raise MetricError(f"n_bootstrap must be >= 1, got {n_bootstrap!r}")
+        raise MetricError(f"n_bootstrap must be >= 1, got {plain(n_bootstrap)}")
     room = float((s - o).mean()) if n else math.nan
     if not room > 0.0:
         return Interval(math.nan, math.nan, math.nan, n, level)
@@ -209,6 +211,29 @@ def paired_sd(a: ArrayLike, b: ArrayLike) -> float:
     return float((x - y).std(ddof=1)) if x.size >= 2 else math.nan
 
 
+def sigma_d(
+    values: Mapping[str, ArrayLike],
+    *,
+    references: Sequence[str] = REFERENCE_PLANNERS,
+    fallback: tuple[str, str] | None = None,
+) -> float:
+    """σ_d: the median, over every pair of the planners that are not ``references``, of
+    the SD of their per-seed differences (:func:`paired_sd`); with fewer than two such
+    planners, the SD of the ``fallback`` pair's differences (NaN without one). It does
+    not involve the oracle, so it can be measured where the oracle was not run.
+
+    Args:
+        values: per planner, its values on the same seeds, in the same order.
+        references: planners left out of the pairs.
+        fallback: the pair to use when fewer than two planners remain.
+    """
+    entries = [p for p in values if p not in references]
+    pairs = list(itertools.combinations(entries, 2)) or ([fallback] if fallback else [])
+    sds = [paired_sd(values[a], values[b]) for a, b in pairs]
+    finite = [x for x in sds if math.isfinite(x)]
+    return float(np.median(finite)) if finite else math.nan
+
+
 def seeds_needed(
     sd_diff: float,
     delta: float = DETECT_M,
@@ -228,12 +253,12 @@ def seeds_needed(
     from scipy import stats
 
     if not (math.isfinite(sd_diff) and sd_diff >= 0.0):
-        raise MetricError(f"sd_diff must be a finite number >= 0, got {sd_diff!r}")
+        raise MetricError(f"sd_diff must be a finite number >= 0, got {plain(sd_diff)}")
     if not (math.isfinite(delta) and delta > 0.0):
-        raise MetricError(f"delta must be a number > 0, got {delta!r}")
+        raise MetricError(f"delta must be a number > 0, got {plain(delta)}")
     for name, value in (("alpha", alpha), ("power", power)):
         if not 0.0 < value < 1.0:
-            raise MetricError(f"{name} must be in (0, 1), got {value!r}")
+            raise MetricError(f"{name} must be in (0, 1), got {plain(value)}")
     if sd_diff == 0.0:
         return 2
 
@@ -345,11 +370,7 @@ def scenario_references(
         if score.n < min_k:
             score = Interval(math.nan, math.nan, math.nan, score.n, score.level)
         scores[p] = score
-    entries = [p for p in values if p not in references]
-    pairs = list(itertools.combinations(entries, 2)) or [(straight, oracle)]
-    sds = [paired_sd(raw[a], raw[b]) for a, b in pairs]
-    finite = [x for x in sds if math.isfinite(x)]
-    sd_diff = float(np.median(finite)) if finite else math.nan
+    sd_diff = sigma_d(raw, references=references, fallback=(straight, oracle))
     needed = seeds_needed(sd_diff) if math.isfinite(sd_diff) else None
     beats = tuple(p for p, x in scores.items() if p not in (straight, oracle) and x.estimate > 1.0)
     return ScenarioReferences(

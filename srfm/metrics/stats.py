@@ -12,6 +12,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import stdtr
 
+from srfm._text import plain
 from srfm.errors import MetricError
 
 __all__ = [
@@ -22,6 +23,7 @@ __all__ = [
     "adjust_p_values",
     "compare",
     "summarize",
+    "wilson",
 ]
 
 ALPHA: Final = 0.05
@@ -34,6 +36,29 @@ CORRECTIONS: Final[dict[str, str]] = {
 }
 """The multiple-comparison corrections :func:`adjust_p_values` knows, with the words
 the tables' legends use for them."""
+
+
+def wilson(successes: float, n: int) -> tuple[float, float, float]:
+    """A proportion and its 95 % (1 − :data:`ALPHA`) Wilson score interval.
+
+    Args:
+        successes: the count of successes; a fraction is allowed (a share of tied ranks).
+        n: the number of trials; 0 gives NaN throughout.
+
+    Returns:
+        (proportion, low, high).
+    """
+    if n == 0:
+        return math.nan, math.nan, math.nan
+    z = _Z
+    p = successes / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * math.sqrt(max(p * (1 - p), 0.0) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return p, max(centre - half, 0.0), min(centre + half, 1.0)
+
+
+_Z: Final = 1.959963984540054
+"""The standard normal's 1 − ALPHA / 2 quantile (scipy.stats.norm.ppf(0.975))."""
 
 
 @attrs.frozen
@@ -212,14 +237,14 @@ def adjust_p_values(p_values: ArrayLike, method: str) -> NDArray[np.float64]:
         MetricError: an unknown method, or a p-value outside [0, 1].
     """
     if method not in CORRECTIONS:
-        raise MetricError(f"unknown correction {method!r}; known: {', '.join(CORRECTIONS)}")
+        raise MetricError(f"unknown correction {plain(method)}; known: {', '.join(CORRECTIONS)}")
     p = np.array(p_values, dtype=np.float64)
     flat = p.ravel()
     defined = np.flatnonzero(np.isfinite(flat))
     values = flat[defined]
     outside = ~np.isnan(flat) & ~((flat >= 0.0) & (flat <= 1.0))
     if np.any(outside):
-        raise MetricError(f"p-values must lie in [0, 1], got {float(flat[outside][0])!r}")
+        raise MetricError(f"p-values must lie in [0, 1], got {plain(float(flat[outside][0]))}")
     m = values.size
     if method == "none" or m == 0:
         return p

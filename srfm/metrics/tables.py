@@ -41,6 +41,7 @@ from typing import Any, Final
 import attrs
 import numpy as np
 
+from srfm._text import plain
 from srfm.errors import MetricError
 from srfm.metrics.episode import EPISODE_METRICS, METRIC_GROUPS, EpisodeMetrics, MetricInfo
 from srfm.metrics.headroom import (
@@ -281,10 +282,12 @@ def benchmark_table(
     if reference is not None and reference not in planners:
         raise MetricError(f"reference planner {reference!r} is not among {list(planners)}")
     if correction not in CORRECTIONS:
-        raise MetricError(f"unknown correction {correction!r}; known: {', '.join(CORRECTIONS)}")
+        raise MetricError(
+            f"unknown correction {plain(correction)}; known: {', '.join(CORRECTIONS)}"
+        )
     for name, _ in columns:
         if base_metric(name) not in _INFO:
-            raise MetricError(f"unknown metric {name!r}; known: {sorted(_INFO)}")
+            raise MetricError(f"unknown metric {plain(name)}; known: {sorted(_INFO)}")
     summaries: dict[tuple[str, str], dict[str, Summary]] = {}
     raw: dict[tuple[str, str], dict[str, Comparison]] = {}
     outcomes: dict[tuple[str, str], dict[str, int]] = {}
@@ -416,6 +419,7 @@ _OUTCOME_SHORT: Final = {
     "collision": "coll.",
     "out_of_bounds": "out",
     "timeout": "timeout",
+    "planner_failed": "failed",
 }
 
 
@@ -498,6 +502,11 @@ def legend(table: BenchmarkTable, *, markdown: bool = True) -> str:
             "seeds that ended with the goal reached, a collision (coll.), out of bounds "
             "(out) or a timeout."
         )
+        if any(counts.get("planner_failed") for counts in table.outcomes.values()):
+            text += (
+                " failed: an external planner failed and its episode ended there "
+                "(docs/planners-any-language.md)."
+            )
     if table.reference is not None:
         star = f"\\{WELCH_MARK}" if markdown else WELCH_MARK
         how = CORRECTIONS[table.correction]

@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm._jit import specialize_once
+from srfm._text import plain
 from srfm._validate import MAX_SPEED_MPS
 from srfm.errors import SimulationError
 from srfm.models import _kernels
@@ -100,7 +101,7 @@ def _robot_args(robot: RobotBody | None) -> tuple[NDArray[np.float64], bool]:
     if not np.all(np.isfinite(arr)) or arr[2] < 0.0 or math.hypot(arr[3], arr[4]) > MAX_SPEED_MPS:
         raise SimulationError(
             f"robot body must be finite with radius >= 0 and speed <= {MAX_SPEED_MPS:g} m/s, "
-            f"got {robot!r}"
+            f"got {plain(robot)}"
         )
     return arr, True
 
@@ -115,7 +116,7 @@ def interaction_cutoffs(
     wall or the pillar's surface; see ``FORCE_TOLERANCE_MPS2`` for the formulas.
     """
     if not tolerance > 0.0 or not math.isfinite(tolerance):
-        raise SimulationError(f"force tolerance must be finite and > 0, got {tolerance!r}")
+        raise SimulationError(f"force tolerance must be finite and > 0, got {plain(tolerance)}")
     r = max(float(max_radius), 0.0)
     ped = (
         2.0 * r + params.b_ped * max(math.log(params.a_ped / tolerance), 0.0)
@@ -151,12 +152,16 @@ def _cut(cutoff: Cutoff, params: SRFMParams, r_max: float, n: int) -> NDArray[np
             return np.array([np.inf, np.inf])
         if cutoff == "auto":
             return np.array(interaction_cutoffs(params, r_max))
-        raise SimulationError(f"cutoff must be 'auto', 'exact' or a distance in m, got {cutoff!r}")
+        raise SimulationError(
+            f"cutoff must be 'auto', 'exact' or a distance in m, got {plain(cutoff)}"
+        )
     if isinstance(cutoff, bool) or not isinstance(cutoff, int | float | np.floating | np.integer):
-        raise SimulationError(f"cutoff must be 'auto', 'exact' or a distance in m, got {cutoff!r}")
+        raise SimulationError(
+            f"cutoff must be 'auto', 'exact' or a distance in m, got {plain(cutoff)}"
+        )
     value = float(cutoff)
     if not (value > 0.0 and math.isfinite(value)):
-        raise SimulationError(f"cutoff must be a finite distance > 0 m, got {cutoff!r}")
+        raise SimulationError(f"cutoff must be a finite distance > 0 m, got {plain(cutoff)}")
     return np.array([value, interaction_cutoffs(params, r_max)[1]])
 
 
@@ -246,7 +251,7 @@ def step_crowd(
         cutoff: interaction cut-off, see :func:`kernel_cutoffs`.
     """
     if not 0.0 < dt <= MAX_DT_S:  # also false for NaN
-        raise SimulationError(f"dt must be in (0, {MAX_DT_S:g}] s, got {dt!r}")
+        raise SimulationError(f"dt must be in (0, {MAX_DT_S:g}] s, got {plain(dt)}")
     params = _DEFAULT_PARAMS if params is None else params
     obstacles = _NO_OBSTACLES if obstacles is None else obstacles
     robot_arr, robot_on = _robot_args(robot)

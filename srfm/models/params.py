@@ -11,11 +11,12 @@ with the acceleration (unit mass, so forces are accelerations, m/s²)
     f_obs      = A_o exp((r_i − d_io) / B_o) n_oi
     ψ(φ; λ)    = λ + (1 − λ) (1 + cos φ) / 2                      (Eq. 5)
 
-The robot term f_robot has four forms (``robot_form``; docs/model.md): the paper's
+The robot term f_robot has five forms (``robot_form``; docs/model.md): the paper's
 exponential force above (the default), the time-to-collision force of Karamouzas,
 Skinner and Guy (2014), the collision-prediction force of Zanlungo, Ikeda and Kanda
-(2011) and the elliptical force of Johansson, Helbing and Shukla (2007); each reads
-only its own parameters (:data:`FORM_FIELDS`).
+(2011), the elliptical force of Johansson, Helbing and Shukla (2007) and srfm's
+sidestep, a sideways response to a predicted near miss (issue 40); each reads only its
+own parameters (:data:`FORM_FIELDS`).
 
 Model-level parameters live here; per-agent values (radius, desired and maximum speed)
 are arrays in :class:`srfm.CrowdState`.
@@ -34,7 +35,14 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm._io import MAX_TOML_BYTES, atomic_write_text, read_input_text, toml_scalar
+from srfm._io import (
+    MAX_TOML_BYTES,
+    atomic_write_text,
+    parse_toml,
+    read_input_text,
+    toml_scalar,
+)
+from srfm._text import plain
 from srfm._validate import finite_float, non_negative, positive, unit_interval
 from srfm.errors import ParameterError
 from srfm.models._forms import ROBOT_FORMS
@@ -47,6 +55,7 @@ __all__ = [
     "SRFMParams",
     "load_params",
     "preset_meta",
+    "response_model_name",
     "save_params",
 ]
 
@@ -57,6 +66,7 @@ FORM_FIELDS: Final[dict[str, tuple[str, ...]]] = {
     "ttc": ("ttc_k", "ttc_tau0", "robot_force_cap"),
     "collision_prediction": ("cp_a", "cp_b", "cp_t_min", "cp_t_max", "robot_force_cap"),
     "elliptical": ("ell_a", "ell_b", "ell_dt", "lambda_robot", "robot_force_cap"),
+    "sidestep": ("ss_a", "ss_miss", "ss_horizon", "ss_speed_gain", "robot_force_cap"),
 }
 """The parameters each robot form reads (its strength first)."""
 
@@ -103,8 +113,12 @@ class SRFMKernelParams(NamedTuple):
         ell_a: A_e, strength of the elliptical force (m/s²).
         ell_b: B_e, its range (m).
         ell_dt: Δt, its prediction time (s).
-        robot_force_cap: the largest robot force of the ttc, collision_prediction and
-            elliptical forms (m/s²).
+        robot_force_cap: the largest robot force of the ttc, collision_prediction,
+            elliptical and sidestep forms (m/s²).
+        ss_a: A, amplitude of the sidestep force (m/s²).
+        ss_miss: d_on, its onset: the predicted miss below which people react (m).
+        ss_horizon: T, its anticipation horizon (s).
+        ss_speed_gain: γ, its dependence on the robot's speed (s/m).
     """
 
     a_ped: float
@@ -127,6 +141,10 @@ class SRFMKernelParams(NamedTuple):
     ell_b: float
     ell_dt: float
     robot_force_cap: float
+    ss_a: float
+    ss_miss: float
+    ss_horizon: float
+    ss_speed_gain: float
 
 
 def _check_positive(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
@@ -142,13 +160,13 @@ MIN_TAU_S: Final = 1e-3
 def _check_strength(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
     out = non_negative(value, attribute.name, ParameterError)
     if out > MAX_STRENGTH:
-        raise ParameterError(f"{attribute.name} must be <= {MAX_STRENGTH:g}, got {value!r}")
+        raise ParameterError(f"{attribute.name} must be <= {MAX_STRENGTH:g}, got {plain(value)}")
 
 
 def _check_tau(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
     out = positive(value, attribute.name, ParameterError)
     if out < MIN_TAU_S:
-        raise ParameterError(f"{attribute.name} must be >= {MIN_TAU_S:g} s, got {value!r}")
+        raise ParameterError(f"{attribute.name} must be >= {MIN_TAU_S:g} s, got {plain(value)}")
 
 
 def _check_unit(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
@@ -165,26 +183,40 @@ def _check_time(inst: Any, attribute: attrs.Attribute[float], value: Any) -> Non
     out = positive(value, attribute.name, ParameterError)
     if not MIN_TIME_S <= out <= MAX_TIME_S:
         raise ParameterError(
-            f"{attribute.name} must be in [{MIN_TIME_S:g}, {MAX_TIME_S:g}] s, got {value!r}"
+            f"{attribute.name} must be in [{MIN_TIME_S:g}, {MAX_TIME_S:g}] s, got {plain(value)}"
         )
 
 
 def _check_duration(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
     out = non_negative(value, attribute.name, ParameterError)
     if out > MAX_TIME_S:
-        raise ParameterError(f"{attribute.name} must be <= {MAX_TIME_S:g} s, got {value!r}")
+        raise ParameterError(f"{attribute.name} must be <= {MAX_TIME_S:g} s, got {plain(value)}")
+
+
+# Bound of the sidestep force's speed gain γ (s/m): exp(γ Δv) stays finite below the
+# exponent's cap and a response 1e4 times stronger per m/s is far outside any data.
+MAX_SPEED_GAIN: Final = 10.0
+
+
+def _check_gain(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    out = finite_float(value, attribute.name, ParameterError)
+    if not -MAX_SPEED_GAIN <= out <= MAX_SPEED_GAIN:
+        raise ParameterError(
+            f"{attribute.name} must be in [{-MAX_SPEED_GAIN:g}, {MAX_SPEED_GAIN:g}] s/m, "
+            f"got {plain(value)}"
+        )
 
 
 def _check_cap(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
     out = positive(value, attribute.name, ParameterError)
     if out > MAX_STRENGTH:
-        raise ParameterError(f"{attribute.name} must be <= {MAX_STRENGTH:g}, got {value!r}")
+        raise ParameterError(f"{attribute.name} must be <= {MAX_STRENGTH:g}, got {plain(value)}")
 
 
 def _check_form(inst: Any, attribute: attrs.Attribute[str], value: Any) -> None:
     if not isinstance(value, str) or value not in ROBOT_FORMS:
         known = ", ".join(ROBOT_FORMS)
-        raise ParameterError(f"unknown robot_form {value!r}; known: {known}")
+        raise ParameterError(f"unknown robot_form {plain(value)}; known: {known}")
 
 
 def _to_float(value: Any) -> Any:
@@ -217,7 +249,8 @@ class SRFMParams:
             ``"exponential"`` (the paper's; A_r, B_r, λ_r), ``"ttc"`` (Karamouzas,
             Skinner, Guy 2014; k, τ0), ``"collision_prediction"`` (Zanlungo, Ikeda,
             Kanda 2011; A, B, t_min, t_max) or ``"elliptical"`` (Johansson, Helbing,
-            Shukla 2007; A_e, B_e, Δt, λ_r). Each form reads only its own fields
+            Shukla 2007; A_e, B_e, Δt, λ_r) or ``"sidestep"`` (srfm's response to a
+            predicted near miss; A, d_on, T, γ). Each form reads only its own fields
             (:data:`FORM_FIELDS`); docs/model.md gives the equations.
         ttc_k: k, strength of the time-to-collision energy E = k τ⁻² e^(−τ/τ0) (m²
             per unit mass), in [0, 1e6]; 0 switches the robot off.
@@ -235,13 +268,25 @@ class SRFMParams:
         ell_dt: Δt, its prediction time (s), in [0, 1e3]; 0 is the paper's circular
             force.
         robot_force_cap: the largest robot force (m/s²) of the ttc,
-            collision_prediction and elliptical forms, in (0, 1e6] (their
+            collision_prediction, elliptical and sidestep forms, in (0, 1e6] (their
             singularities: a collision or closest approach now, a grazing course).
+        ss_a: A, amplitude of the sidestep force (m/s²), in [0, 1e6]: its force on a
+            predicted collision course, now, of a robot at 1 m/s; 0 switches the robot
+            off.
+        ss_miss: d_on, its onset (m), > 0: people react while the predicted miss (the
+            centre distance at the closest approach, both at constant velocity) is
+            below it.
+        ss_horizon: T, its anticipation horizon (s), in [1e-3, 1e3]: people react
+            while the closest approach is less than T ahead.
+        ss_speed_gain: γ, its dependence on the robot's speed (s/m), in [−10, 10]: the
+            amplitude is A exp(γ (|v_r| − 1 m/s)); 0 makes it independent of the speed.
 
     The defaults of the other forms are starting values, not fits (issue 28 fits them
     on NavWareSet): τ0 = 3 s is Karamouzas et al.'s cut-off; the elliptical A_e, B_e
     are the paper's A_r, B_r, so that at equal velocities (or Δt = 0) it is the paper's
-    force.
+    force; the sidestep's d_on = 0.75 m and T = 3.5 s are the model-free onsets of
+    docs/real_encounters.md (part 1), A = 0.2 m/s² the size of the sideways
+    acceleration measured there, γ = 0 no speed dependence.
     """
 
     a_ped: float = attrs.field(default=2.0, converter=_to_float, validator=_check_strength)
@@ -264,11 +309,15 @@ class SRFMParams:
     ell_b: float = attrs.field(default=0.99, converter=_to_float, validator=_check_positive)
     ell_dt: float = attrs.field(default=1.0, converter=_to_float, validator=_check_duration)
     robot_force_cap: float = attrs.field(default=20.0, converter=_to_float, validator=_check_cap)
+    ss_a: float = attrs.field(default=0.2, converter=_to_float, validator=_check_strength)
+    ss_miss: float = attrs.field(default=0.75, converter=_to_float, validator=_check_positive)
+    ss_horizon: float = attrs.field(default=3.5, converter=_to_float, validator=_check_time)
+    ss_speed_gain: float = attrs.field(default=0.0, converter=_to_float, validator=_check_gain)
 
     def __attrs_post_init__(self) -> None:
         if self.cp_t_max < self.cp_t_min:
             raise ParameterError(
-                f"cp_t_max must be >= cp_t_min ({self.cp_t_min!r} s), got {self.cp_t_max!r}"
+                f"cp_t_max must be >= cp_t_min ({self.cp_t_min!r} s), got {plain(self.cp_t_max)}"
             )
 
     @classmethod
@@ -279,13 +328,15 @@ class SRFMParams:
             return PRESETS[name]
         except (KeyError, TypeError):
             known = ", ".join(sorted(PRESETS))
-            raise ParameterError(f"unknown parameter preset {name!r}; known: {known}") from None
+            raise ParameterError(
+                f"unknown parameter preset {plain(name)}; known: {known}"
+            ) from None
 
     def replace(self, **changes: Any) -> SRFMParams:
         """A copy with some fields changed (validated again)."""
         unknown = sorted(set(changes) - set(attrs.fields_dict(SRFMParams)))
         if unknown:
-            raise ParameterError(f"unknown SRFM parameter {unknown[0]!r}")
+            raise ParameterError(f"unknown SRFM parameter {plain(unknown[0])}")
         return attrs.evolve(self, **changes)
 
     def for_kernels(self) -> SRFMKernelParams:
@@ -330,13 +381,13 @@ PRESETS: Final[dict[str, SRFMParams]] = {
 }
 """Named SRFM parameter sets (:meth:`SRFMParams.preset`, ``--params NAME``):
 ``agrawal2024`` (the paper's Table 1, fitted on JRDB; the default), ``ferrer2013`` (one
-A = 2.66 m/s², B = 0.79 m for people and robot alike) and the presets fitted by srfm on
+A = 2.66 m/s², B = 0.79 m for people and robot alike) and the presets srfm made from
 real data, shipped as parameter files in ``srfm/models/presets/`` with the fit's
 provenance in their ``[meta]`` (:func:`preset_meta`): ``navwareset2025`` (NavWareSet's
 own pedestrian part and the paper's exponential robot force fitted on its encounters)
 and ``navwareset2026_ttc`` (the same pedestrian part and the time-to-collision robot
-force, which predicts the pass distance of held-out encounters best;
-docs/real_encounters.md, part 4). Strengths in m/s², ranges in m, τ in s (docs/model.md,
+force at default parameters, chosen by a held-out test: not fitted, the fit did not
+move them; docs/real_encounters.md, part 4). Strengths in m/s², ranges in m, τ in s (docs/model.md,
 docs/fitting.md)."""
 
 
@@ -353,21 +404,18 @@ def load_params(path: str | Path) -> SRFMParams:
     text = read_input_text(
         path, max_bytes=MAX_TOML_BYTES, error=ParameterError, what="parameter file"
     )
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ParameterError(f"{path}: not a valid TOML file: {exc}") from None
+    data = parse_toml(text, path, ParameterError)
     unknown = sorted(set(data) - {"schema_version", "preset", "params", "meta"})
     if unknown:
         raise ParameterError(f"{path}: unknown key {unknown[0]!r}")
     version = data.get("schema_version")
     if type(version) is not int or version != PARAMS_SCHEMA_VERSION:
         raise ParameterError(
-            f"{path}: schema_version must be {PARAMS_SCHEMA_VERSION}, got {version!r}"
+            f"{path}: schema_version must be {PARAMS_SCHEMA_VERSION}, got {plain(version)}"
         )
     values = data.get("params", {})
     if not isinstance(values, dict):
-        raise ParameterError(f"{path}: [params] must be a table, got {values!r}")
+        raise ParameterError(f"{path}: [params] must be a table, got {plain(values)}")
     try:
         base = SRFMParams.preset(data["preset"]) if "preset" in data else SRFMParams()
         return base.replace(**values)
@@ -410,7 +458,7 @@ def _toml_scalar(key: Any, value: Any) -> str:
     if text is not None:
         return text
     raise ParameterError(
-        f"meta value {key!r} must be a string, integer, float or boolean, got {value!r}"
+        f"meta value {key!r} must be a string, integer, float or boolean, got {plain(value)}"
     )
 
 
@@ -441,3 +489,12 @@ def preset_meta(name: str) -> dict[str, Any]:
 
 
 PRESETS.update({name: load_params(path) for name, path in _packaged_presets().items()})
+
+
+def response_model_name(params: SRFMParams) -> str:
+    """How tables and pages name the model of the pedestrians' response to the robot:
+    the preset ``params`` equals, else ``custom parameters (<form> robot force)``."""
+    for name, preset in PRESETS.items():
+        if preset == params:
+            return name
+    return f"custom parameters ({params.robot_form} robot force)"

@@ -26,6 +26,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm._validate import physical
 from srfm.errors import ParameterError, PlannerError
 from srfm.models._robot_kernels import RobotLimits, move_robot
@@ -55,8 +56,8 @@ def _bounded(kind: str) -> Any:
 
 
 def _kinematics(inst: Any, attribute: attrs.Attribute[str], value: Any) -> None:
-    if value not in KINEMATICS:
-        raise ParameterError(f"robot.kinematics must be one of {KINEMATICS}, got {value!r}")
+    if not isinstance(value, str) or value not in KINEMATICS:
+        raise ParameterError(f"robot.kinematics must be one of {KINEMATICS}, got {plain(value)}")
 
 
 @attrs.frozen(kw_only=True)
@@ -160,7 +161,7 @@ def command_pair(command: Any, what: str = "a command") -> tuple[float, float]:
     def bad() -> PlannerError:
         # Built only on failure: the repr of an array costs about 0.1 ms, which at one
         # command per step was 12 % of a warm quick benchmark (cProfile, 2026-11-27).
-        return PlannerError(f"{what} must be two real numbers, got {command!r}")
+        return PlannerError(f"{what} must be two real numbers, got {plain(command)}")
 
     if type(command) is np.ndarray and command.shape == (2,) and command.dtype.kind in "fiu":
         # The common case (a planner's or an agent's array), checked without the
@@ -169,7 +170,7 @@ def command_pair(command: Any, what: str = "a command") -> tuple[float, float]:
     else:
         c0, c1 = _command_numbers(command, bad)
     if not (math.isfinite(c0) and math.isfinite(c1)):
-        raise PlannerError(f"{what} must be finite, got {command!r}")
+        raise PlannerError(f"{what} must be finite, got {plain(command)}")
     return c0, c1
 
 

@@ -9,6 +9,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm._validate import float_array, physical_array
 from srfm.errors import SimulationError
 from srfm.models._arrays import CrowdArrays, ObstacleArrays
@@ -122,7 +123,7 @@ class CrowdState:
 def _check_field(arr: Any, name: str, shape: tuple[int | None, ...]) -> int:
     """Check one state array in place (no conversion); return its length."""
     if not isinstance(arr, np.ndarray) or arr.dtype != np.float64:
-        raise SimulationError(f"{name} must be a float64 numpy array, got {arr!r}")
+        raise SimulationError(f"{name} must be a float64 numpy array, got {plain(arr)}")
     if not (arr.flags.c_contiguous and arr.flags.writeable):
         raise SimulationError(f"{name} must be C-contiguous and writeable")
     float_array(arr, name, shape, SimulationError)  # shape and finiteness
@@ -136,7 +137,7 @@ def _per_agent(value: Any, name: str, n: int) -> FloatArray:
     out = float_array(arr, name, (n,), SimulationError)
     if np.any(out < 0.0):
         i = int(np.argmax(out < 0.0))
-        raise SimulationError(f"{name} must be >= 0, got {out[i]!r} for pedestrian {i}")
+        raise SimulationError(f"{name} must be >= 0, got {plain(out[i])} for pedestrian {i}")
     return out.copy()
 
 

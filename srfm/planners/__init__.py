@@ -1,4 +1,10 @@
-"""Robot planners: the protocol, the registry, and the built-in planners."""
+"""Robot planners: the protocol, the registry, and the built-in planners.
+
+Every built-in planner is registered here, and only here (the ones that need more than
+NumPy, or code above this package, are imported when first made), so that
+``srfm planners``, ``srfm benchmark -p`` and :func:`make_planner` see the same names
+whatever else was imported.
+"""
 
 from srfm.planners._base import Observation, Planner, PlannerContext, check_planner
 from srfm.planners._registry import (
@@ -72,7 +78,7 @@ register_planner(
     "recorded",
     _recorded,
     "replay the scenario's recorded robot ([robot.recording]; `srfm data scenario` writes "
-    "such scenarios); not in the default benchmark",
+    "such scenarios); runs only on such scenarios",
     default=False,
 )
 register_planner("td3-srfm", _td3_srfm, "TD3 policy trained with the SRFM deviation penalty")
@@ -84,6 +90,16 @@ register_planner(
 register_planner(
     "stay",
     StayPlanner,
-    "reference: a robot that never moves (a standing obstacle); not in the default benchmark",
+    "reference: a robot that never moves (a standing obstacle)",
+    default=False,
+)
+# The oracle reads the episode's engine, so its code lives in srfm.sim, above the
+# planners: it is named here by module:attribute and imported when first made.
+register_planner(
+    "oracle",
+    "srfm.sim.oracle:OraclePlanner",
+    "privileged reference: plans over the twin simulator itself (knows the crowd model, "
+    "every goal and the counterfactual) for the least deviation that still reaches the "
+    "goal; not deployable",
     default=False,
 )

@@ -8,6 +8,7 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm.errors import PlannerError
 from srfm.models.robot import RobotConfig, RobotState
 from srfm.models.state import Obstacles
@@ -137,7 +138,7 @@ def protocol_problems(planner: object, *, check_name: bool = True) -> list[str]:
         if not hasattr(planner, "name"):
             problems.append("no 'name' attribute")
         elif not isinstance(planner.name, str) or not planner.name:
-            problems.append(f"'name' must be a non-empty string, got {planner.name!r}")
+            problems.append(f"'name' must be a non-empty string, got {plain(planner.name)}")
     for method in ("reset", "act"):
         if not hasattr(planner, method):
             problems.append(f"no {method}() method")

@@ -9,6 +9,7 @@ from typing import Any, Generic, TypeVar
 import attrs
 import numpy as np
 
+from srfm._text import plain
 from srfm._validate import finite_float, non_negative, positive, unit_interval
 from srfm.errors import PlannerError
 from srfm.models.robot import RobotConfig
@@ -60,7 +61,7 @@ def check_unit_open(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> N
     """attrs validator: a number in (0, 1]."""
     out = finite_float(value, _field(inst, attribute), PlannerError)
     if not 0.0 < out <= 1.0:
-        raise PlannerError(f"{_field(inst, attribute)} must be in (0, 1], got {value!r}")
+        raise PlannerError(f"{_field(inst, attribute)} must be in (0, 1], got {plain(value)}")
 
 
 def check_unit_interval(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
@@ -71,15 +72,15 @@ def check_unit_interval(inst: Any, attribute: attrs.Attribute[Any], value: Any) 
 def check_positive_int(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
     """attrs validator: an integer >= 1 (and at most 10,000: a per-step sample count)."""
     if isinstance(value, bool) or not isinstance(value, int | np.integer):
-        raise PlannerError(f"{_field(inst, attribute)} must be an integer, got {value!r}")
+        raise PlannerError(f"{_field(inst, attribute)} must be an integer, got {plain(value)}")
     if not 1 <= value <= 10_000:
-        raise PlannerError(f"{_field(inst, attribute)} must be in [1, 10000], got {value!r}")
+        raise PlannerError(f"{_field(inst, attribute)} must be in [1, 10000], got {plain(value)}")
 
 
 def check_bool(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
     """attrs validator: True or False."""
     if not isinstance(value, bool):
-        raise PlannerError(f"{_field(inst, attribute)} must be True or False, got {value!r}")
+        raise PlannerError(f"{_field(inst, attribute)} must be True or False, got {plain(value)}")
 
 
 def check_detection_range(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:

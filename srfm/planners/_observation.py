@@ -53,6 +53,7 @@ from numba import njit
 from numpy.typing import NDArray
 
 from srfm._jit import specialize
+from srfm._text import plain
 from srfm._validate import keyword_options, non_negative, positive
 from srfm.errors import ParameterError
 from srfm.models._primitives import EPS
@@ -125,7 +126,9 @@ def _max_peds(inst: Any, attribute: attrs.Attribute[int], value: Any) -> None:
     except TypeError:
         count = -1
     if isinstance(value, bool) or not 1 <= count <= 1000:  # 0 slots: a robot blind to people
-        raise ParameterError(f"env.max_pedestrians must be an integer in [1, 1000], got {value!r}")
+        raise ParameterError(
+            f"env.max_pedestrians must be an integer in [1, 1000], got {plain(value)}"
+        )
 
 
 MAX_ACTION_REPEAT: Final = 100
@@ -138,7 +141,7 @@ def _action_repeat(inst: Any, attribute: attrs.Attribute[int], value: Any) -> No
         count = 0
     if isinstance(value, bool) or not 1 <= count <= MAX_ACTION_REPEAT:
         raise ParameterError(
-            f"env.action_repeat must be an integer in [1, {MAX_ACTION_REPEAT}], got {value!r}"
+            f"env.action_repeat must be an integer in [1, {MAX_ACTION_REPEAT}], got {plain(value)}"
         )
 
 
@@ -149,24 +152,26 @@ def _range_beams(inst: Any, attribute: attrs.Attribute[int], value: Any) -> None
         count = -1
     if isinstance(value, bool) or not 0 <= count <= MAX_RANGE_BEAMS:
         raise ParameterError(
-            f"env.range_beams must be an integer in [0, {MAX_RANGE_BEAMS}], got {value!r}"
+            f"env.range_beams must be an integer in [0, {MAX_RANGE_BEAMS}], got {plain(value)}"
         )
 
 
 def _kinematics(inst: Any, attribute: attrs.Attribute[str | None], value: Any) -> None:
-    if value is not None and value not in KINEMATICS:
-        raise ParameterError(f"env.kinematics must be None or one of {KINEMATICS}, got {value!r}")
+    if value is not None and (not isinstance(value, str) or value not in KINEMATICS):
+        raise ParameterError(
+            f"env.kinematics must be None or one of {KINEMATICS}, got {plain(value)}"
+        )
 
 
 def _unit_interval(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
     non_negative(value, f"env.{attribute.name}", ParameterError)
     if value > 1.0:
-        raise ParameterError(f"env.{attribute.name} must be in [0, 1], got {value!r}")
+        raise ParameterError(f"env.{attribute.name} must be in [0, 1], got {plain(value)}")
 
 
 def _flag(inst: Any, attribute: attrs.Attribute[bool], value: Any) -> None:
     if not isinstance(value, bool):
-        raise ParameterError(f"env.{attribute.name} must be True or False, got {value!r}")
+        raise ParameterError(f"env.{attribute.name} must be True or False, got {plain(value)}")
 
 
 class ObservationParams(NamedTuple):

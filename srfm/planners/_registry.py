@@ -13,6 +13,7 @@ from collections.abc import Callable
 import attrs
 import numpy as np
 
+from srfm._text import plain
 from srfm.errors import PlannerError
 from srfm.planners._base import (
     FloatArray,
@@ -28,12 +29,13 @@ __all__ = ["PlannerInfo", "available_planners", "make_planner", "register_planne
 
 @attrs.frozen
 class PlannerInfo:
-    """A registered planner: its name, a one-line description, its factory, and whether
-    ``srfm benchmark`` runs it when no planner is named (``default``)."""
+    """A registered planner: its name, a one-line description, its factory (a callable,
+    or the ``"module:attribute"`` of one), and whether ``srfm benchmark`` runs it when no
+    planner is named (``default``)."""
 
     name: str
     description: str
-    factory: Callable[[], Planner]
+    factory: Callable[[], Planner] | str
     default: bool = True
 
 
@@ -42,17 +44,19 @@ _REGISTRY: dict[str, PlannerInfo] = {}
 
 def register_planner(
     name: str,
-    factory: Callable[[], Planner],
+    factory: Callable[[], Planner] | str,
     description: str,
     *,
     replace: bool = False,
     default: bool = True,
 ) -> None:
-    """Register ``factory`` (a callable returning a fresh planner) under ``name``;
-    ``default=False`` leaves it out of the benchmark's default planner list (for a
-    planner that runs only on some scenarios)."""
+    """Register ``factory`` under ``name``: a callable returning a fresh planner, or
+    ``"module:attribute"`` of one, imported when the planner is first made (a planner
+    whose code lives in a package that imports this one). ``default=False`` leaves it
+    out of the benchmark's default planner list (a reference, or a planner that runs
+    only on some scenarios)."""
     if not name or not name.replace("-", "").replace("_", "").isalnum():
-        raise PlannerError(f"planner name must be letters, digits, '-' or '_', got {name!r}")
+        raise PlannerError(f"planner name must be letters, digits, '-' or '_', got {plain(name)}")
     if name in _REGISTRY and not replace:
         raise PlannerError(f"planner {name!r} is already registered")
     _REGISTRY[name] = PlannerInfo(name, description, factory, default)
@@ -65,6 +69,10 @@ def make_planner(name: str) -> Planner:
     factory) with no arguments, so the command line can run planners that live in the
     user's own code: ``srfm simulate --planner mypackage.planners:MyPlanner``.
 
+    ``"external:NAME"`` is the external planner defined as NAME
+    (:func:`srfm.planners.external.define_external`, ``--external NAME=COMMAND``): a planner in
+    another process, reached through the external planner protocol.
+
     Either way the planner's ``name`` becomes ``name`` (the registry name, or the whole
     ``module:attribute`` spec), so its episode records carry the name it was asked for.
     The name is set on the instance; a planner whose ``name`` cannot be set (slots, a
@@ -74,6 +82,10 @@ def make_planner(name: str) -> Planner:
         PlannerError: unknown name, import failure, or a result that lacks the
             :class:`Planner` protocol.
     """
+    if name.startswith("external:"):
+        from srfm.planners.external import ExternalPlanner  # lazy: loaded when used
+
+        return ExternalPlanner(name)
     if ":" in name:
         planner = _import_planner(name)
     else:
@@ -82,9 +94,9 @@ def make_planner(name: str) -> Planner:
         except KeyError:
             known = ", ".join(sorted(_REGISTRY))
             raise PlannerError(
-                f"unknown planner {name!r}; known: {known}; or give module:attribute"
+                f"unknown planner {plain(name)}; known: {known}; or give module:attribute"
             ) from None
-        planner = info.factory()
+        planner = _import_planner(info.factory) if isinstance(info.factory, str) else info.factory()
     return _named(planner, name)
 
 

@@ -53,6 +53,7 @@ from __future__ import annotations
 import attrs
 import numpy as np
 
+from srfm._text import plain
 from srfm.errors import PlannerError
 from srfm.models.robot import RobotConfig
 from srfm.planners._base import FloatArray, Observation
@@ -117,12 +118,12 @@ class DWAConfig:
         if self.rollout_step_s > self.horizon_s:
             raise PlannerError(
                 f"DWAConfig.rollout_step_s must be <= horizon_s ({self.horizon_s!r}), "
-                f"got {self.rollout_step_s!r}"
+                f"got {plain(self.rollout_step_s)}"
             )
         if round(self.horizon_s / self.rollout_step_s) > 10_000:
             raise PlannerError(
                 f"DWAConfig: horizon_s / rollout_step_s must be <= 10000 rollout steps, got "
-                f"{self.horizon_s!r} / {self.rollout_step_s!r}"
+                f"{plain(self.horizon_s)} / {plain(self.rollout_step_s)}"
             )
 
 
@@ -152,7 +153,7 @@ class DWAPlanner(KernelPlanner[DWAParams]):
         if not -robot.max_speed_mps <= c.min_speed_mps <= robot.max_speed_mps:
             raise PlannerError(
                 f"DWAConfig.min_speed_mps must lie in [-v_max, v_max] = "
-                f"[{-robot.max_speed_mps!r}, {robot.max_speed_mps!r}], got {c.min_speed_mps!r}"
+                f"[{-robot.max_speed_mps!r}, {robot.max_speed_mps!r}], got {plain(c.min_speed_mps)}"
             )
         # A holonomic robot searches an n × n grid of (vx, vy).
         unicycle = robot.kinematics == "unicycle"

@@ -40,6 +40,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm.errors import MissingDependencyError, PlannerError
 from srfm.models.robot import KINEMATICS
 from srfm.planners._base import FloatArray, Observation, PlannerContext
@@ -518,7 +519,7 @@ def load_checkpoint(path: str | Path) -> tuple[NumpyActor, EnvConfig, dict[str, 
         PlannerError: missing file, not a TD3 policy, or no srfm configuration in it.
         MissingDependencyError: the library that wrote it is not installed.
     """
-    from srfm._deps import require
+    from srfm._deps import install_hint, require
 
     path = Path(path)
     if not path.is_file():
@@ -531,7 +532,7 @@ def load_checkpoint(path: str | Path) -> tuple[NumpyActor, EnvConfig, dict[str, 
         except MissingDependencyError:
             raise MissingDependencyError(
                 f"{path} is an SBX checkpoint: install the sbx extra to read it: "
-                "pip install -c constraints.txt 'srfm[rl,sbx]'"
+                + install_hint("rl,sbx")
             ) from None
     else:
         lib = require("stable_baselines3")
@@ -707,7 +708,7 @@ def shipped_policy_path(name: str) -> Path:
         filename = SHIPPED_POLICIES[name]
     except KeyError:
         raise PlannerError(
-            f"unknown shipped policy {name!r}; known: {', '.join(SHIPPED_POLICIES)}"
+            f"unknown shipped policy {plain(name)}; known: {', '.join(SHIPPED_POLICIES)}"
         ) from None
     return Path(str(resources.files("srfm.policies").joinpath(filename)))
 

@@ -11,6 +11,7 @@ import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm.errors import ParameterError, ScenarioError, SimulationError
 from srfm.models import _robot_kernels as _rk
 from srfm.models.params import SRFMParams
@@ -18,7 +19,8 @@ from srfm.models.robot import RobotState, command_pair
 from srfm.planners._observation import EnvConfig
 from srfm.rl._core import EnvCore, resolve_scenario
 from srfm.scenarios import BUILTIN_SCENARIOS, Scenario, load_scenario, validate_seed
-from srfm.scenarios.training import TRAINING_SCENARIO, pool_scenario, training_layout
+from srfm.scenarios.generated import generated_scenario
+from srfm.scenarios.training import GENERATED, TRAINING_SCENARIO, pool_scenario, training_layout
 from srfm.scenarios.training import family_weights as check_family_weights
 from srfm.sim.engine import EVENT_OUTCOMES, EpisodeEngine
 
@@ -39,13 +41,26 @@ ObsType = NDArray[np.float32]
 ActType = NDArray[np.float32]
 
 
+def _generated_share(value: float, share: float, mixed: bool) -> float:
+    """The checked share of generated walled layouts (see :class:`SocialNavEnv`)."""
+    if not (isinstance(value, (int, float)) and 0.0 <= value <= 1.0):
+        raise ParameterError(f"generated_share must be a number in [0, 1], got {value!r}")
+    if value and not mixed:
+        raise ParameterError(f"generated_share applies to the {TRAINING_SCENARIO!r} scenario only")
+    if share + value > 1.0:
+        raise ParameterError(
+            f"library_share + generated_share must be at most 1, got {share!r} + {value!r}"
+        )
+    return float(value)
+
+
 def _library(library: Sequence[str], share: float, mixed: bool) -> tuple[str, ...]:
     """The checked library of a training pool (see :class:`SocialNavEnv`)."""
     if isinstance(library, (str, bytes)):
-        raise ParameterError(f"library must be a sequence of scenario names, got {library!r}")
+        raise ParameterError(f"library must be a sequence of scenario names, got {plain(library)}")
     names = tuple(library)
     if not (isinstance(share, (int, float)) and 0.0 <= share <= 1.0):
-        raise ParameterError(f"library_share must be a number in [0, 1], got {share!r}")
+        raise ParameterError(f"library_share must be a number in [0, 1], got {plain(share)}")
     if (names or share) and not mixed:
         raise ParameterError(
             f"library and library_share apply to the {TRAINING_SCENARIO!r} scenario only"
@@ -55,7 +70,7 @@ def _library(library: Sequence[str], share: float, mixed: bool) -> tuple[str, ..
     known = set(BUILTIN_SCENARIOS)
     for name in names:
         if name not in known:
-            raise ParameterError(f"unknown library scenario {name!r}")
+            raise ParameterError(f"unknown library scenario {plain(name)}")
     return names
 
 
@@ -178,6 +193,10 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
             :data:`srfm.scenarios.training.LIBRARY_TRAINING`. Their robots must have
             the kinematics of the ``random`` scenario's (or of ``config``).
         library_share: the probability of a library scenario, in [0, 1].
+        generated_share: for ``"mixed"`` only: the probability of a generated walled
+            layout (:func:`srfm.scenarios.generated.generated_scenario` of the episode
+            seed), in [0, 1 − ``library_share``]; the rest of the episodes run the
+            training layouts.
 
     ## Example
 
@@ -205,17 +224,18 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         family_weights: Sequence[float] | None = None,
         library: Sequence[str] = (),
         library_share: float = 0.0,
+        generated_share: float = 0.0,
     ) -> None:
         if render_mode is not None:
-            raise ParameterError(f"render_mode must be None, got {render_mode!r}")
+            raise ParameterError(f"render_mode must be None, got {plain(render_mode)}")
         if config is None:
             config = EnvConfig()
         elif not isinstance(config, EnvConfig):
-            raise ParameterError(f"config must be an srfm.rl.EnvConfig, got {config!r}")
+            raise ParameterError(f"config must be an srfm.rl.EnvConfig, got {plain(config)}")
         if params is None:
             params = SRFMParams()
         elif not isinstance(params, SRFMParams):
-            raise ParameterError(f"params must be an srfm.SRFMParams, got {params!r}")
+            raise ParameterError(f"params must be an srfm.SRFMParams, got {plain(params)}")
         # "mixed": a new training layout per episode (srfm.scenarios.training), on the
         # world, robot and time step of the random scenario.
         self.mixed = isinstance(scenario, str) and scenario == TRAINING_SCENARIO
@@ -230,6 +250,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
             raise ParameterError(str(error)) from None
         self.library = _library(library, library_share, self.mixed)
         self.library_share = float(library_share)
+        self.generated_share = _generated_share(generated_share, self.library_share, self.mixed)
         if not isinstance(scenario, Scenario):
             scenario = load_scenario("random" if self.mixed else scenario)
         self.render_mode = render_mode
@@ -253,7 +274,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
     ) -> tuple[ObsType, dict[str, Any]]:
         """Start an episode; see the class docstring for how the episode is chosen."""
         if options is not None and not isinstance(options, dict):
-            raise ParameterError(f"reset options must be a dict or None, got {options!r}")
+            raise ParameterError(f"reset options must be a dict or None, got {plain(options)}")
         unknown = sorted(map(repr, set(options or ()) - set(RESET_OPTIONS)))
         if unknown:
             raise ParameterError(
@@ -266,8 +287,15 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
             episode = validate_seed(seed)
         else:
             episode = int(self.np_random.integers(0, MAX_DRAWN_SEED))
-        picked = pool_scenario(episode, self.library, self.library_share) if self.mixed else None
-        if picked is not None:
+        picked = None
+        if self.mixed:
+            picked = pool_scenario(episode, self.library, self.library_share, self.generated_share)
+        if picked == GENERATED:  # a new walled layout: a core of its own
+            layout = resolve_scenario(generated_scenario(episode), self.config)
+            self._check_kinematics(layout, layout.source)
+            self._core = EnvCore(layout, self.config, self.params)
+            self._core.set_k2(self._k2)
+        elif picked is not None:
             self._core = self._library_core(picked)
             self._core.set_k2(self._k2)
         elif self.mixed:
@@ -288,14 +316,17 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         core = self._library_cores.get(name)
         if core is None:
             scenario = resolve_scenario(load_scenario(name), self.config)
-            if scenario.robot.kinematics != self.scenario.robot.kinematics:
-                raise ParameterError(
-                    f"library scenario {name!r} has a {scenario.robot.kinematics} robot, "
-                    f"the environment a {self.scenario.robot.kinematics} one"
-                )
+            self._check_kinematics(scenario, f"library scenario {name!r}")
             core = EnvCore(scenario, self.config, self.params)
             self._library_cores[name] = core
         return core
+
+    def _check_kinematics(self, scenario: Scenario, what: str) -> None:
+        if scenario.robot.kinematics != self.scenario.robot.kinematics:
+            raise ParameterError(
+                f"{what} has a {scenario.robot.kinematics} robot, "
+                f"the environment a {self.scenario.robot.kinematics} one"
+            )
 
     def step(self, action: ActType) -> tuple[ObsType, float, bool, bool, dict[str, Any]]:
         """Advance one step; see the class docstring."""
@@ -323,7 +354,7 @@ class SocialNavEnv(gym.Env[ObsType, ActType]):
         """Change the deviation weight k2 (1/m) from the next step on (a curriculum
         on k2; ``config.k2`` keeps the value the environment was made with)."""
         if not (isinstance(k2, (int, float)) and math.isfinite(k2) and k2 >= 0.0):
-            raise ParameterError(f"k2 must be a finite number >= 0, got {k2!r}")
+            raise ParameterError(f"k2 must be a finite number >= 0, got {plain(k2)}")
         self._k2 = float(k2)
         self._core.set_k2(self._k2)
 

@@ -4,8 +4,8 @@ and export.
 Needs the ``rl`` extra (gymnasium, stable-baselines3, torch), imported lazily; the
 ``sbx`` backend (``backend="sbx"``: SBX, the JAX implementation of the same algorithms
 by SB3's maintainers, same API) also the ``sbx`` extra. SB3 + torch is the reference
-of the paper's set-up. The command line front ends are ``srfm train`` and
-``srfm export-policy``; the defaults are the paper's TD3 set-up
+of the paper's set-up. The command line front ends are ``srfm train`` (which builds one
+:class:`TrainOptions`) and ``srfm export-policy``; the defaults are the paper's TD3 set-up
 (docs/rl.md, "Training"): learning rate 1e-4, replay buffer 1e6, [256, 256] networks, batch 256,
 10,000 random warm-up steps, 5 gradient steps every 5 environment steps, τ = 0.005,
 γ = 0.99, policy delay 2, target noise 0.2 clipped at 0.5, Gaussian exploration
@@ -44,7 +44,8 @@ from typing import Any, Final
 import attrs
 import numpy as np
 
-from srfm._validate import non_negative, positive, unit_interval
+from srfm._text import plain
+from srfm._validate import keyword_options, non_negative, positive, unit_interval
 from srfm.errors import ParameterError, ScenarioError, SrfmError
 from srfm.scenarios import BUILTIN_SCENARIOS, EVALUATION_SCENARIOS
 from srfm.scenarios.training import TRAINING_SCENARIO, family_weights
@@ -53,6 +54,7 @@ __all__ = [
     "BACKENDS",
     "EvalResult",
     "TrainConfig",
+    "TrainOptions",
     "TrainResult",
     "evaluate_planner",
     "export_policy",
@@ -83,21 +85,21 @@ def _count(minimum: int) -> Callable[[Any, attrs.Attribute[int], Any], None]:
             n = minimum - 1
         if isinstance(value, bool) or n < minimum:
             raise ParameterError(
-                f"train.{attribute.name} must be an integer >= {minimum}, got {value!r}"
+                f"train.{attribute.name} must be an integer >= {minimum}, got {plain(value)}"
             )
 
     return check
 
 
 def _backend(inst: Any, attribute: attrs.Attribute[str], value: Any) -> None:
-    if value not in BACKENDS:
-        raise ParameterError(f"train.backend must be one of {BACKENDS}, got {value!r}")
+    if not isinstance(value, str) or value not in BACKENDS:
+        raise ParameterError(f"train.backend must be one of {BACKENDS}, got {plain(value)}")
 
 
 def _unit(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
     v = positive(value, f"train.{attribute.name}", ParameterError)
     if v > 1.0:
-        raise ParameterError(f"train.{attribute.name} must be in (0, 1], got {value!r}")
+        raise ParameterError(f"train.{attribute.name} must be in (0, 1], got {plain(value)}")
 
 
 def _net(inst: Any, attribute: attrs.Attribute[tuple[int, ...]], value: Any) -> None:
@@ -106,14 +108,16 @@ def _net(inst: Any, attribute: attrs.Attribute[tuple[int, ...]], value: Any) -> 
         or not value
         or not all(isinstance(v, int) and not isinstance(v, bool) and v > 0 for v in value)
     ):
-        raise ParameterError(f"train.net_arch must be a tuple of positive integers, got {value!r}")
+        raise ParameterError(
+            f"train.net_arch must be a tuple of positive integers, got {plain(value)}"
+        )
 
 
 def _families(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
     if value is None:
         return
     if not isinstance(value, tuple):
-        raise ParameterError(f"train.family_weights must be a tuple or None, got {value!r}")
+        raise ParameterError(f"train.family_weights must be a tuple or None, got {plain(value)}")
     try:
         family_weights(value)
     except ScenarioError as error:
@@ -122,15 +126,15 @@ def _families(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
 
 def _names(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
     if not isinstance(value, tuple):
-        raise ParameterError(f"train.{attribute.name} must be a tuple of names, got {value!r}")
+        raise ParameterError(f"train.{attribute.name} must be a tuple of names, got {plain(value)}")
     unknown = [n for n in value if n not in BUILTIN_SCENARIOS]
     if unknown:
-        raise ParameterError(f"train.{attribute.name}: unknown scenario {unknown[0]!r}")
+        raise ParameterError(f"train.{attribute.name}: unknown scenario {plain(unknown[0])}")
 
 
 def _eval_names(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
     if not isinstance(value, tuple) or not value:
-        raise ParameterError(f"train.{attribute.name} must name scenarios, got {value!r}")
+        raise ParameterError(f"train.{attribute.name} must name scenarios, got {plain(value)}")
     _names(inst, attribute, tuple(n for n in value if n != TRAINING_SCENARIO))
 
 
@@ -194,6 +198,9 @@ class TrainConfig:
             training episodes (``mixed`` only; :class:`srfm.rl.SocialNavEnv`), e.g.
             :data:`srfm.scenarios.training.LIBRARY_TRAINING`.
         library_share: the probability of a library scenario per episode, in [0, 1].
+        generated_share: the probability of a generated walled layout per episode
+            (``mixed`` only; :mod:`srfm.scenarios.generated`), in [0, 1 −
+            ``library_share``].
         range_beams: range beams to walls and pillars in the observation
             (:class:`srfm.rl.EnvConfig`; 0: the paper's observation).
         range_max_m: the range of the beams (m).
@@ -240,12 +247,93 @@ class TrainConfig:
     family_weights: tuple[float, ...] | None = attrs.field(default=None, validator=_families)
     library: tuple[str, ...] = attrs.field(default=(), validator=_names)
     library_share: float = attrs.field(default=0.0, validator=_share)
+    generated_share: float = attrs.field(default=0.0, validator=_share)
     range_beams: int = attrs.field(default=0, validator=_count(0))
     range_max_m: float = attrs.field(default=4.0, validator=_pos)
     eval_scenarios: tuple[str, ...] = attrs.field(
         default=EVALUATION_SCENARIOS, validator=_eval_names
     )
     select_by_deviation: bool = True
+
+    def __new__(cls, *args: Any, **options: Any) -> TrainConfig:
+        # Before attrs' __init__: an unknown option is a ParameterError naming it.
+        keyword_options(cls, args, options, ParameterError)
+        return super().__new__(cls)
+
+
+def _a_train_config(inst: Any, attribute: attrs.Attribute[TrainConfig], value: Any) -> None:
+    if not isinstance(value, TrainConfig):
+        raise ParameterError(f"train.config must be a TrainConfig, got {plain(value)}")
+
+
+def _as_path(value: Any) -> Any:
+    """A path given as text or a path-like as a :class:`Path`; anything else as it is,
+    for the validator to name."""
+    if isinstance(value, str | os.PathLike) and str(value):
+        return Path(value)
+    return value
+
+
+def _path(inst: Any, attribute: attrs.Attribute[Any], value: Any) -> None:
+    if not isinstance(value, Path) and not (value is None and attribute.name == "resume"):
+        raise ParameterError(f"train.{attribute.name} must be a path, got {plain(value)}")
+
+
+def _flag(inst: Any, attribute: attrs.Attribute[bool], value: Any) -> None:
+    if not isinstance(value, bool):
+        raise ParameterError(f"train.{attribute.name} must be true or false, got {plain(value)}")
+
+
+@attrs.frozen(kw_only=True)
+class TrainOptions:
+    """One training run as ``srfm train`` runs it, validated when built: what to train,
+    where, from which checkpoint, and whether to show its progress.
+
+    The command line builds it from its options with :meth:`from_settings`; Python code
+    can build it the same way (for example from the ``train_config`` of a run's
+    ``config.json``) or from a :class:`TrainConfig`, and run it with :func:`train`::
+
+        options = TrainOptions.from_settings(run_dir="runs/base", k_div=0.0)
+        train(options.config, options.run_dir, resume=options.resume)
+
+    Attributes:
+        config: hyperparameters and schedule.
+        run_dir: where checkpoints and logs go (created).
+        resume: a checkpoint zip to continue from, or None (a new run).
+        progress: show a progress bar while training (``srfm train --progress``; on a
+            terminal only).
+    """
+
+    config: TrainConfig = attrs.field(factory=TrainConfig, validator=_a_train_config)
+    run_dir: Path = attrs.field(converter=_as_path, validator=_path)
+    resume: Path | None = attrs.field(default=None, converter=_as_path, validator=_path)
+    progress: bool = attrs.field(default=True, validator=_flag)
+
+    def __new__(cls, *args: Any, **options: Any) -> TrainOptions:
+        keyword_options(cls, args, options, ParameterError)
+        return super().__new__(cls)
+
+    @classmethod
+    def from_settings(
+        cls,
+        *,
+        run_dir: str | os.PathLike[str],
+        resume: str | os.PathLike[str] | None = None,
+        progress: bool = True,
+        **settings: Any,
+    ) -> TrainOptions:
+        """The options of a run from :class:`TrainConfig`'s fields by name (a list
+        becomes a tuple, as JSON has no tuples), the run directory, the checkpoint to
+        resume from and whether to show progress.
+
+        Raises:
+            ParameterError: an unknown setting (naming it and the known ones) or a bad
+                value (naming the field).
+        """
+        values: dict[str, Any] = {
+            k: tuple(v) if isinstance(v, list) else v for k, v in settings.items()
+        }
+        return cls(config=TrainConfig(**values), run_dir=run_dir, resume=resume, progress=progress)
 
 
 @attrs.frozen(kw_only=True)
@@ -369,15 +457,14 @@ def _versions() -> dict[str, str]:
 
 def _require_sbx() -> Any:
     """The sbx module, or MissingDependencyError naming the sbx extra."""
-    from srfm._deps import require
+    from srfm._deps import install_hint, require
     from srfm.errors import MissingDependencyError
 
     try:
         return require("sbx")
     except MissingDependencyError:
         raise MissingDependencyError(
-            "the sbx backend needs SBX and JAX: install the sbx extra: "
-            "pip install -c constraints.txt 'srfm[rl,sbx]'"
+            "the sbx backend needs SBX and JAX: install the sbx extra: " + install_hint("rl,sbx")
         ) from None
 
 
@@ -562,6 +649,7 @@ def _env_config(config: TrainConfig) -> Any:
         family_weights=config.family_weights,
         library=config.library,
         library_share=config.library_share,
+        generated_share=config.generated_share,
     )
     return env_config.replace(kinematics=probe.scenario.robot.kinematics)
 
@@ -584,6 +672,7 @@ def _vec_env(config: TrainConfig, env_config: Any, run: Path) -> Any:
                 family_weights=config.family_weights,
                 library=config.library,
                 library_share=config.library_share,
+                generated_share=config.generated_share,
             )
             return Monitor(env, filename=str(run / name), info_keywords=("outcome",))
 

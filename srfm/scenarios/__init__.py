@@ -12,6 +12,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Final
 
+from srfm._text import plain
 from srfm.errors import ScenarioError
 from srfm.scenarios._schema import (
     MAX_HORIZON_STEPS,
@@ -55,6 +56,7 @@ __all__ = [
     "load_scenario",
     "next_goal",
     "parse_scenario",
+    "scenario_names",
     "source_goals",
     "validate_seed",
 ]
@@ -123,20 +125,38 @@ def _builtin(name: str) -> Scenario:
 
 
 def load_scenario(name_or_path: str | Path) -> Scenario:
-    """Load a built-in scenario by name, or a scenario TOML file by path.
+    """Load a built-in scenario by name, a generated walled layout by
+    ``generated:SEED`` or ``generated:KIND:SEED``
+    (:mod:`srfm.scenarios.generated`), or a scenario TOML file by path.
 
     Raises:
         ScenarioError: unknown name, missing file, or a file that breaks the schema
             (the message names the file and the key).
     """
     text = str(name_or_path)
-    if isinstance(name_or_path, str) and text in (*BUILTIN_SCENARIOS, *LARGE_SCENARIOS):
+    if isinstance(name_or_path, str):
+        from srfm.scenarios.generated import generated_scenario, parse_generated_name
+
+        named = parse_generated_name(text)
+        if named is not None:
+            return generated_scenario(named[1], named[0])
+    if isinstance(name_or_path, str) and text in scenario_names():
         return _builtin(text)
     path = Path(name_or_path)
     if path.suffix == ".toml" or path.exists():
         return read_scenario_file(path)
-    known = ", ".join((*BUILTIN_SCENARIOS, *LARGE_SCENARIOS))
-    raise ScenarioError(f"unknown scenario {text!r}; built-in: {known}; or give a .toml path")
+    known = ", ".join(scenario_names())
+    raise ScenarioError(
+        f"unknown scenario {plain(text)}; built-in: {known}; or generated:SEED, "
+        "generated:KIND:SEED, or a .toml path"
+    )
+
+
+def scenario_names() -> tuple[str, ...]:
+    """Every built-in name :func:`load_scenario` (and ``--scenario``) accepts: the
+    built-in scenarios, then the large crowds (``srfm scenarios`` lists them all, and the
+    generated layouts ``generated:SEED``)."""
+    return (*BUILTIN_SCENARIOS, *LARGE_SCENARIOS)
 
 
 def builtin_scenarios() -> list[Scenario]:

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm._validate import BOUNDS
 from srfm.errors import ScenarioError
 
@@ -47,7 +48,7 @@ class TableReader:
     def table(self, name: str) -> TableReader:
         value = self.raw(name) if name in self.data else {}
         if not isinstance(value, dict):
-            raise self.fail(name, f"must be a table, got {value!r}")
+            raise self.fail(name, f"must be a table, got {plain(value)}")
         return TableReader(value, self.key(name), self.file)
 
     def string(self, name: str, default: str | None = None) -> str:
@@ -57,7 +58,7 @@ class TableReader:
             return default
         value = self.raw(name)
         if not isinstance(value, str):
-            raise self.fail(name, f"must be a string, got {value!r}")
+            raise self.fail(name, f"must be a string, got {plain(value)}")
         return value
 
     def number(
@@ -82,14 +83,16 @@ class TableReader:
             return default
         value = self.raw(name)
         if isinstance(value, bool) or not isinstance(value, int | float):
-            raise self.fail(name, f"must be a number, got {value!r}")
+            raise self.fail(name, f"must be a number, got {plain(value)}")
         out = float(value)
         if not math.isfinite(out):
-            raise self.fail(name, f"must be finite, got {value!r}")
+            raise self.fail(name, f"must be finite, got {plain(value)}")
         if minimum is not None and (out <= minimum if strict else out < minimum):
-            raise self.fail(name, f"must be {'>' if strict else '>='} {minimum:g}, got {value!r}")
+            raise self.fail(
+                name, f"must be {'>' if strict else '>='} {minimum:g}, got {plain(value)}"
+            )
         if maximum is not None and out > maximum:
-            raise self.fail(name, f"must be <= {maximum:g}, got {value!r}")
+            raise self.fail(name, f"must be <= {maximum:g}, got {plain(value)}")
         return out
 
     def bounded_array(
@@ -107,7 +110,7 @@ class TableReader:
                 if not lo <= item <= hi:
                     label = name if cols == 0 else f"{name}[{i}]"
                     raise self.fail(
-                        label, f"values must be in [{lo:g}, {hi:g}] {unit}, got {item!r}"
+                        label, f"values must be in [{lo:g}, {hi:g}] {unit}, got {plain(item)}"
                     )
         return out
 
@@ -116,9 +119,9 @@ class TableReader:
             return default
         value = self.raw(name)
         if isinstance(value, bool) or not isinstance(value, int):
-            raise self.fail(name, f"must be an integer, got {value!r}")
+            raise self.fail(name, f"must be an integer, got {plain(value)}")
         if not minimum <= value <= maximum:
-            raise self.fail(name, f"must be in [{minimum}, {maximum}], got {value!r}")
+            raise self.fail(name, f"must be in [{minimum}, {maximum}], got {plain(value)}")
         return value
 
     def boolean(self, name: str, default: bool) -> bool:
@@ -126,7 +129,7 @@ class TableReader:
             return default
         value = self.raw(name)
         if not isinstance(value, bool):
-            raise self.fail(name, f"must be true or false, got {value!r}")
+            raise self.fail(name, f"must be true or false, got {plain(value)}")
         return value
 
     def array(self, name: str, cols: int, *, required: bool) -> FloatArray | None:
@@ -139,18 +142,18 @@ class TableReader:
         if cols == 0:  # a flat vector of two numbers
             rows = [value] if isinstance(value, list) else None
         if rows is None:
-            raise self.fail(name, f"must be an array, got {value!r}")
+            raise self.fail(name, f"must be an array, got {plain(value)}")
         width = 2 if cols == 0 else cols
         out = np.zeros((len(rows), width))
         for i, row in enumerate(rows):
             label = name if cols == 0 else f"{name}[{i}]"
             if not isinstance(row, list) or len(row) != width:
-                raise self.fail(label, f"must be a list of {width} numbers, got {row!r}")
+                raise self.fail(label, f"must be a list of {width} numbers, got {plain(row)}")
             for j, item in enumerate(row):
                 if isinstance(item, bool) or not isinstance(item, int | float):
-                    raise self.fail(label, f"must hold numbers, got {item!r}")
+                    raise self.fail(label, f"must hold numbers, got {plain(item)}")
                 if not math.isfinite(float(item)):
-                    raise self.fail(label, f"must be finite, got {item!r}")
+                    raise self.fail(label, f"must be finite, got {plain(item)}")
                 out[i, j] = float(item)
         return out[0] if cols == 0 else out
 
@@ -169,9 +172,11 @@ class TableReader:
             out = np.zeros(n)
             for i, item in enumerate(value):
                 if isinstance(item, bool) or not isinstance(item, int | float):
-                    raise self.fail(f"{name}[{i}]", f"must be a number, got {item!r}")
+                    raise self.fail(f"{name}[{i}]", f"must be a number, got {plain(item)}")
                 if not 0.0 <= float(item) <= maximum:  # also false for NaN
-                    raise self.fail(f"{name}[{i}]", f"must be in [0, {maximum:g}], got {item!r}")
+                    raise self.fail(
+                        f"{name}[{i}]", f"must be in [0, {maximum:g}], got {plain(item)}"
+                    )
                 out[i] = float(item)
             return out
         return self.number(name, minimum=0.0, maximum=maximum)

@@ -83,7 +83,8 @@ import attrs
 import numpy as np
 from numpy.typing import NDArray
 
-from srfm._io import MAX_TOML_BYTES, read_input_text
+from srfm._io import MAX_TOML_BYTES, parse_toml, read_input_text
+from srfm._text import plain
 from srfm._validate import MAX_NAME_LENGTH, MAX_PEDESTRIAN_SPEED_MPS
 from srfm.errors import ScenarioError, SrfmError
 from srfm.models.forces import MAX_DT_S
@@ -332,19 +333,19 @@ def _read_head(top: TableReader) -> _Head:
         raise top.fail(
             "schema_version",
             f"must be one of {', '.join(map(str, SCHEMA_VERSIONS))} (this srfm reads those), "
-            f"got {version!r}",
+            f"got {plain(version)}",
         )
     name = top.string("name")
     if not _NAME_RE.fullmatch(name) or len(name) > MAX_NAME_LENGTH:
         raise top.fail(
             "name",
             f"must match [a-z0-9][a-z0-9_-]* (at most {MAX_NAME_LENGTH} characters; it "
-            f"names folders and table rows), got {name!r}",
+            f"names folders and table rows), got {plain(name)}",
         )
     description = top.string("description")
     kind = top.string("kind", "fixed")
     if kind not in ("fixed", "random"):
-        raise top.fail("kind", f"must be 'fixed' or 'random', got {kind!r}")
+        raise top.fail("kind", f"must be 'fixed' or 'random', got {plain(kind)}")
     return _Head(version, name, description, kind)
 
 
@@ -413,7 +414,7 @@ def _robot_config_fields(r: TableReader) -> dict[str, Any]:
     """``kinematics`` and the limits of :class:`srfm.RobotConfig` (default: its own)."""
     kinematics = r.string("kinematics", "unicycle")
     if kinematics not in KINEMATICS:
-        raise r.fail("kinematics", f"must be one of {KINEMATICS}, got {kinematics!r}")
+        raise r.fail("kinematics", f"must be one of {KINEMATICS}, got {plain(kinematics)}")
     defaults = RobotConfig()
     limits = {
         field: r.number(field, getattr(defaults, field), strict=True, kind=kind)
@@ -622,13 +623,7 @@ def _check_layout(
 
 def read_scenario_file(path: Path) -> Scenario:
     """Read and validate one scenario file."""
-    import tomllib
-
     text = read_input_text(
         path, max_bytes=MAX_TOML_BYTES, error=ScenarioError, what="scenario file"
     )
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(f"{path}: not valid TOML: {exc}") from None
-    return parse_scenario(data, str(path))
+    return parse_scenario(parse_toml(text, path, ScenarioError), str(path))

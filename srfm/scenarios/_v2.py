@@ -28,6 +28,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm._validate import BOUNDS
 from srfm.scenarios._reader import TableReader, check_wall_length
 from srfm.world import WorldBounds
@@ -98,7 +99,7 @@ class PedestrianLayout:
 def _points(reader: TableReader, value: Any, label: str) -> FloatArray:
     """A list of [x, y] coordinates (possibly empty)."""
     if not isinstance(value, list):
-        raise reader.fail(label, f"must be a list of [x, y] points, got {value!r}")
+        raise reader.fail(label, f"must be a list of [x, y] points, got {plain(value)}")
     if len(value) > MAX_WAYPOINTS:
         raise reader.fail(label, f"has {len(value)} points, more than {MAX_WAYPOINTS}")
     lo, hi, unit = BOUNDS["coordinate"]
@@ -109,7 +110,7 @@ def _points(reader: TableReader, value: Any, label: str) -> FloatArray:
         if not ok or not all(math.isfinite(float(v)) and lo <= v <= hi for v in row):
             raise reader.fail(
                 f"{label}[{k}]",
-                f"must be [x, y] with finite values in [{lo:g}, {hi:g}] {unit}, got {row!r}",
+                f"must be [x, y] with finite values in [{lo:g}, {hi:g}] {unit}, got {plain(row)}",
             )
         out[k] = row
     return out
@@ -117,13 +118,13 @@ def _points(reader: TableReader, value: Any, label: str) -> FloatArray:
 
 def _seconds(reader: TableReader, value: Any, label: str, count: int) -> FloatArray:
     if not isinstance(value, list) or len(value) != count:
-        raise reader.fail(label, f"needs one wait per waypoint ({count}), got {value!r}")
+        raise reader.fail(label, f"needs one wait per waypoint ({count}), got {plain(value)}")
     out = np.zeros(count)
     for k, item in enumerate(value):
         if isinstance(item, bool) or not isinstance(item, int | float):
-            raise reader.fail(f"{label}[{k}]", f"must be a number of seconds, got {item!r}")
+            raise reader.fail(f"{label}[{k}]", f"must be a number of seconds, got {plain(item)}")
         if not 0.0 <= float(item) <= 1e6:  # also false for NaN
-            raise reader.fail(f"{label}[{k}]", f"must be in [0, 1e6] s, got {item!r}")
+            raise reader.fail(f"{label}[{k}]", f"must be in [0, 1e6] s, got {plain(item)}")
         out[k] = float(item)
     return out
 
@@ -132,20 +133,20 @@ def _tables(reader: TableReader, key: str) -> list[dict[str, Any]]:
     """``key`` as an array of tables (``[[pedestrians.groups]]``, ...)."""
     value = reader.raw(key)
     if not isinstance(value, list):
-        raise reader.fail(key, f"must be an array of tables, got {value!r}")
+        raise reader.fail(key, f"must be an array of tables, got {plain(value)}")
     for i, table in enumerate(value):
         if not isinstance(table, dict):
-            raise reader.fail(f"{key}[{i}]", f"must be a table, got {table!r}")
+            raise reader.fail(f"{key}[{i}]", f"must be a table, got {plain(table)}")
     return value
 
 
 def _entry_time(reader: TableReader, value: Any, label: str, horizon_s: float) -> float:
     """An entry time (s): a number in [0, horizon)."""
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise reader.fail(label, f"must be a number of seconds, got {value!r}")
+        raise reader.fail(label, f"must be a number of seconds, got {plain(value)}")
     if not 0.0 <= float(value) < horizon_s:  # also false for NaN
         raise reader.fail(
-            label, f"must be in [0, {horizon_s:g}) s (before the horizon), got {value!r}"
+            label, f"must be in [0, {horizon_s:g}) s (before the horizon), got {plain(value)}"
         )
     return float(value)
 
@@ -178,7 +179,7 @@ def read_pedestrians(
         value = p.raw("waits_s")
         if not isinstance(value, list) or len(value) != n_listed:
             raise p.fail(
-                "waits_s", f"needs one list per listed pedestrian ({n_listed}), got {value!r}"
+                "waits_s", f"needs one list per listed pedestrian ({n_listed}), got {plain(value)}"
             )
         waits = [_seconds(p, v, f"waits_s[{i}]", len(routes[i])) for i, v in enumerate(value)]
     enter = [0.0] * n_listed
@@ -187,7 +188,7 @@ def read_pedestrians(
         if not isinstance(value, list) or len(value) != n_listed:
             raise p.fail(
                 "enter_s",
-                f"needs one entry time per listed pedestrian ({n_listed}), got {value!r}",
+                f"needs one entry time per listed pedestrian ({n_listed}), got {plain(value)}",
             )
         enter = [_entry_time(p, v, f"enter_s[{i}]", horizon_s) for i, v in enumerate(value)]
     groups: list[tuple[int, ...]] = []
@@ -343,7 +344,7 @@ def read_walls(o: TableReader) -> tuple[FloatArray, list[str]]:
     if o.has("walls"):
         value = o.raw("walls")
         if not isinstance(value, list):
-            raise o.fail("walls", f"must be an array, got {value!r}")
+            raise o.fail("walls", f"must be an array, got {plain(value)}")
         lo, hi, _ = BOUNDS["coordinate"]
         for i, row in enumerate(value):
             label = f"walls[{i}]"
@@ -352,13 +353,14 @@ def read_walls(o: TableReader) -> tuple[FloatArray, list[str]]:
             ok = ok and all(math.isfinite(float(v)) for v in row)
             if not ok:
                 raise o.fail(
-                    label, f"must be [x1, y1, x2, y2] or [x1, y1, x2, y2, thickness], got {row!r}"
+                    label,
+                    f"must be [x1, y1, x2, y2] or [x1, y1, x2, y2, thickness], got {plain(row)}",
                 )
             if not all(lo <= v <= hi for v in row[:4]):
-                raise o.fail(label, f"coordinates must be in [{lo:g}, {hi:g}] m, got {row!r}")
+                raise o.fail(label, f"coordinates must be in [{lo:g}, {hi:g}] m, got {plain(row)}")
             thick = float(row[4]) if len(row) == 5 else 0.0
             if not 0.0 <= thick <= BOUNDS["length"][1]:
-                raise o.fail(label, f"thickness must be >= 0 m, got {row[4]!r}")
+                raise o.fail(label, f"thickness must be >= 0 m, got {plain(row[4])}")
             check_wall_length(o, label, row)
             a, b = (row[0], row[1]), (row[2], row[3])
             lines.append((shapely.LineString([a, b]), thick, o.key(label)))
@@ -366,14 +368,14 @@ def read_walls(o: TableReader) -> tuple[FloatArray, list[str]]:
     if o.has("doors"):
         value = o.raw("doors")
         if not isinstance(value, list):
-            raise o.fail("doors", f"must be an array, got {value!r}")
+            raise o.fail("doors", f"must be an array, got {plain(value)}")
         for i, row in enumerate(value):
             ok = isinstance(row, list) and len(row) == 4
             ok = ok and all(not isinstance(v, bool) and isinstance(v, int | float) for v in row)
             if not ok or not all(math.isfinite(float(v)) for v in row) or row[:2] == row[2:]:
                 raise o.fail(
                     f"doors[{i}]",
-                    f"must be an opening [x1, y1, x2, y2] of non-zero width, got {row!r}",
+                    f"must be an opening [x1, y1, x2, y2] of non-zero width, got {plain(row)}",
                 )
             doors.append((shapely.LineString([row[:2], row[2:]]), f"doors[{i}]"))
     used = [False] * len(doors)
@@ -428,12 +430,12 @@ def read_regions(
         ok = isinstance(value, list) and len(value) == 4
         ok = ok and all(not isinstance(v, bool) and isinstance(v, int | float) for v in value)
         if not ok or not all(math.isfinite(float(v)) for v in value):
-            raise r.fail(name, f"must be [x_min, y_min, x_max, y_max], got {value!r}")
+            raise r.fail(name, f"must be [x_min, y_min, x_max, y_max], got {plain(value)}")
         x0, y0, x1, y1 = (float(v) for v in value)
         if not (x1 > x0 and y1 > y0):
-            raise r.fail(name, f"needs x_max > x_min and y_max > y_min, got {value!r}")
+            raise r.fail(name, f"needs x_max > x_min and y_max > y_min, got {plain(value)}")
         if not (world.contains(x0, y0) and world.contains(x1, y1)):
-            raise r.fail(name, f"must lie inside the world, got {value!r}")
+            raise r.fail(name, f"must lie inside the world, got {plain(value)}")
         out[name] = (x0, y0, x1, y1)
     r.finish()
     return out
@@ -466,20 +468,22 @@ def read_recording(robot: TableReader, world: WorldBounds, start: FloatArray) ->
     times = rec.raw("times_s") if rec.has("times_s") else None
     if not isinstance(times, list) or not 2 <= len(times) <= MAX_RECORDING_SAMPLES:
         raise rec.fail(
-            "times_s", f"must be a list of 2 to {MAX_RECORDING_SAMPLES} times (s), got {times!r}"
+            "times_s",
+            f"must be a list of 2 to {MAX_RECORDING_SAMPLES} times (s), got {plain(times)}",
         )
     t = np.zeros(len(times))
     for k, item in enumerate(times):
         if isinstance(item, bool) or not isinstance(item, int | float):
-            raise rec.fail(f"times_s[{k}]", f"must be a number of seconds, got {item!r}")
+            raise rec.fail(f"times_s[{k}]", f"must be a number of seconds, got {plain(item)}")
         if not 0.0 <= float(item) <= 1e7:  # also false for NaN
-            raise rec.fail(f"times_s[{k}]", f"must be in [0, 1e7] s, got {item!r}")
+            raise rec.fail(f"times_s[{k}]", f"must be in [0, 1e7] s, got {plain(item)}")
         t[k] = float(item)
         if k == 0 and t[0] != 0.0:
-            raise rec.fail("times_s[0]", f"must be 0 (the episode's start), got {item!r}")
+            raise rec.fail("times_s[0]", f"must be 0 (the episode's start), got {plain(item)}")
         if k > 0 and t[k] <= t[k - 1]:
             raise rec.fail(
-                f"times_s[{k}]", f"must be later than times_s[{k - 1}] = {t[k - 1]!r}, got {item!r}"
+                f"times_s[{k}]",
+                f"must be later than times_s[{k - 1}] = {t[k - 1]!r}, got {plain(item)}",
             )
     points = rec.raw("xy") if rec.has("xy") else None
     if not isinstance(points, list) or len(points) != len(times):
@@ -490,9 +494,9 @@ def read_recording(robot: TableReader, world: WorldBounds, start: FloatArray) ->
         ok = isinstance(row, list) and len(row) == 2
         ok = ok and all(not isinstance(v, bool) and isinstance(v, int | float) for v in row)
         if not ok or not all(math.isfinite(float(v)) for v in row):
-            raise rec.fail(f"xy[{k}]", f"must be [x, y] with finite numbers, got {row!r}")
+            raise rec.fail(f"xy[{k}]", f"must be [x, y] with finite numbers, got {plain(row)}")
         if not world.contains(float(row[0]), float(row[1])):
-            raise rec.fail(f"xy[{k}]", f"must lie inside the world {world}, got {row!r}")
+            raise rec.fail(f"xy[{k}]", f"must lie inside the world {world}, got {plain(row)}")
         xy[k] = row
     rec.finish()
     gap = float(np.hypot(*(xy[0] - start)))

@@ -9,7 +9,8 @@ and flows (not ``large``, a performance suite of 300-400 pedestrians).
 ``discriminative`` is the scenarios of ``all`` where the benchmark can tell planners
 apart, chosen by the rule of ``tools/analysis/discrimination.py`` on seeds 1000-1099
 (``docs/discrimination/selection.json``; a test checks that the two agree; issue 29,
-docs/benchmark.md). Add a suite by adding an entry here.
+docs/benchmark.md). Add a suite by adding an entry to SUITES and SUITE_DESCRIPTIONS
+(``srfm suites`` lists them).
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from srfm.scenarios import (
     NAVWARESET_SCENARIOS,
 )
 
-__all__ = ["DEFAULT_SUITE", "DISCRIMINATIVE_SCENARIOS", "SUITES"]
+__all__ = ["DEFAULT_SUITE", "DISCRIMINATIVE_SCENARIOS", "SUITES", "SUITE_DESCRIPTIONS"]
 
 DISCRIMINATIVE_SCENARIOS: Final = (
     "robot_overtaking",
@@ -49,3 +50,14 @@ SUITES: Final[dict[str, tuple[str, ...]]] = {
     "discriminative": DISCRIMINATIVE_SCENARIOS,
 }
 DEFAULT_SUITE: Final = "paper"
+SUITE_DESCRIPTIONS: Final[dict[str, str]] = {
+    "paper": "the paper's five evaluation scenarios (Table 3)",
+    "large": "large crowds of 300-400 pedestrians: a performance suite",
+    "francis": "the scenarios after Francis et al. 2023: corridors, doors, corners, rooms",
+    "navwareset": "the NavWareSet room with the dataset's five layouts",
+    "flows": "pedestrians entering during the run",
+    "all": "paper, francis, navwareset and flows (not large)",
+    "discriminative": "the scenarios of all where the benchmark tells planners apart "
+    "(docs/benchmark.md)",
+}
+"""What each suite is for, in a line (``srfm suites``); one entry per suite of SUITES."""

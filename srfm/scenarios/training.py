@@ -64,12 +64,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from srfm._streams import pool_rng, training_rng
+from srfm._text import plain
 from srfm.errors import ScenarioError
 from srfm.scenarios._schema import RandomSpec, Scenario
 from srfm.scenarios._setup import validate_seed
 from srfm.world import WorldBounds
 
 __all__ = [
+    "GENERATED",
     "LIBRARY_HELDOUT",
     "LIBRARY_TRAINING",
     "LIBRARY_VALIDATION",
@@ -83,6 +85,7 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 
 TRAINING_SCENARIO: Final = "mixed"  # the environment's name for these layouts
+GENERATED: Final = "generated"  # pool_scenario's answer for a generated walled layout
 
 # The split of the scenario library (the Francis, NavWareSet and flow suites), fixed on
 # 2026-11-27 before any policy was trained on it (issue 30; docs/rl.md).
@@ -364,40 +367,54 @@ def family_weights(weights: Sequence[float] | None) -> tuple[float, ...] | None:
     if weights is None:
         return None
     if isinstance(weights, (str, bytes)):
-        raise ScenarioError(f"family weights must be a sequence of numbers, got {weights!r}")
+        raise ScenarioError(f"family weights must be a sequence of numbers, got {plain(weights)}")
     try:
         values = tuple(float(w) for w in weights)
     except (TypeError, ValueError):
-        raise ScenarioError(f"family weights must be numbers, got {weights!r}") from None
+        raise ScenarioError(f"family weights must be numbers, got {plain(weights)}") from None
     names = ", ".join(TRAINING_FAMILIES)
     if len(values) != len(TRAINING_FAMILIES):
         raise ScenarioError(
             f"family weights need {len(TRAINING_FAMILIES)} values ({names}), got {len(values)}: "
-            f"{weights!r}"
+            f"{plain(weights)}"
         )
     for name, value in zip(TRAINING_FAMILIES, values, strict=True):
         if not math.isfinite(value) or value < 0.0:
-            raise ScenarioError(f"family weight of {name!r} must be finite and >= 0, got {value!r}")
+            raise ScenarioError(
+                f"family weight of {name!r} must be finite and >= 0, got {plain(value)}"
+            )
     if sum(values) <= 0.0:
-        raise ScenarioError(f"family weights must not all be 0, got {weights!r}")
+        raise ScenarioError(f"family weights must not all be 0, got {plain(weights)}")
     return values
 
 
-def pool_scenario(seed: int, library: Sequence[str], share: float) -> str | None:
-    """The library scenario that training episode ``seed`` runs, or None for a
-    training layout (:func:`training_layout`).
+def pool_scenario(
+    seed: int, library: Sequence[str], share: float, generated_share: float = 0.0
+) -> str | None:
+    """The library scenario that training episode ``seed`` runs, ``"generated"`` for a
+    generated walled layout (:func:`srfm.scenarios.generated.generated_scenario` of
+    the episode seed), or None for a training layout (:func:`training_layout`).
+
+    One uniform draw u of the pool's stream decides: a library scenario when u <
+    ``share``, a generated layout when ``share`` <= u < ``share + generated_share``,
+    else a training layout; without a generated share the draws are those of earlier
+    versions.
 
     Args:
         seed: the episode seed.
         library: the library scenarios of the pool (each equally likely).
         share: the probability of a library scenario, in [0, 1].
+        generated_share: the probability of a generated layout, in [0, 1 − share].
     """
-    if not library or share <= 0.0:
+    if (not library or share <= 0.0) and generated_share <= 0.0:
         return None
     rng = pool_rng(validate_seed(seed))
-    if not rng.random() < share:
-        return None
-    return library[int(rng.integers(len(library)))]
+    u = rng.random()
+    if library and u < share:
+        return library[int(rng.integers(len(library)))]
+    if u < max(share, 0.0) + generated_share:
+        return GENERATED
+    return None
 
 
 def training_layout(
@@ -440,7 +457,7 @@ def training_layout(
     family = drawn if family is None else family
     if family not in TRAINING_FAMILIES:
         known = ", ".join(TRAINING_FAMILIES)
-        raise ScenarioError(f"unknown training family {family!r}; known: {known}")
+        raise ScenarioError(f"unknown training family {plain(family)}; known: {known}")
     common: dict[str, Any] = {
         "description": f"training layout ({family}) of seed {seed}",
         "dt_s": base.dt_s,

@@ -5,7 +5,6 @@ feed :class:`TwinSimulator`; :func:`run_episode` drives it with a planner from
 :mod:`srfm.planners` and returns an :class:`EpisodeRecord`.
 """
 
-from srfm.planners import register_planner
 from srfm.sim.episode import PLANNER_STREAM, planner_rng, run_episode
 from srfm.sim.oracle import OracleConfig, OraclePlanner
 from srfm.sim.record import EpisodeRecord, Event
@@ -21,14 +20,3 @@ __all__ = [
     "planner_rng",
     "run_episode",
 ]
-
-# The oracle reads the episode's engine, so it lives here and is registered here (srfm
-# imports srfm.sim, so it is there whenever a planner is looked up by name).
-register_planner(
-    "oracle",
-    OraclePlanner,
-    "privileged reference: plans over the twin simulator itself (knows the crowd model, "
-    "every goal and the counterfactual) for the least deviation that still reaches the "
-    "goal; not deployable, not in the default benchmark",
-    default=False,
-)

@@ -447,6 +447,16 @@ class EpisodeEngine:
         name = _TWINS[twin]
         return [Event(step=k, time_s=t, kind="ped_arrival", agent=int(i), twin=name) for i in ids]
 
+    def end_robot(self, outcome: RobotOutcome) -> None:
+        """End the robot's episode at the current sample with ``outcome``, no event of
+        the world causing it (a planner that failed): from the next step on the robot
+        rests where it is, as after any other end. Nothing when it has ended already."""
+        if not self.robot_active:
+            return
+        self.robot_active = False
+        self.outcome = outcome
+        self.end_step = self.step_index
+
     def _robot_events(self, code: int, nearest: int) -> list[Event]:
         """The robot event ``code`` at the current sample as a record; it ends the
         robot's episode."""

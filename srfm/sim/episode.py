@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import os
 import re
+import warnings
 from pathlib import Path
 from typing import Final
 
@@ -17,9 +18,17 @@ import attrs
 import numpy as np
 
 from srfm._streams import PLANNER_STREAM, planner_rng
+from srfm._text import plain
 from srfm._user_code import call_user_code, is_user_code, user_code_error
 from srfm._validate import path_name, planner_name
-from srfm.errors import PlannerError, ResourceError, SimulationError, SrfmError
+from srfm.errors import (
+    PlannerError,
+    PlannerFailedError,
+    PlannerFailureWarning,
+    ResourceError,
+    SimulationError,
+    SrfmError,
+)
 from srfm.models import _robot_kernels as _rk
 from srfm.models.forces import Cutoff
 from srfm.models.params import SRFMParams
@@ -193,7 +202,7 @@ def _detection_range(planner: Planner) -> float | None:
     if isinstance(value, bool) or not isinstance(value, int | float) or not value >= 0.0:
         raise PlannerError(
             f"planner {planner.name!r}: detection_range_m must be None "
-            f"or a number >= 0, got {value!r}"
+            f"or a number >= 0, got {plain(value)}"
         )
     return float(value)
 
@@ -291,6 +300,13 @@ def run_episode(
             logs and results), or it returned an unusable command.
         UserCodeError: a user's planner raised in its factory, ``reset`` or ``act``;
             one line naming the planner, the method, the step and the exception.
+
+    An external planner's failure (:class:`~srfm.errors.PlannerFailedError`: a crash, a
+    timeout, garbage, a bad command) raises nothing: the robot's episode ends there
+    with the outcome ``planner_failed`` (the robot stays where it is, as after a
+    collision, and both crowds go on to the horizon), and a
+    :class:`~srfm.errors.PlannerFailureWarning` carries the one line saying what the
+    planner did.
         ResourceError: the episode would not fit in memory
             (:func:`check_episode_memory`).
     """
@@ -352,6 +368,11 @@ def run_episode(
             observation = sim.observe(detection)
             try:
                 command = planner.act(observation)
+            except PlannerFailedError as failure:  # an external planner: only this episode ends
+                warnings.warn(str(failure), PlannerFailureWarning, stacklevel=2)
+                sim.end_robot_episode("planner_failed")
+                active[k] = False  # it ended at this sample, as after an event
+                continue
             except (KeyboardInterrupt, SrfmError):
                 raise
             except BaseException as exc:

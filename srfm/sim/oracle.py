@@ -49,6 +49,7 @@ from typing import Any
 import attrs
 import numpy as np
 
+from srfm._text import plain
 from srfm.errors import ParameterError, PlannerError
 from srfm.models import _robot_kernels as _rk
 from srfm.planners._base import FloatArray, Observation, PlannerContext
@@ -62,12 +63,20 @@ Command = tuple[float, float]
 
 def _positive_int(inst: object, attribute: attrs.Attribute[int], value: int) -> None:
     if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-        raise ParameterError(f"oracle {attribute.name} must be an integer >= 1, got {value!r}")
+        raise ParameterError(f"oracle {attribute.name} must be an integer >= 1, got {plain(value)}")
 
 
 def _positive(inst: object, attribute: attrs.Attribute[float], value: float) -> None:
     if isinstance(value, bool) or not isinstance(value, float | int) or not value > 0.0:
-        raise ParameterError(f"oracle {attribute.name} must be a number > 0, got {value!r}")
+        raise ParameterError(f"oracle {attribute.name} must be a number > 0, got {plain(value)}")
+
+
+def _tuple(value: Any) -> Any:
+    """A sequence as a tuple; anything else as it is, for the validator to name."""
+    try:
+        return tuple(value)
+    except TypeError:
+        return value
 
 
 def _numbers(low: float, high: float) -> Any:
@@ -78,7 +87,7 @@ def _numbers(low: float, high: float) -> Any:
         )
         if not ok:
             raise ParameterError(
-                f"oracle {attribute.name} must be numbers in [{low}, {high}], got {value!r}"
+                f"oracle {attribute.name} must be numbers in [{low}, {high}], got {plain(value)}"
             )
 
     return check
@@ -102,16 +111,16 @@ class OracleConfig:
     """
 
     aside_m: tuple[float, ...] = attrs.field(
-        default=(1.0, 2.5), converter=tuple, validator=_numbers(0.0, 100.0)
+        default=(1.0, 2.5), converter=_tuple, validator=_numbers(0.0, 100.0)
     )
     aside_deg: tuple[float, ...] = attrs.field(
         default=(90.0, -90.0, 180.0, 45.0, -45.0, 135.0, -135.0),
-        converter=tuple,
+        converter=_tuple,
         validator=_numbers(-180.0, 180.0),
     )
     waits_s: tuple[float, ...] = attrs.field(
         default=(0.0, 2.0, 4.0, 7.0, 10.0, 14.0, 18.0, 23.0, 28.0),
-        converter=tuple,
+        converter=_tuple,
         validator=_numbers(0.0, 1e6),
     )
     aside_timeout_s: float = attrs.field(default=8.0, validator=_positive)

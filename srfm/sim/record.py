@@ -29,8 +29,10 @@ EVENT_KINDS: Final = (
     "robot_timeout",
     "ped_arrival",
 )
-RobotOutcome = Literal["goal_reached", "collision", "out_of_bounds", "timeout"]
-ROBOT_OUTCOMES: Final = ("goal_reached", "collision", "out_of_bounds", "timeout")
+RobotOutcome = Literal["goal_reached", "collision", "out_of_bounds", "timeout", "planner_failed"]
+# planner_failed: an external planner crashed, hung or answered garbage or a bad
+# command (srfm.planners.external); no event of the world ended the episode.
+ROBOT_OUTCOMES: Final = ("goal_reached", "collision", "out_of_bounds", "timeout", "planner_failed")
 
 
 @attrs.frozen(kw_only=True)

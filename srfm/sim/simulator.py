@@ -165,6 +165,12 @@ class TwinSimulator:
             obstacles=self.scenario.obstacles,
         )
 
+    def end_robot_episode(self, outcome: RobotOutcome) -> None:
+        """End the robot's episode at the current sample with ``outcome`` (an external
+        planner's failure: ``planner_failed``); see
+        :meth:`srfm.sim.engine.EpisodeEngine.end_robot`."""
+        self.engine.end_robot(outcome)
+
     def rest(self, stop: int, samples: Any) -> list[Event]:
         """Steps with the robot at rest in one kernel call, where the engine allows it
         (:attr:`srfm.sim.engine.EpisodeEngine.can_rest`; see

@@ -38,7 +38,6 @@ import hashlib
 import itertools
 import json
 import math
-import tomllib
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Final
@@ -47,7 +46,8 @@ import attrs
 import numpy as np
 
 from srfm import _validate
-from srfm._io import MAX_TOML_BYTES, read_input_text
+from srfm._io import MAX_TOML_BYTES, parse_toml, read_input_text
+from srfm._text import plain
 from srfm.errors import SrfmError, SweepError
 from srfm.models.params import SRFMParams, load_params
 from srfm.models.state import MAX_RADIUS_M
@@ -160,10 +160,10 @@ def _string_list(where: _Where, key: str, value: Any) -> list[str]:
     if isinstance(value, str):
         value = [value]
     if not isinstance(value, list) or not value:
-        raise where.error(key, f"must be a non-empty list of names, got {value!r}")
+        raise where.error(key, f"must be a non-empty list of names, got {plain(value)}")
     for item in value:
         if not isinstance(item, str) or not item.strip():
-            raise where.error(key, f"must hold names (strings), got {item!r}")
+            raise where.error(key, f"must hold names (strings), got {plain(item)}")
     if len(set(value)) != len(value):
         dupes = sorted({v for v in value if value.count(v) > 1})
         raise where.error(key, f"names given twice: {', '.join(dupes)}")
@@ -187,12 +187,12 @@ def _seeds(where: _Where, value: Any) -> tuple[int, ...]:
     elif isinstance(value, list):
         seeds = list(value)
     else:
-        raise where.error("seeds", f"must be a range like '0-29' or a list, got {value!r}")
+        raise where.error("seeds", f"must be a range like '0-29' or a list, got {plain(value)}")
     if not seeds:
         raise where.error("seeds", "must name at least one seed")
     for s in seeds:
         if isinstance(s, bool) or not isinstance(s, int):
-            raise where.error("seeds", f"seeds must be integers, got {s!r}")
+            raise where.error("seeds", f"seeds must be integers, got {plain(s)}")
         _validate.seed(s, SweepError)
     if len(set(seeds)) != len(seeds):
         raise where.error("seeds", "a seed is given twice")
@@ -201,7 +201,7 @@ def _seeds(where: _Where, value: Any) -> tuple[int, ...]:
 
 def _number(where: _Where, key: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise where.error(key, f"must be a finite number, got {value!r}")
+        raise where.error(key, f"must be a finite number, got {plain(value)}")
     return float(value)
 
 
@@ -214,13 +214,15 @@ def _check_value(where: _Where, key: str, name: str, value: float, base: SRFMPar
             raise where.error(key, str(exc)) from None
     elif name == "crowd_size":
         if value != int(value) or not 1 <= value <= MAX_CROWD:
-            raise where.error(key, f"must be a whole number in [1, {MAX_CROWD}], got {value!r}")
+            raise where.error(
+                key, f"must be a whole number in [1, {MAX_CROWD}], got {plain(value)}"
+            )
     elif name == "ped_radius_m":
         if not 0.0 < value <= MAX_RADIUS_M:
-            raise where.error(key, f"must be in (0, {MAX_RADIUS_M:g}] m, got {value!r}")
+            raise where.error(key, f"must be in (0, {MAX_RADIUS_M:g}] m, got {plain(value)}")
     elif not 0.0 <= value <= _validate.MAX_PEDESTRIAN_SPEED_MPS:  # ped_speed_mps: as in a scenario
         raise where.error(
-            key, f"must be in [0, {_validate.MAX_PEDESTRIAN_SPEED_MPS:g}] m/s, got {value!r}"
+            key, f"must be in [0, {_validate.MAX_PEDESTRIAN_SPEED_MPS:g}] m/s, got {plain(value)}"
         )
     return value
 
@@ -232,7 +234,7 @@ def _grid(
     for name, values in factors.items():
         key = f"design.factors.{name}"
         if not isinstance(values, list) or not values:
-            raise where.error(key, f"a grid factor must be a non-empty list, got {values!r}")
+            raise where.error(key, f"a grid factor must be a non-empty list, got {plain(values)}")
         checked = [_check_value(where, key, name, _number(where, key, v), base) for v in values]
         if len(set(checked)) != len(checked):
             raise where.error(key, "a value is given twice")
@@ -251,7 +253,7 @@ def _random(
     if isinstance(samples, bool) or not isinstance(samples, int) or not 1 <= samples <= MAX_CELLS:
         raise where.error("design.samples", f"must be a whole number in [1, {MAX_CELLS}]")
     if isinstance(seed, bool) or not isinstance(seed, int):
-        raise where.error("design.seed", f"must be an integer seed, got {seed!r}")
+        raise where.error("design.seed", f"must be an integer seed, got {plain(seed)}")
     _validate.seed(seed, SweepError)
     draws: dict[str, list[float]] = {}
     rng = np.random.default_rng(seed)
@@ -265,13 +267,13 @@ def _random(
             low = _number(where, f"{key}.low", rule["low"])
             high = _number(where, f"{key}.high", rule["high"])
             if not low < high:
-                raise where.error(key, f"low must be below high, got {low!r} and {high!r}")
+                raise where.error(key, f"low must be below high, got {plain(low)} and {high!r}")
             values = [float(v) for v in rng.uniform(low, high, size=samples)]
             if name == "crowd_size":
                 raise where.error(key, "crowd_size takes a list of sizes, not a range")
         else:
             raise where.error(
-                key, f"a random factor is {{low = .., high = ..}} or a list, got {rule!r}"
+                key, f"a random factor is {{low = .., high = ..}} or a list, got {plain(rule)}"
             )
         draws[name] = [_check_value(where, key, name, v, base) for v in values]
     return [tuple((name, draws[name][i]) for name in factors) for i in range(samples)]
@@ -293,20 +295,17 @@ def load_spec(path: str | Path) -> SweepSpec:
     path = Path(path)
     where = _Where(path)
     text = read_input_text(path, max_bytes=MAX_TOML_BYTES, error=SweepError, what="sweep spec")
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise SweepError(f"{path}: not a valid TOML file: {exc}") from None
+    data = parse_toml(text, path, SweepError)
     unknown = sorted(set(data) - _TOP_KEYS)
     if unknown:
         raise where.error(unknown[0], f"unknown key; known: {', '.join(sorted(_TOP_KEYS))}")
     if data.get("schema_version") != SPEC_SCHEMA:
         raise where.error(
-            "schema_version", f"must be {SPEC_SCHEMA}, got {data.get('schema_version')!r}"
+            "schema_version", f"must be {SPEC_SCHEMA}, got {plain(data.get('schema_version'))}"
         )
     name = data.get("name", path.stem)
     if not isinstance(name, str):
-        raise where.error("name", f"must be a string, got {name!r}")
+        raise where.error("name", f"must be a string, got {plain(name)}")
     for key in ("scenarios", "planners", "seeds", "design"):
         if key not in data:
             raise where.error(key, "is required")
@@ -334,7 +333,7 @@ def load_spec(path: str | Path) -> SweepSpec:
     if "params" in data:
         ref_params = data["params"]
         if not isinstance(ref_params, str):
-            raise where.error("params", f"must be a preset name or a file, got {ref_params!r}")
+            raise where.error("params", f"must be a preset name or a file, got {plain(ref_params)}")
         try:
             if ref_params.endswith(".toml"):
                 file = Path(ref_params)
@@ -346,11 +345,11 @@ def load_spec(path: str | Path) -> SweepSpec:
     per_task = data.get("seeds_per_task", 10)
     if isinstance(per_task, bool) or not isinstance(per_task, int) or not 1 <= per_task <= 1000:
         raise where.error(
-            "seeds_per_task", f"must be a whole number in [1, 1000], got {per_task!r}"
+            "seeds_per_task", f"must be a whole number in [1, 1000], got {plain(per_task)}"
         )
     design = data["design"]
     if not isinstance(design, dict):
-        raise where.error("design", f"must be a table, got {design!r}")
+        raise where.error("design", f"must be a table, got {plain(design)}")
     kind = design.get("kind")
     allowed = {"kind", "factors"} | ({"samples", "seed"} if kind == "random" else set())
     extra = sorted(set(design) - allowed)
@@ -376,7 +375,7 @@ def load_spec(path: str | Path) -> SweepSpec:
     elif kind == "random":
         combos = _random(where, design, factors, base)
     else:
-        raise where.error("design.kind", f"must be 'grid' or 'random', got {kind!r}")
+        raise where.error("design.kind", f"must be 'grid' or 'random', got {plain(kind)}")
     cells = tuple(Cell(_cell_id(values), values) for values in combos)
     if len({c.id for c in cells}) != len(cells):
         raise where.error("design", "two cells have the same values")

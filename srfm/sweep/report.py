@@ -40,7 +40,7 @@ from srfm._io import MAX_DOCUMENT_BYTES, read_input_bytes, write_file_set
 from srfm._text import count
 from srfm.errors import SweepError
 from srfm.metrics.episode import EPISODE_METRICS
-from srfm.metrics.stats import ALPHA, compare
+from srfm.metrics.stats import ALPHA, compare, wilson
 from srfm.sweep._run import DATA_DIR, SWEEP_MANIFEST
 
 if TYPE_CHECKING:
@@ -183,19 +183,6 @@ def mean_ci(values: FloatArray) -> tuple[float, float, int]:
         return mean, math.nan, n
     half = float(stats.t.ppf(1 - ALPHA / 2, n - 1) * x.std(ddof=1) / math.sqrt(n))
     return mean, half, n
-
-
-def wilson(successes: int, n: int) -> tuple[float, float, float]:
-    """Proportion and its 95 % Wilson score interval (low, high)."""
-    from scipy import stats
-
-    if n == 0:
-        return math.nan, math.nan, math.nan
-    z = float(stats.norm.ppf(1 - ALPHA / 2))
-    p = successes / n
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return p, centre - half, centre + half
 
 
 def kendall_tau(a: Sequence[float], b: Sequence[float]) -> float:

@@ -22,6 +22,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from srfm._text import plain
 from srfm.errors import PlannerError
 from srfm.models.state import Obstacles
 from srfm.world._bounds import WorldBounds
@@ -40,7 +41,7 @@ class Router:
 
     def __init__(self, obstacles: Obstacles, world: WorldBounds, *, clearance_m: float) -> None:
         if not (np.isfinite(clearance_m) and clearance_m >= 0.0):
-            raise PlannerError(f"clearance_m must be finite and >= 0, got {clearance_m!r}")
+            raise PlannerError(f"clearance_m must be finite and >= 0, got {plain(clearance_m)}")
         self.clearance_m = float(clearance_m)
         shapes = _obstacle_shapes(obstacles)
         box = shapely.box(world.x_min, world.y_min, world.x_max, world.y_max)

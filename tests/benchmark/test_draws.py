@@ -10,6 +10,7 @@ import pytest
 
 from srfm.benchmark import (
     SENSITIVITY_RANGES,
+    WIDE_RANGES,
     BenchmarkRequest,
     draw_params,
     rank_probabilities,
@@ -39,6 +40,30 @@ def test_sensitivity_draws_are_deterministic_and_inside_the_ranges() -> None:
     # Fewer draws with the same seed are the first ones of more.
     assert draw_params(base, 5, seed=3).params == a.params[:5]
     assert "U(3.965, 15.86)" in a.description
+
+
+def test_wide_draws_cover_the_real_data_fit_log_uniformly() -> None:
+    base = SRFMParams()
+    draws = draw_params(base, 400, seed=1, source="wide")
+    assert draws.params == draw_params(base, 400, seed=1, source="wide").params
+    assert draws.source == "wide"
+    assert draws.file_sha256 is None
+    assert draws.params[:7] == draw_params(base, 7, seed=1, source="wide").params
+    a = np.array([p.a_robot for p in draws.params])
+    b = np.array([p.b_robot for p in draws.params])
+    for name, x in (("a_robot", a), ("b_robot", b)):
+        low, high = WIDE_RANGES[name]
+        assert low <= x.min()
+        assert x.max() <= high
+        # Uniform in the logarithm: about half the draws below the geometric midpoint.
+        assert abs(np.mean(x < np.sqrt(low * high)) - 0.5) < 0.1
+    # The real-data fit (A_r = 0.55 m/s², B_r = 0.23 m) lies inside the ranges.
+    assert WIDE_RANGES["a_robot"][0] < 0.55 < WIDE_RANGES["a_robot"][1]
+    assert WIDE_RANGES["b_robot"][0] < 0.23 < WIDE_RANGES["b_robot"][1]
+    assert np.any(a < 1.0)
+    assert np.any(b < 0.3)
+    assert all(p.replace(a_robot=base.a_robot, b_robot=base.b_robot) == base for p in draws.params)
+    assert "log-U(0.25, 15.86)" in draws.description
 
 
 def test_draws_from_a_file_of_parameter_sets(tmp_path: Path) -> None:
@@ -102,6 +127,11 @@ def test_rank_probabilities_share_ties_and_sum_to_one() -> None:
         description="test",
     )
     assert table.probabilities["s"]["c"] == pytest.approx((0.25, 0.0, 0.75))
+    # Wilson's interval over the 4 draws around each probability (c first in 1 of 4).
+    low_p, high_p = table.probability_interval("s", "c", 1)
+    assert low_p < 0.25 < high_p
+    assert (low_p, high_p) == pytest.approx((0.04558726, 0.6993582), abs=1e-7)
+    assert table.probability_interval("s", "c", 2)[0] == 0.0
     low, mid, high = table.interval("s", "a")
     assert (low, mid, high) == pytest.approx(
         tuple(np.percentile([0.1, 0.2, 0.1, 0.3], [2.5, 50, 97.5]))

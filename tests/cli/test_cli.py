@@ -11,8 +11,9 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
+import srfm
 from srfm.cli import main
-from srfm.scenarios import BUILTIN_SCENARIOS
+from srfm.scenarios import BUILTIN_SCENARIOS, LARGE_SCENARIOS
 from tests.conftest import write_scenario
 
 
@@ -31,9 +32,9 @@ def test_help_everywhere(cmd: list[str]) -> None:
 def test_scenarios_lists_every_builtin_with_a_description() -> None:
     code, out = run("scenarios")
     assert code == 0
-    lines = out.strip().splitlines()
-    assert [line.split()[0] for line in lines] == list(BUILTIN_SCENARIOS)
-    assert all(len(line.split(maxsplit=1)[1]) > 20 for line in lines)
+    lines = out.strip().splitlines()[1:-1]  # less the header and the generated layouts
+    assert [line.split()[0] for line in lines] == [*BUILTIN_SCENARIOS, *LARGE_SCENARIOS]
+    assert all(len(line.split(maxsplit=2)[2]) > 20 for line in lines)
 
 
 def test_planners_lists_straight() -> None:
@@ -188,3 +189,27 @@ def test_the_readme_command_table_lists_every_command() -> None:
             names.append(f"srfm {name}")
     missing = [n for n in names if f"`{n}" not in table]
     assert not missing, missing
+
+
+def test_version_names_the_distribution() -> None:
+    code, out = run("--version")
+    assert code == 0
+    assert out == f"srfm, version {srfm.__version__} (social-robot-force-model)\n"
+
+
+def test_version_of_a_tree_never_installed_is_no_crash() -> None:
+    """Without the distribution's metadata (a checkout installed under its old name, or
+    never installed) `srfm --version` says 0+unknown instead of a traceback."""
+    script = (
+        "from importlib import metadata\n"
+        "def version(name):\n"
+        "    raise metadata.PackageNotFoundError(name)\n"
+        "metadata.version = version\n"
+        "from srfm.cli import main\n"
+        "main(['--version'])\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == "srfm, version 0+unknown (social-robot-force-model)\n"

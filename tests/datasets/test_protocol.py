@@ -31,6 +31,7 @@ from srfm.fitting import (
     predict,
     replay_encounter,
     scene_groups,
+    window_metrics,
 )
 from srfm.metrics.frechet import frechet_distance
 from tests.datasets._synthetic import resimulate_pedestrian, simulate_scene
@@ -160,6 +161,12 @@ def test_scene_groups_and_holdout() -> None:
         dist, off = pass_errors(windows, sel, predict(windows, params, sel, "srfm"))
         np.testing.assert_array_equal(metrics["srfm"].pass_distance[sel], dist)
         np.testing.assert_array_equal(metrics["srfm"].path_offset[sel], off)
+        one = window_metrics(windows, sel, params, "srfm")
+        np.testing.assert_array_equal(one.pass_distance, dist)
+        np.testing.assert_array_equal(one.ade, metrics["srfm"].ade[sel])
+        np.testing.assert_array_equal(one.fde, metrics["srfm"].fde[sel])
+    empty = window_metrics(windows, np.zeros(0, dtype=np.int64), base, "sfm")
+    assert empty.ade.shape == empty.path_offset.shape == (0,)
     # the robot force moves the pass: its pass-distance errors differ from the SFM's
     assert not np.array_equal(metrics["srfm"].pass_distance, metrics["sfm"].pass_distance)
 

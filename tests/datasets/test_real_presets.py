@@ -39,6 +39,10 @@ def test_every_real_data_preset_states_its_provenance() -> None:
         assert params.robot_form == meta["robot_form"]
         assert f"--robot-force {meta['robot_form']}" in meta["reproduce"]
     assert preset_meta("agrawal2024") == {}
+    # issue 40: the time-to-collision preset's robot part is not fitted and says so
+    ttc = preset_meta("navwareset2026_ttc")["robot_part"]
+    assert ttc.startswith("not fitted: the time-to-collision force at default parameters")
+    assert "chosen by a held-out test" in ttc
     with pytest.raises(srfm.ParameterError, match="unknown parameter preset 'nope'"):
         preset_meta("nope")
 

@@ -16,6 +16,7 @@ from srfm.metrics.headroom import (
     paired_sd,
     scenario_references,
     seeds_needed,
+    sigma_d,
     standard_error,
 )
 
@@ -104,3 +105,23 @@ def test_scenario_references() -> None:
     assert refs.discriminates
     with pytest.raises(MetricError, match="'oracle'"):
         scenario_references({"straight": s})
+
+
+def test_sigma_d_is_the_median_paired_sd_of_the_entries_without_the_oracle() -> None:
+    rng = np.random.default_rng(3)
+    values = {p: rng.normal(size=30) for p in ("straight", "stay", "a", "b", "c")}
+    expected = float(
+        np.median(
+            [
+                paired_sd(values["a"], values["b"]),
+                paired_sd(values["a"], values["c"]),
+                paired_sd(values["b"], values["c"]),
+            ]
+        )
+    )
+    assert sigma_d(values) == expected
+    # the same σ_d as the reference points of a run with the oracle
+    with_oracle = {**values, "oracle": values["straight"] - 0.5}
+    assert scenario_references(with_oracle).sd_diff == expected
+    assert math.isnan(sigma_d({"straight": values["straight"], "a": values["a"]}))
+    assert sigma_d({"a": values["a"]}, fallback=("a", "a")) == 0.0

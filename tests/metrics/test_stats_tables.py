@@ -373,6 +373,7 @@ def test_columns_conditioned_on_success_and_outcome_shares() -> None:
         "collision": 1,
         "out_of_bounds": 0,
         "timeout": 0,
+        "planner_failed": 0,
     }
     md = to_markdown(table)
     # The conditioned cell always shows n, the unconditional one only below S.

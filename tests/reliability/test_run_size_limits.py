@@ -10,6 +10,7 @@ fails here with a MemoryError instead of exhausting a shared machine."""
 
 from __future__ import annotations
 
+import math
 import os
 import resource
 import subprocess
@@ -61,7 +62,6 @@ def test_a_sweep_of_7e10_episodes_is_refused_at_once(tiny: Path, tmp_path: Path)
         encoding="utf-8",
     )
     out = tmp_path / "out"
-    start = time.monotonic()
     code, output = _srfm(["sweep", str(spec), "--out", str(out)], {})
     assert code == 2, output
     lines = output.splitlines()
@@ -71,7 +71,6 @@ def test_a_sweep_of_7e10_episodes_is_refused_at_once(tiny: Path, tmp_path: Path)
     assert "longer than the limit of 24.0 h (srfm's time limit)" in lines[0]
     assert "Ask for fewer cells, scenarios, planners or seeds, or give --force" in lines[0]
     assert not out.exists()
-    assert time.monotonic() - start < 90.0
 
 
 def _crowd(path: Path, n: int) -> Path:
@@ -170,17 +169,26 @@ def test_the_time_limit_and_its_setting(monkeypatch: pytest.MonkeyPatch) -> None
             time_limit()
 
 
-def test_the_episode_time_model_is_within_a_factor_of_four() -> None:
-    """The model against the CPU time of real episodes (the paper's 10 pedestrians and
-    a crowd of 400), on whatever machine runs the tests."""
+def test_the_episode_time_model_scales_as_real_episodes_do() -> None:
+    """The model's structure against the CPU time of real episodes of very different
+    sizes (the paper's 10 pedestrians, a corridor of 27 with walls, a crowd of 400), on
+    whatever machine runs the tests. The model's scale is the reference machine's
+    (docs/performance.md) and a faster or slower CPU shifts every episode alike, so the
+    test compares ratios, never this machine's speed: measured / estimated must be the
+    same for every scenario within a factor of four (the estimate of a run that cannot
+    fit errs the same way for all its episodes)."""
     from srfm.sim.budget import estimate_episode_time
 
-    for name, seeds in (("crosswalk", range(5)), ("concert_crowd", range(1))):
+    ratios: dict[str, float] = {}
+    for name, seeds in (("crosswalk", range(5)), ("corridor_flow", range(2)),
+                        ("concert_crowd", range(1))):  # fmt: skip
         scenario = load_scenario(name)
         run_episode(scenario, 99)  # compiled or loaded
-        start = time.process_time()
-        for seed in seeds:
-            run_episode(scenario, seed)
-        measured = (time.process_time() - start) / len(seeds)
-        estimate = estimate_episode_time(scenario)
-        assert measured / 4 < estimate < measured * 4, (name, measured, estimate)
+        best = math.inf
+        for _ in range(2):  # the faster of two passes: a neighbour's burst only slows one
+            start = time.process_time()
+            for seed in seeds:
+                run_episode(scenario, seed)
+            best = min(best, (time.process_time() - start) / len(seeds))
+        ratios[name] = best / estimate_episode_time(scenario)
+    assert max(ratios.values()) < 4 * min(ratios.values()), ratios

@@ -486,7 +486,9 @@ def test_import_srfm_does_not_import_rl_dependencies() -> None:
 
 
 def test_missing_dependency_names_the_extra() -> None:
-    with pytest.raises(MissingDependencyError, match=r"pip install 'srfm\[rl\]' -c constraints"):
+    with pytest.raises(
+        MissingDependencyError, match=r"pip install 'social-robot-force-model\[rl\]' -c constraints"
+    ):
         require("surely_not_an_installed_module_xyz")
     assert issubclass(MissingDependencyError, ImportError)
     with pytest.raises(ImportError) as info:

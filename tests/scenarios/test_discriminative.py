@@ -6,8 +6,8 @@ select`` from seeds 1000-1099, and the report's seeds never the selection's."""
 from __future__ import annotations
 
 import argparse
+import copy
 import json
-import math
 from pathlib import Path
 from typing import Any
 
@@ -18,6 +18,7 @@ from srfm.cli import main
 from srfm.metrics.headroom import DETECT_M, MIN_HEADROOM_M, MIN_STANDARD_ERRORS
 from srfm.scenarios.suites import SUITES
 from tools.analysis import discrimination
+from tools.results import generate, sets
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "discrimination"
 
@@ -103,13 +104,31 @@ def test_suite_is_the_best_ranked_qualifiers(selection: dict[str, Any]) -> None:
     assert [r["rank"] for r in qualified] == list(range(1, len(qualified) + 1))
 
 
-def test_report_never_saw_the_selection_seeds(selection: dict[str, Any]) -> None:
-    report = _load("report.json")
-    assert [r["scenario"] for r in report["scenarios"]] == list(selection["suite"])
-    for row in report["scenarios"]:
-        assert row["seeds"] == [0, 99]
-        assert row["n_seeds"] == 100
-        assert math.isfinite(row["headroom_m"])
+def test_the_rule_on_the_committed_selection_data_gives_the_suite(
+    selection: dict[str, Any],
+) -> None:
+    # the selection measured again with the shipped entries (results set `selection`,
+    # docs/results/discriminative.md) once it is committed, else the recorded one
+    if sets.exists("selection"):
+        rows = generate._rows("selection")
+        assert sets.manifest("selection")["request"]["planners"] == list(discrimination.PLANNERS)
+        assert sets.manifest("selection")["request"]["seeds"] == list(range(1000, 1100))
+    else:
+        rows = copy.deepcopy(selection["scenarios"])
+    suite = discrimination.select(rows)
+    assert tuple(suite) == SUITES["discriminative"]
+    t = discrimination.thresholds()
+    for row in rows:
+        assert (row["fails"] == []) == _meets(row, t), row["scenario"]
+
+
+@pytest.mark.parametrize("name", [n for n in ("paper", "francis", "navwareset") if sets.exists(n)])
+def test_report_never_saw_the_selection_seeds(name: str) -> None:
+    # the suite's table on docs/results/discriminative.md comes from these sets
+    seeds = sets.manifest(name)["request"]["seeds"]
+    assert seeds == list(range(100))
+    if sets.exists("selection"):
+        assert not set(seeds) & set(sets.manifest("selection")["request"]["seeds"])
 
 
 def _fake_run(out: Path, planners: list[str], values: dict[str, list[float]]) -> None:
@@ -151,7 +170,7 @@ def test_report_reads_a_run_of_any_planners(tmp_path: Path) -> None:
     assert set(row["scores"]) == set(values)
     assert row["scores"]["dwa"][0] == pytest.approx((0.1 - 0.0045) / 0.5)
     assert discrimination._planners(rows) == ["straight", "oracle", "dwa"]
-    assert "td3-srfm" not in discrimination._means_table(rows)
+    assert "td3-srfm" not in discrimination.means_table(rows)
     # a planner of the request with seeds missing: the scenario is not complete yet
     (tmp_path / "run" / "episodes" / "s" / "dwa" / "seed-000009.json").unlink()
     assert discrimination._measure(tmp_path / "run") == []

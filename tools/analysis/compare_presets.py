@@ -28,10 +28,17 @@ def means(
     a planner the folder does not hold is an error)."""
     with (folder / "episodes.csv").open() as fh:
         rows = list(csv.DictReader(fh))
+    return means_of_rows(rows, planners, str(folder))
+
+
+def means_of_rows(
+    rows: list[dict[str, str]], planners: frozenset[str] | None = None, name: str = "rows"
+) -> tuple[dict[tuple[str, str], float], list[str], list[str], int]:
+    """:func:`means` of episodes.csv rows (``scenario``, ``planner``, ``frechet_m``)."""
     if planners is not None:
         missing = sorted(planners - {r["planner"] for r in rows})
         if missing:
-            raise SystemExit(f"{folder}: no episodes of planner(s) {', '.join(missing)}")
+            raise SystemExit(f"{name}: no episodes of planner(s) {', '.join(missing)}")
         rows = [r for r in rows if r["planner"] in planners]
     values: dict[tuple[str, str], list[float]] = defaultdict(list)
     for r in rows:
@@ -62,12 +69,24 @@ def main(argv: list[str] | None = None) -> None:
         raise SystemExit("the two folders hold different scenarios or planners")
     la, lb = args.labels
     print(f"{la}: {na} episodes; {lb}: {nb} episodes\n")
-    print(
-        f"Mean Fréchet deviation (m), {la} / {lb}, and the planner's rank (1 = lowest) "
-        "under each:\n"
-    )
-    print("| scenario | " + " | ".join(planners) + f" | Kendall τ | {lb} / {la} |")
-    print("|---|" + "---:|" * len(planners) + "---:|---:|")
+    print("\n".join(comparison(ma, mb, scenarios, planners, (la, lb))))
+
+
+def comparison(
+    ma: dict[tuple[str, str], float],
+    mb: dict[tuple[str, str], float],
+    scenarios: list[str],
+    planners: list[str],
+    labels: tuple[str, str],
+) -> list[str]:
+    """The Markdown lines of the comparison of two sets of means."""
+    la, lb = labels
+    out: list[str] = []
+    add = out.append
+    add(f"Mean Fréchet deviation (m), {la} / {lb}, and the planner's rank (1 = lowest) under each:")
+    add("")
+    add("| scenario | " + " | ".join(planners) + f" | Kendall τ | {lb} / {la} |")
+    add("|---|" + "---:|" * len(planners) + "---:|---:|")
     suite_a = {p: 0.0 for p in planners}
     suite_b = {p: 0.0 for p in planners}
     for s in scenarios:
@@ -80,7 +99,7 @@ def main(argv: list[str] | None = None) -> None:
             f"{x:.2f} / {y:.2f} ({i} / {j})" for x, y, i, j in zip(va, vb, ra, rb, strict=True)
         ]
         tau_text = "–" if math.isnan(tau) else f"{tau:+.2f}"
-        print(f"| {s} | " + " | ".join(cells) + f" | {tau_text} | {ratio:.2f} |")
+        add(f"| {s} | " + " | ".join(cells) + f" | {tau_text} | {ratio:.2f} |")
         for p, x, y in zip(planners, va, vb, strict=True):
             suite_a[p] += x / len(scenarios)
             suite_b[p] += y / len(scenarios)
@@ -89,11 +108,12 @@ def main(argv: list[str] | None = None) -> None:
     ra, rb = ranks(va), ranks(vb)
     tau = stats.kendalltau(va, vb).statistic
     cells = [f"{x:.2f} / {y:.2f} ({i} / {j})" for x, y, i, j in zip(va, vb, ra, rb, strict=True)]
-    print(
+    add(
         f"| **mean of {len(scenarios)}** | "
         + " | ".join(cells)
         + f" | {tau:+.2f} | {sum(vb) / sum(va):.2f} |"
     )
+    return out
 
 
 if __name__ == "__main__":

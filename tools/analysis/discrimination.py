@@ -10,16 +10,17 @@ seeds needed per scenario; the selection of the `discriminative` suite; its repo
     nice -n 5 .venv/bin/python tools/analysis/discrimination.py run results/disc-report \
         --suite discriminative --seeds 0-99
     .venv/bin/python tools/analysis/discrimination.py report results/disc-report \
-        --json docs/discrimination/report.json
+        --json /tmp/report.json
     # the oracle's CPU time per episode (paper suite; --suite francis for another)
     .venv/bin/python tools/analysis/discrimination.py cost --seeds 0-19
     # any results folder with straight and oracle (e.g. a suite without td3-srfm)
     .venv/bin/python tools/analysis/discrimination.py report results/francis \
-        --json docs/discrimination/francis.json
+        --json /tmp/francis.json
 
 `run` is `srfm benchmark -j 1 --no-logs --no-figures` with the planners below (`-j N`
 for N workers: the same episodes); the other commands read its per-episode files and
-print Markdown (docs/benchmark.md).
+print Markdown. The docs' tables (docs/results/discriminative.md) are generated from the
+committed results sets by ``tools/results/generate.py`` with this file's functions.
 
 SELECTION RULE (written down on 2026-11-27 before the selection was run, and not
 changed after): the candidates are the 28 scenarios of suite `all` (paper, francis,
@@ -108,8 +109,15 @@ def _read(out: Path) -> tuple[list[str], list[str], Cells]:
 
 
 def _measure(out: Path) -> list[dict[str, Any]]:
-    """One entry per scenario: the reference points and every planner's mean."""
+    """One entry per scenario of a run's folder: the reference points and every
+    planner's mean (:func:`measure`)."""
     scenarios, planners, cells = _read(out)
+    return measure(cells, scenarios, planners)
+
+
+def measure(cells: Cells, scenarios: list[str], planners: list[str]) -> list[dict[str, Any]]:
+    """One entry per scenario: the reference points and every planner's mean, SD and
+    goal rate over the seeds every planner has."""
     rows = []
     for s in scenarios:
         seeds = sorted(set.intersection(*(set(cells[s, p]) for p in planners)))
@@ -137,6 +145,31 @@ def _measure(out: Path) -> list[dict[str, Any]]:
     return rows
 
 
+def select(rows: list[dict[str, Any]]) -> list[str]:
+    """Apply the selection rule to measured rows (adds ``fails`` and ``rank`` to each);
+    return the suite, in the rows' (the library's) order."""
+    for r in rows:
+        r["fails"] = _qualifies(r)
+    qualified = [r for r in rows if not r["fails"]]
+    qualified.sort(key=lambda r: -r["headroom_m"] / r["sd_diff_m"])
+    for rank, r in enumerate(qualified, start=1):
+        r["rank"] = rank
+    chosen = {r["scenario"] for r in qualified[:MAX_SUITE]}
+    return [r["scenario"] for r in rows if r["scenario"] in chosen]
+
+
+def thresholds() -> dict[str, float]:
+    """The rule's thresholds, as the selection file records them."""
+    return {
+        "min_headroom_m": MIN_HEADROOM_M,
+        "min_standard_errors": MIN_STANDARD_ERRORS,
+        "min_goal_rate": MIN_GOAL_RATE,
+        "detect_m": DETECT_M,
+        "max_seeds": MAX_SEEDS,
+        "max_suite": MAX_SUITE,
+    }
+
+
 def _qualifies(row: dict[str, Any]) -> list[str]:
     """The conditions (a)-(d) a scenario fails (empty: it qualifies)."""
     failed = []
@@ -155,7 +188,7 @@ def _f(x: float, digits: int = 2) -> str:
     return "–" if x is None or not math.isfinite(x) else f"{x:.{digits}f}"
 
 
-def _table(rows: list[dict[str, Any]], *, selection: bool) -> str:
+def table(rows: list[dict[str, Any]], *, selection: bool) -> str:
     head = (
         "| scenario | straight (m) | oracle (m) | stay (m) | headroom (m) [95 % CI] "
         "| SE (m) | headroom / SE | σ_d (m) | seeds for 0.05 m | oracle goal | discriminates |"
@@ -191,7 +224,7 @@ def _planners(rows: list[dict[str, Any]]) -> list[str]:
     return [p for p in PLANNERS if p in measured]
 
 
-def _scores_table(rows: list[dict[str, Any]]) -> str:
+def scores_table(rows: list[dict[str, Any]]) -> str:
     planners = [p for p in _planners(rows) if p not in ("straight", "oracle")]
     head = "| scenario | " + " | ".join(planners) + " |"
     lines = [head, "|---" * (len(planners) + 1) + "|"]
@@ -204,7 +237,7 @@ def _scores_table(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
-def _means_table(rows: list[dict[str, Any]]) -> str:
+def means_table(rows: list[dict[str, Any]]) -> str:
     planners = _planners(rows)
     head = "| scenario | " + " | ".join(planners) + " |"
     lines = [head, "|---" * (len(planners) + 1) + "|"]
@@ -247,26 +280,13 @@ def cmd_select(args: argparse.Namespace) -> None:
     if manifest["request"]["planners"] != list(PLANNERS):
         raise SystemExit(f"{args.out}: the selection rule needs the planners {PLANNERS}")
     rows = _measure(args.out)
-    for r in rows:
-        r["fails"] = _qualifies(r)
+    suite = select(rows)
     qualified = [r for r in rows if not r["fails"]]
-    qualified.sort(key=lambda r: -r["headroom_m"] / r["sd_diff_m"])
-    for rank, r in enumerate(qualified, start=1):
-        r["rank"] = rank
-    chosen = {r["scenario"] for r in qualified[:MAX_SUITE]}
-    suite = [r["scenario"] for r in rows if r["scenario"] in chosen]
     measured = {r["scenario"] for r in rows}
     incomplete = [s for s in manifest["request"]["scenarios"] if s not in measured]
     doc = {
         "rule": __doc__.split("SELECTION RULE")[1].split('"""')[0].strip(),
-        "thresholds": {
-            "min_headroom_m": MIN_HEADROOM_M,
-            "min_standard_errors": MIN_STANDARD_ERRORS,
-            "min_goal_rate": MIN_GOAL_RATE,
-            "detect_m": DETECT_M,
-            "max_seeds": MAX_SEEDS,
-            "max_suite": MAX_SUITE,
-        },
+        "thresholds": thresholds(),
         "planners": list(PLANNERS),
         "suite": suite,
         # candidates whose episodes were not all there: not selected from
@@ -275,7 +295,7 @@ def cmd_select(args: argparse.Namespace) -> None:
     }
     args.json.parent.mkdir(parents=True, exist_ok=True)
     args.json.write_text(json.dumps(doc, indent=1, allow_nan=True) + "\n", encoding="utf-8")
-    print(_table(rows, selection=True))
+    print(table(rows, selection=True))
     print(f"\nqualified: {len(qualified)}; suite: {suite}")
     if incomplete:
         print(f"not complete (left out): {incomplete}")
@@ -286,11 +306,11 @@ def cmd_report(args: argparse.Namespace) -> None:
     doc = {"planners": _planners(rows), "scenarios": rows}
     args.json.parent.mkdir(parents=True, exist_ok=True)
     args.json.write_text(json.dumps(doc, indent=1, allow_nan=True) + "\n", encoding="utf-8")
-    print(_table(rows, selection=False))
+    print(table(rows, selection=False))
     print()
-    print(_means_table(rows))
+    print(means_table(rows))
     print()
-    print(_scores_table(rows))
+    print(scores_table(rows))
 
 
 def cmd_cost(args: argparse.Namespace) -> None:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import json
 import sys
 from pathlib import Path
+from typing import Any
 
 SCENARIOS = {
     "footpath": "Scenario 1",
@@ -126,10 +127,16 @@ def _cell(entry: dict) -> str:
 
 def main(folder: Path) -> None:
     summary = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
-    table = summary["table"]
+    print("\n".join(lines(summary["table"])))
+
+
+def lines(table: dict[str, Any]) -> list[str]:
+    """The Markdown of the comparison, from the ``table`` entry of a summary.json."""
+    out: list[str] = []
+    add = out.append
     n = table["n_seeds"]
-    print(f"| Scenario | Planner | {' | '.join(f'{h}: paper | srfm' for h in HEADERS)} |")
-    print("|---|---|" + "--:|--:|" * len(HEADERS))
+    add(f"| Scenario | Planner | {' | '.join(f'{h}: paper | srfm' for h in HEADERS)} |")
+    add("|---|---|" + "--:|--:|" * len(HEADERS))
     for scenario, paper_name in SCENARIOS.items():
         for planner, label in PLANNERS.items():
             cells = table["scenarios"][scenario][planner]
@@ -139,17 +146,15 @@ def main(folder: Path) -> None:
                 star_text = "\\*" if star else ""
                 parts.append(f"{star_text}{mean:.2f} ± {std:.2f}")
                 parts.append(_cell(cells[column]))
-            print(
-                f"| {scenario} ({paper_name}) | {planner} ({label}) | " + " | ".join(parts) + " |"
-            )
-    print()
-    print("Lowest mean Fréchet deviation per scenario (paper's four planners):")
-    print()
-    print(
+            add(f"| {scenario} ({paper_name}) | {planner} ({label}) | " + " | ".join(parts) + " |")
+    add("")
+    add("Lowest mean Fréchet deviation per scenario (paper's four planners):")
+    add("")
+    add(
         "| Scenario | paper | srfm (same four) "
         "| srfm: td3-srfm vs the lowest other, paired p (Holm) |"
     )
-    print("|---|---|---|---|")
+    add("|---|---|---|---|")
     for scenario in SCENARIOS:
         paper_best = min(PLANNERS, key=lambda p: PAPER[scenario][p][0][0])
         cells = table["scenarios"][scenario]
@@ -158,11 +163,11 @@ def main(folder: Path) -> None:
         rival = min(others, key=lambda p: cells[p]["frechet_m"]["mean"])
         entry = cells[rival]["frechet_m"]
         diff = cells["td3-srfm"]["frechet_m"]["mean"] - entry["mean"]
-        print(
+        add(
             f"| {scenario} | {paper_best} | {ours} | td3-srfm − {rival} = {diff:+.3f} m, "
             f"p = {entry['paired_p']:.2g} (adjusted {entry['paired_p_adjusted']:.2g}) |"
         )
-    print()
+    add("")
     raw = adjusted = 0
     for scenario in table["scenarios"].values():
         for cells in scenario.values():
@@ -173,11 +178,12 @@ def main(folder: Path) -> None:
                 adjusted += (
                     entry["paired_p_adjusted"] is not None and entry["paired_p_adjusted"] < 0.05
                 )
-    print(
+    add(
         f"Paired tests against {table['reference']} in the four unconditional columns "
         f"({n} seeds): {raw} with p < 0.05 before the correction, {adjusted} after Holm's "
         f"over the table's {table['family']['paired']} paired tests."
     )
+    return out
 
 
 if __name__ == "__main__":

@@ -51,6 +51,7 @@ from srfm.fitting import (
     scene_groups,
 )
 from srfm.models import SRFMParams, save_params
+from srfm.models.params import FORM_FIELDS
 
 REPO = Path(__file__).resolve().parents[2]
 PED_FIELDS = ("a_ped", "b_ped", "lambda_ped", "tau")
@@ -101,6 +102,12 @@ SETS: dict[str, Callable[[str], bool]] = {
     "hsr": lambda robot: robot == "hsr",
     "jackal": lambda robot: robot == "jackal",
     "pooled": lambda robot: True,
+}
+FORCE_NAMES = {
+    "exponential": "exponential distance",
+    "ttc": "time-to-collision",
+    "collision_prediction": "collision-prediction",
+    "elliptical": "elliptical",
 }
 SET_LABELS = {"hsr": "HSR", "jackal": "Jackal", "pooled": "pooled"}
 MEASURES = {
@@ -575,6 +582,40 @@ def round_sig(x: float, digits: int = 4) -> float:
     return float(f"{x:.{digits}g}")
 
 
+def robot_part_label(
+    form_name: str, form: Form, full: dict[str, Any], goal: str, set_name: str, data: Data
+) -> str:
+    """What the preset's robot part is: "fitted (...)" only when the fit moved it by more
+    than 0.1 % from every starting point; otherwise "not fitted", naming the starting
+    values (issue 40)."""
+    windows = (
+        f"the encounter windows (lead {LEAD_S:g} s, 4.8 s, goal {goal}, walking starts "
+        f">= 0.3 m/s) of the {SET_LABELS[set_name]} scenes ({full['windows']} windows, "
+        f"{full['tracks']} tracks, {len(data.sets[set_name])} scenes)"
+    )
+    default = with_form({"params": {}}, form)
+    starts = [{f: getattr(default, f) for f in form.fields}]
+    starts += [{**starts[0], **s} for s in form.starts]
+    fitted = {f: float(full["fitted"][f]) for f in form.fields}
+    if not any(
+        all(math.isclose(fitted[f], s[f], rel_tol=1e-3) for f in form.fields) for s in starts
+    ):
+        return f"fitted ({', '.join(form.fields)}) on {windows}"
+    values = []
+    for f in (*form.fields, *(g for g in FORM_FIELDS[form_name] if g not in form.fields)):
+        value, at = round_sig(getattr(default.replace(**fitted), f)), getattr(default, f)
+        how = "the default" if math.isclose(value, at) else f"the default {at:g} divided by ten"
+        if f not in form.fields:
+            how += ", not varied by the fit"
+        values.append(f"{f} = {value:g}, {how}")
+    return (
+        f"not fitted: the {FORCE_NAMES[form_name]} force at default parameters, chosen by a "
+        "held-out test "
+        f"({'; '.join(values)}); the least-squares fit on {windows} did not move it from "
+        "these starting values (by more than 0.1 %)"
+    )
+
+
 def write_preset(
     path: Path,
     name: str,
@@ -616,10 +657,7 @@ def write_preset(
         "(every 1.2 s, 4.8 s, walking starts >= 0.3 m/s, goal = track end): "
         f"{fits['ped_all']['windows']} windows, {fits['ped_all']['tracks']} tracks",
         "robot_form": form_name,
-        "robot_part": f"fitted ({', '.join(form.fields)}) on the encounter windows "
-        f"(lead {LEAD_S:g} s, 4.8 s, goal {goal}, walking starts >= 0.3 m/s) of the "
-        f"{SET_LABELS[set_name]} scenes: {full['windows']} windows, {full['tracks']} tracks, "
-        f"{len(data.sets[set_name])} scenes",
+        "robot_part": robot_part_label(form_name, form, full, goal, set_name, data),
         "heldout_ade_change_vs_robot_ignored": decisive[(set_name, "ade")]["rel"],
         "heldout_ade_p_holm": decisive[(set_name, "ade")]["p_holm"],
         "heldout_pass_error_change_vs_robot_ignored": decisive[(set_name, "pass")]["rel"],

@@ -1,16 +1,19 @@
 """Select a run's checkpoint on a larger validation set than its periodic evaluations.
 
-    python tools/rl/validate_checkpoints.py RUN_DIR [--seeds 10] [--out FILE.json]
+    python tools/rl/validate_checkpoints.py RUN_DIR [--seeds 10] [--out FILE.json] \
+        [--scenes FILE.toml ...]
 
 Every checkpoint of the run (``checkpoints/step_N.zip``) that may be its best
 (:func:`srfm.rl.training.selectable`: after the k2 curriculum) is run as a planner on
 the validation set (the mixed training layouts and
 :data:`srfm.scenarios.training.LIBRARY_VALIDATION`) with ``--seeds`` seeds each, from
-20000 on: seeds that neither the periodic evaluations (10000 on) nor the report (0-99)
-use. The checkpoint with the highest success, then the fewest collisions, wins; a tie
-keeps the earlier one (deviation plays no part: the rule of ``--select-by-outcome``).
-Prints one line per checkpoint and writes them, with the choice, to ``--out`` (default
-``RUN_DIR/validation.json``); a rerun reuses the lines already written.
+20000 on (and on the scenario files ``--scenes``, e.g. the validation scenes of
+issue 43 in ``tools/rl/study43/validation_scenes/``): seeds that neither the periodic
+evaluations (10000 on) nor the report (0-99) use. The checkpoint with the highest
+success, then the fewest collisions, wins; a tie keeps the earlier one (deviation
+plays no part: the rule of ``--select-by-outcome``). Prints one line per checkpoint and
+writes them, with the choice, to ``--out`` (default ``RUN_DIR/validation.json``); a
+rerun reuses the lines already written.
 """
 
 from __future__ import annotations
@@ -36,6 +39,7 @@ def main(argv: list[str]) -> int:
     parser.add_argument("run", type=Path)
     parser.add_argument("--seeds", type=int, default=10)
     parser.add_argument("--out", type=Path, default=None)
+    parser.add_argument("--scenes", nargs="*", default=[], help="more scenario files")
     args = parser.parse_args(argv)
     out = args.out or args.run / "validation.json"
     meta = json.loads((args.run / "config.json").read_text())
@@ -45,7 +49,7 @@ def main(argv: list[str]) -> int:
     done: dict[str, dict[str, object]] = {}
     if out.is_file():
         done = {row["checkpoint"]: row for row in json.loads(out.read_text())["checkpoints"]}
-    scenarios = (TRAINING_SCENARIO, *LIBRARY_VALIDATION)
+    scenarios = (TRAINING_SCENARIO, *LIBRARY_VALIDATION, *args.scenes)
     seeds = list(range(SEED_BASE, SEED_BASE + args.seeds))
     rows = []
     for path in sorted(args.run.glob("checkpoints/step_*.zip")):

@@ -1,0 +1,136 @@
+"""Every number in the docs' generated blocks comes from the committed results sets
+(docs/results/index.md): the pages match what ``make docs-tables`` writes from the
+data, the sets fit their size budget and match their registry, and a packed set gives
+back the benchmark's own tables bit for bit. Reads data only; simulates nothing but
+one tiny benchmark."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from srfm.benchmark import BenchmarkRequest, draw_params, run_benchmark
+from srfm.metrics.tables import benchmark_table, to_markdown
+from tests.benchmark.test_runner import SHORT
+from tests.conftest import write_scenario
+from tools.results import generate, sets
+
+
+def test_every_generated_block_matches_the_results_sets() -> None:
+    stale = generate.stale()
+    assert stale == [], "run `make docs-tables`: " + "; ".join(stale)
+
+
+def test_the_results_sets_fit_their_budget() -> None:
+    total = sum(sets.folder_bytes(n) for n in sets.SETS if sets.exists(n))
+    assert total <= sets.BUDGET_BYTES, f"{total / 1e6:.1f} MB"
+
+
+@pytest.mark.parametrize("name", [n for n in sorted(sets.SETS) if sets.exists(n)])
+def test_a_committed_set_is_what_its_command_makes(name: str) -> None:
+    rset = sets.SETS[name]
+    manifest = sets.manifest(name)
+    record = manifest["results_set"]
+    assert record["name"] == name
+    assert record["command"] == rset.command()
+    assert record["columns"] == rset.columns
+    req = manifest["request"]
+    k = (
+        sets.read_json(rset.folder / sets.PARAM_DRAWS)["k"]
+        if "--param-draws" in rset.options
+        else 0
+    )
+    cells = len(req["scenarios"]) * len(req["planners"]) * len(req["seeds"])
+    table = sets.table(name)
+    assert table.num_rows == cells
+    assert record["episodes"] == cells * (1 + k)
+    # one episode per (scenario, planner, seed), every one of the request
+    keys = set(zip(*(table[c].to_pylist() for c in ("scenario", "planner", "seed")), strict=True))
+    assert len(keys) == cells
+    assert {s for s, _, _ in keys} == set(req["scenarios"])
+    assert {p for _, p, _ in keys} == set(req["planners"])
+
+
+def test_generate_puts_back_a_hand_edited_number(tmp_path: Path) -> None:
+    page = tmp_path / "page.md"
+    block = generate.render("rl-usual-misses", page)
+    text = (
+        "before\n<!-- generated: rl-usual-misses -->\n\n"
+        f"{block}\n\n<!-- end: rl-usual-misses -->\nafter\n"
+    )
+    assert generate.rewrite(text, page) == (text, [])
+    edited = text.replace(" runs (", " runs (1", 1)
+    assert edited != text
+    assert generate.rewrite(edited, page) == (text, ["rl-usual-misses"])
+    with pytest.raises(SystemExit, match="unknown generated block 'nope'"):
+        generate.rewrite("<!-- generated: nope -->\nx\n<!-- end: nope -->\n", page)
+    with pytest.raises(SystemExit, match="has no"):
+        generate.rewrite("<!-- generated: rl-usual-misses -->\nx\n", page)
+
+
+def test_the_concert_count_is_the_study_tables() -> None:
+    text = generate.rl_usual_misses()
+    report = (sets.ROOT / "tools/rl/study/report.md").read_text(encoding="utf-8")
+    row = next(line for line in report.splitlines() if line.startswith("| concert |"))
+    assert row.count("✗") == 12  # the committed study table, counted by hand
+    assert (
+        "(of the 20 runs): `concert`, a standing crowd across the path, missed by 12 runs" in text
+    )
+
+
+def test_a_packed_set_gives_back_the_benchmarks_tables(tmp_path: Path) -> None:
+    scenario = write_scenario(tmp_path / "short.toml", SHORT)  # 120 steps: cheap
+    request = BenchmarkRequest.create(
+        scenarios=[str(scenario)], planners=["straight", "dwa"], seeds=[0, 1, 2]
+    )
+    out = tmp_path / "run"
+    draws = draw_params(request.params, 2, seed=0, source="wide")
+    run_benchmark(request, out, jobs=1, figures=False, param_draws=draws)
+    rset = sets.ResultsSet("tiny", ("-s", str(scenario)), "all", "a test")
+    dest = sets.pack(
+        rset,
+        out,
+        commit="abc1234",
+        started="2026-01-01T00:00:00Z",
+        finished="2026-01-01T00:01:00Z",
+        wall_s=60.0,
+        machine="test",
+        jobs=1,
+        dest=tmp_path / "packed",
+    )
+    manifest = sets.manifest(dest)
+    assert manifest["results_set"]["episodes"] == 6 * 3
+    assert manifest["results_set"]["commit"] == "abc1234"
+    req = manifest["request"]
+    table = benchmark_table(
+        sets.episodes(dest),
+        scenarios=req["scenarios"],
+        planners=req["planners"],
+        seeds=req["seeds"],
+        reference=req["reference"],
+    )
+    assert to_markdown(table) == (out / "table.md").read_text(encoding="utf-8")
+    # the draws: the benchmark's rankings.json, probabilities and means, bit for bit
+    ranked = sets.rank_table_of(dest)
+    doc = json.loads((out / "rankings.json").read_text(encoding="utf-8"))
+    for s in req["scenarios"]:
+        for p in req["planners"]:
+            entry = doc["scenarios"][s][p]
+            assert list(ranked.probabilities[s][p]) == entry["rank_probabilities"]
+            assert list(ranked.means[s][p]) == entry["draw_means"]
+    # a folder that is not finished is refused
+    (out / "draws" / "draw-001" / "episodes.parquet").unlink()
+    with pytest.raises(SystemExit, match="not finished"):
+        sets.pack(
+            rset,
+            out,
+            commit="x",
+            started="",
+            finished="",
+            wall_s=0.0,
+            machine="",
+            jobs=1,
+            dest=tmp_path / "again",
+        )

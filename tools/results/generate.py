@@ -1,0 +1,618 @@
+"""Every generated block of the docs, from the committed results sets (``make docs-tables``).
+
+    .venv/bin/python tools/results/generate.py           # rewrite every block in docs/
+    .venv/bin/python tools/results/generate.py --check   # exit 1 naming each stale block
+
+A block is the text between ``<!-- generated: NAME -->`` and ``<!-- end: NAME -->`` in
+any page under docs/; ``BLOCKS`` maps NAME to the function that writes it from the sets
+of ``docs/results/`` (``tools/results/sets.py``) and other committed data. Nothing is
+simulated: the whole run reads Parquet and JSON files (the test
+``tests/docs/test_generated.py`` runs ``--check`` in ``make test``, so a hand-edited
+number fails). A block whose set is not committed says so, with the command that makes
+it. Every table carries its provenance: the set, when and on which commit it was
+measured, its wall time, its command, planners, parameters and policies.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+
+from srfm.metrics.headroom import seeds_needed, sigma_d
+from srfm.metrics.stats import summarize
+from srfm.metrics.tables import (
+    TABLE_COLUMNS,
+    benchmark_table,
+    summary_dict,
+    to_markdown,
+)
+from srfm.models.params import PRESETS
+from srfm.scenarios.suites import SUITES
+from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
+from tools.results import sets
+
+DOCS = sets.ROOT / "docs"
+BEGIN = re.compile(r"<!-- generated: ([a-z0-9-]+) -->\n")
+END = "<!-- end: {name} -->"
+SEVEN = ("dwa", "orca", "social-force", "straight", "td3-base", "td3-srfm", "vo")
+
+
+class MissingError(Exception):
+    """A results set a block needs is not committed."""
+
+
+def _need(*names: str) -> None:
+    missing = [n for n in names if not sets.exists(n)]
+    if missing:
+        raise MissingError(
+            " and ".join(f"`{n}` (`python tools/results/run.py {n}`)" for n in missing)
+        )
+
+
+def _preset(params: dict[str, Any]) -> str:
+    for name, preset in PRESETS.items():
+        if preset.as_dict() == params:
+            return f"`{name}`"
+    return "custom parameters"
+
+
+def _minutes(seconds: float) -> str:
+    return f"{seconds / 60:.0f} min" if seconds >= 90 else f"{seconds:.0f} s"
+
+
+def provenance(name: str) -> str:
+    """One line: what a set is, when and how it was measured."""
+    m = sets.manifest(name)
+    rs = m["results_set"]
+    req = m["request"]
+    seeds = req["seeds"]
+    p = m["params"]
+    pol = rs["policies_weights_sha256"]
+    policies = ", ".join(f"`{k}` weights {v[:12]}" for k, v in pol.items())
+    return (
+        f"*Results set [`{name}`]({_link(name)}): {rs['episodes']:,} episodes, measured "
+        f"{rs['started'][:16].replace('T', ' ')}–{rs['finished'][11:16]} UTC on commit "
+        f"`{rs['commit']}` ({_minutes(rs['wall_s'])} of wall time with {rs['jobs']} "
+        f"workers; {rs['machine']}); "
+        f"`{rs['command']}`; planners {', '.join(req['planners'])}; seeds "
+        f"{seeds[0]}–{seeds[-1]}; parameters {_preset(p)} (A_r = {p['a_robot']:g} m/s², "
+        f"B_r = {p['b_robot']:g} m); policies: {policies}.*"
+    )
+
+
+_PAGE: Path = DOCS / "index.md"
+
+
+def _link(name: str) -> str:
+    """A relative link from the page being written to a set's manifest."""
+    target = sets.SETS[name].folder / sets.MANIFEST
+    rel = Path(*([".."] * len(_PAGE.parent.relative_to(DOCS).parts))) / target.relative_to(DOCS)
+    return rel.as_posix()
+
+
+def _table(name: str, *, reference: str | None, columns: Any = TABLE_COLUMNS) -> Any:
+    m = sets.manifest(name)
+    req = m["request"]
+    return benchmark_table(
+        sets.episodes(name),
+        scenarios=req["scenarios"],
+        planners=req["planners"],
+        seeds=req["seeds"],
+        reference=reference,
+        columns=columns,
+        correction="holm",
+    )
+
+
+# -- the blocks -----------------------------------------------------------------------
+
+
+def sets_index() -> str:
+    """Every results set: episodes, size, command, when, wall time."""
+    lines = [
+        "| set | episodes | size (MB) | measured (UTC) | commit | wall time (workers) | command |",
+        "|---|--:|--:|---|---|--:|---|",
+    ]
+    total = 0
+    for name, rset in sets.SETS.items():
+        if not sets.exists(name):
+            lines.append(f"| `{name}` | – | – | not committed | – | – | `{rset.command()}` |")
+            continue
+        rs = sets.manifest(name)["results_set"]
+        size = sets.folder_bytes(name)
+        total += size
+        lines.append(
+            f"| [`{name}`]({_link(name)}) | {rs['episodes']:,} | {size / 1e6:.2f} | "
+            f"{rs['started'][:16].replace('T', ' ')} | `{rs['commit']}` | "
+            f"{_minutes(rs['wall_s'])} ({rs['jobs']}) | `{rs['command']}` |"
+        )
+    lines += [
+        "",
+        f"All sets together: {total / 1e6:.2f} MB of the budget of "
+        f"{sets.BUDGET_BYTES / 1e6:.1f} MB.",
+    ]
+    return "\n".join(lines)
+
+
+def paper_table3_block() -> str:
+    _need("paper")
+    table = _table("paper", reference="td3-srfm")
+    lines = paper_table3.lines(summary_dict(table))
+    return provenance("paper") + "\n\n" + "\n".join(lines)
+
+
+def paper_full() -> str:
+    _need("paper")
+    table = _table("paper", reference="td3-srfm")
+    return provenance("paper") + "\n\n" + to_markdown(table).strip()
+
+
+def _outcome_sentence(name: str, planners: tuple[str, ...] | None = None) -> str:
+    """Which planners reached the goal in every episode, and the others' outcomes."""
+    t = sets.table(name)
+    rows = list(zip(*(t[c].to_pylist() for c in ("scenario", "planner", "outcome")), strict=True))
+    req = sets.manifest(name)["request"]
+    chosen = planners or tuple(req["planners"])
+    always, parts = [], []
+    for p in chosen:
+        mine = [(s, o) for s, q, o in rows if q == p]
+        misses: dict[str, dict[str, int]] = {}
+        for s, o in mine:
+            if o != "goal_reached":
+                misses.setdefault(s, {}).setdefault(o, 0)
+                misses[s][o] += 1
+        if not misses:
+            always.append(f"`{p}`")
+            continue
+        text = "; ".join(
+            f"{s}: " + ", ".join(f"{k} {v.replace('_', ' ')}" for v, k in sorted(c.items()))
+            for s, c in misses.items()
+        )
+        parts.append(f"`{p}` ({text})")
+    n = len(req["seeds"])
+    head = (
+        f"Reached the goal in all {n} seeds of every scenario: {', '.join(always)}."
+        if always
+        else ""
+    )
+    tail = (" Episodes that did not: " + "; ".join(parts) + ".") if parts else ""
+    return (head + tail).strip()
+
+
+def paper_outcomes() -> str:
+    _need("paper")
+    return _outcome_sentence("paper")
+
+
+def _rows(name: str) -> list[dict[str, Any]]:
+    """Discrimination rows (reference points per scenario) of a set with straight and
+    oracle."""
+    req = sets.manifest(name)["request"]
+    return _disc_rows([name], req["scenarios"])
+
+
+def _disc_rows(names: list[str], scenarios: list[str]) -> list[dict[str, Any]]:
+    cells: dict[tuple[str, str], dict[int, dict[str, float]]] = {}
+    planners: list[str] = []
+    for name in names:
+        for (s, p), by_seed in sets.frechet(name).items():
+            cells[s, p] = {
+                k: {"frechet_m": v, "success": float(o == "goal_reached")}
+                for k, (v, o) in by_seed.items()
+            }
+        planners += [p for p in sets.manifest(name)["request"]["planners"] if p not in planners]
+    ordered = [p for p in discrimination.PLANNERS if p in planners]
+    return discrimination.measure(cells, list(scenarios), ordered)
+
+
+def paper_references() -> str:
+    _need("paper")
+    rows = _rows("paper")
+    return (
+        discrimination.table(rows, selection=False)
+        + "\n\nNormalised scores (0: `straight`, 1: the oracle) with their 95 % paired-"
+        "bootstrap intervals, over all episodes (failures included):\n\n"
+        + discrimination.scores_table(rows)
+    )
+
+
+def _suite_means(name: str, without: list[str]) -> str:
+    t = sets.table(name)
+    cols = {c: t[c].to_pylist() for c in ("scenario", "planner", "frechet_m", "outcome")}
+    rows = [
+        {
+            "scenario": s,
+            "planner": p,
+            "frechet_m": "" if v is None else repr(v),
+            "robot_success": str(float(o == "goal_reached")),
+            "robot_collision": str(float(o == "collision")),
+        }
+        for s, p, v, o in zip(
+            cols["scenario"], cols["planner"], cols["frechet_m"], cols["outcome"], strict=True
+        )
+    ]
+    return "\n".join(suite_summary.summary(rows, without=without, success=True)[2:])
+
+
+def francis_references() -> str:
+    _need("francis")
+    return provenance("francis") + "\n\n" + discrimination.table(_rows("francis"), selection=False)
+
+
+def francis_means() -> str:
+    _need("francis")
+    return _suite_means("francis", ["narrow_hallway"])
+
+
+def francis_scores() -> str:
+    _need("francis")
+    return discrimination.scores_table(_rows("francis"))
+
+
+def francis_outcomes() -> str:
+    _need("francis")
+    return _outcome_sentence("francis")
+
+
+def francis_full() -> str:
+    _need("francis")
+    table = _table("francis", reference="straight")
+    return to_markdown(table).strip()
+
+
+def navwareset_references() -> str:
+    _need("navwareset")
+    rows = _rows("navwareset")
+    return (
+        provenance("navwareset")
+        + "\n\n"
+        + discrimination.table(rows, selection=False)
+        + "\n\n"
+        + discrimination.means_table(rows)
+    )
+
+
+def flows_table() -> str:
+    _need("flows")
+    table = _table("flows", reference="td3-srfm")
+    return (
+        provenance("flows")
+        + "\n\n"
+        + to_markdown(table).strip()
+        + "\n\n"
+        + _outcome_sentence("flows")
+    )
+
+
+def _preset_block(a: str, b: str) -> str:
+    _need(a, b)
+    ma, scen, planners, _ = compare_presets.means_of_rows(_csv_rows(a), frozenset(SEVEN), a)
+    mb, scen_b, planners_b, _ = compare_presets.means_of_rows(_csv_rows(b), frozenset(SEVEN), b)
+    if (scen, planners) != (scen_b, planners_b):
+        raise SystemExit(f"{a} and {b} hold different scenarios or planners")
+    lines = compare_presets.comparison(
+        ma, mb, scen, planners, ("agrawal2024", "navwareset2026_ttc")
+    )
+    return provenance(a) + "\n\n" + provenance(b) + "\n\n" + "\n".join(lines)
+
+
+def _csv_rows(name: str) -> list[dict[str, str]]:
+    t = sets.table(name)
+    return [
+        {"scenario": s, "planner": p, "frechet_m": "" if v is None else repr(v)}
+        for s, p, v in zip(
+            *(t[c].to_pylist() for c in ("scenario", "planner", "frechet_m")), strict=True
+        )
+    ]
+
+
+def presets_paper() -> str:
+    return _preset_block("paper", "paper_ttc")
+
+
+def presets_francis() -> str:
+    return _preset_block("francis", "francis_ttc")
+
+
+def _rank_table() -> Any:
+    _need("draws")
+    return sets.rank_table_of("draws")
+
+
+def rankings_summary() -> str:
+    table = _rank_table()
+    base = sets.frechet("draws")
+    seeds = sets.manifest("draws")["request"]["seeds"]
+    lines = [
+        provenance("draws"),
+        "",
+        f"P(ranked first) [95 % Monte-Carlo interval over the {table.n_draws} draws] / "
+        f"expected rank (1–{len(table.planners)}), by mean Fréchet deviation over seeds "
+        f"{seeds[0]}–{seeds[-1]}; last column: the order at the run's own parameters:",
+        "",
+        "| scenario | " + " | ".join(table.planners) + " | order at the base parameters |",
+        "|---|" + "--:|" * len(table.planners) + "---|",
+    ]
+    for s in table.scenarios:
+        cells = []
+        for p in table.planners:
+            probs = table.probabilities[s][p]
+            low, high = table.probability_interval(s, p, 1)
+            expected = sum((r + 1) * v for r, v in enumerate(probs))
+            cells.append(f"{probs[0]:.2f} [{low:.2f}, {high:.2f}] / {expected:.1f}")
+        base_means = {
+            p: summarize(sets.frechet_array(base, s, p, seeds)).mean for p in table.planners
+        }
+        order = sorted(table.planners, key=lambda p: base_means[p])
+        lines.append(f"| {s} | " + " | ".join(cells) + " | " + ", ".join(order) + " |")
+    return "\n".join(lines)
+
+
+def rankings_intervals() -> str:
+    table = _rank_table()
+    lines = [
+        "| scenario | planner | P(1st) [95 %] | P(last) [95 %] | Fréchet over the draws (m): "
+        "2.5 % · median · 97.5 % |",
+        "|---|---|--:|--:|--:|",
+    ]
+    last = len(table.planners)
+    for s in table.scenarios:
+        for p in table.planners:
+            probs = table.probabilities[s][p]
+            f_low, f_high = table.probability_interval(s, p, 1)
+            l_low, l_high = table.probability_interval(s, p, last)
+            low, mid, high = table.interval(s, p)
+            lines.append(
+                f"| {s} | {p} | {probs[0]:.2f} [{f_low:.2f}, {f_high:.2f}] | "
+                f"{probs[-1]:.2f} [{l_low:.2f}, {l_high:.2f}] | "
+                f"{low:.3f} · {mid:.3f} · {high:.3f} |"
+            )
+    return table.description + ".\n\n" + "\n".join(lines)
+
+
+def _suite_change(suite: list[str]) -> str:
+    shipped = list(SUITES["discriminative"])
+    entered = [s for s in suite if s not in shipped]
+    left = [s for s in shipped if s not in suite]
+    if not entered and not left:
+        return "the suite shipped as `discriminative`"
+    return (
+        f"against the suite shipped as `discriminative`, entered: "
+        f"{', '.join(f'`{s}`' for s in entered) or 'none'}; left: "
+        f"{', '.join(f'`{s}`' for s in left) or 'none'}"
+    )
+
+
+def selection_table() -> str:
+    if not sets.exists("selection"):
+        doc = sets.read_json(DOCS / "discrimination" / "selection.json")
+        rows = doc["scenarios"]
+        suite = list(doc["suite"])
+        head = (
+            "*Not measured again with the shipped entries yet (results set `selection`: "
+            "`python tools/results/run.py selection`). The selection that chose the "
+            "shipped suite, measured on 2026-11-27 with the entries of then (the TD3 "
+            "planners were the paper-observation policies), from "
+            "`docs/discrimination/selection.json`"
+            + (f"; not complete then: {', '.join(doc['incomplete'])}" if doc["incomplete"] else "")
+            + ":*"
+        )
+    else:
+        rows = _rows("selection")
+        suite = discrimination.select(rows)
+        head = provenance("selection")
+    qualified = sum(not r["fails"] for r in rows)
+    text = (
+        head
+        + "\n\n"
+        + discrimination.table(rows, selection=True)
+        + f"\n\n{qualified} of the {len(rows)} candidates qualify; the rule chooses "
+        + ", ".join(f"`{s}`" for s in suite)
+        + f" ({_suite_change(suite)})."
+    )
+    if sets.exists("selection") and sets.exists("selection_flow"):
+        text += "\n\n" + _flow_condition_d()
+    return text
+
+
+def _flow_condition_d() -> str:
+    """corridor_flow against condition (d), which does not involve the oracle."""
+    req = sets.manifest("selection_flow")["request"]
+    cells = sets.frechet("selection_flow")
+    values = {
+        p: sets.frechet_array(cells, "corridor_flow", p, req["seeds"]) for p in req["planners"]
+    }
+    sd = sigma_d(values)
+    needed = seeds_needed(sd)
+    verdict = (
+        "fails (d) whatever the oracle would do, so it cannot enter the suite"
+        if needed > discrimination.MAX_SEEDS
+        else "meets (d); whether it qualifies would need the oracle's episodes"
+    )
+    return (
+        provenance("selection_flow")
+        + f"\n\n`corridor_flow`, the one candidate not above (its oracle costs tens of "
+        f"seconds an episode), measured without the oracle on the same seeds: σ_d = "
+        f"{sd:.3f} m over the pairs of its {len(req['planners']) - 2} non-reference "
+        f"planners, {needed:,} seeds to detect 0.05 m: it {verdict}."
+    )
+
+
+def discriminative_tables() -> str:
+    _need("francis", "navwareset")
+    suite = list(SUITES["discriminative"])
+    names = [n for n in ("francis", "navwareset", "paper") if sets.exists(n)]
+    available = {s for n in names for s in sets.manifest(n)["request"]["scenarios"]}
+    missing = [s for s in suite if s not in available]
+    if missing:
+        raise MissingError(f"with the scenarios {', '.join(missing)}")
+    rows = _disc_rows(names, suite)
+    failing = [r for r in rows if discrimination._qualifies(r)]
+    verdict = (
+        "Every one of them meets the rule's conditions (a)–(d) on these seeds too."
+        if not failing
+        else "On these seeds "
+        + "; ".join(
+            f"`{r['scenario']}` fails ({', '.join(discrimination._qualifies(r))})"
+            + (f": {r['seeds_needed']:,} seeds for 0.05 m" if r["seeds_needed"] else "")
+            for r in failing
+        )
+        + f"; the other {len(rows) - len(failing)} meet (a)–(d)."
+    )
+    return (
+        f"The suite `discriminative` ({', '.join(f'`{s}`' for s in suite)}) on seeds 0–99, "
+        f"from the sets {', '.join(f'`{n}`' for n in names)}. {verdict}\n\n"
+        + discrimination.table(rows, selection=False)
+        + "\n\nFréchet deviation per planner (m, mean ± SD over seeds, all episodes; in "
+        "brackets the share of episodes that reached the goal):\n\n"
+        + discrimination.means_table(rows)
+        + "\n\nNormalised score (0 = `straight`, 1 = the oracle; [95 % paired-bootstrap "
+        "interval]):\n\n" + discrimination.scores_table(rows)
+    )
+
+
+def _study_misses(scenario: str) -> tuple[int, int, int]:
+    """(runs, runs that miss the cell, of those the runs with a collision) in the RL
+    study's committed table of targets (tools/rl/study/report.md: success / collision /
+    out of bounds per run, ✗ where the run misses the target)."""
+    report = (sets.ROOT / "tools" / "rl" / "study" / "report.md").read_text(encoding="utf-8")
+    row = next(line for line in report.splitlines() if line.startswith(f"| {scenario} |"))
+    cells = [c.strip() for c in row.strip().strip("|").split("|")[1:]]
+    missed = [c for c in cells if "✗" in c]
+    collided = sum(float(c.split("/")[1]) > 0 for c in missed)
+    return len(cells), len(missed), collided
+
+
+def rl_usual_misses() -> str:
+    """The cells the study's runs miss most, from its committed table."""
+    n, concert, concert_coll = _study_misses("concert")
+    _, flow, flow_coll = _study_misses("corridor_flow")
+    _, down, _ = _study_misses("down_path")
+    _, corner, _ = _study_misses("blind_corner")
+    return (
+        f"The usual misses (of the {n} runs): `concert`, a standing crowd across the path, "
+        f"missed by {concert} runs ({concert - concert_coll} of them without a collision: "
+        f"they wait until the horizon); `corridor_flow`, collisions with the entering "
+        f"stream, by {flow} ({flow_coll} with collisions); `down_path` by {down} and "
+        f"`blind_corner` by {corner} (`tools/rl/study/report.md`)."
+    )
+
+
+def oracle_cost() -> str:
+    """The oracle's CPU time per episode (docs/discrimination/oracle_cost*.json, written
+    by ``tools/analysis/discrimination.py cost``) and its goal rate in the sets."""
+    rows = [
+        "| suite | scenario | CPU s / episode, mean (max), seeds 0–19 | oracle reached the "
+        "goal, seeds 0–99 |",
+        "|---|---|--:|--:|",
+    ]
+    for suite, file, name in (
+        ("paper", "oracle_cost.json", "paper"),
+        ("francis", "oracle_cost_francis.json", "francis"),
+    ):
+        doc = sets.read_json(DOCS / "discrimination" / file)
+        cells = sets.frechet(name) if sets.exists(name) else {}
+        for scenario, entry in doc.items():
+            by_seed = cells.get((scenario, "oracle"), {})
+            reached = sum(o == "goal_reached" for _, o in by_seed.values())
+            goal = f"{100 * reached / len(by_seed):.0f} %" if by_seed else "–"
+            rows.append(
+                f"| {suite} | {scenario} | {entry['mean_s']:.2f} ({entry['max_s']:.2f}) | {goal} |"
+            )
+    return "\n".join(rows)
+
+
+BLOCKS: dict[str, Callable[[], str]] = {
+    "results-sets": sets_index,
+    "paper-table3": paper_table3_block,
+    "paper-outcomes": paper_outcomes,
+    "paper-references": paper_references,
+    "paper-full": paper_full,
+    "francis-references": francis_references,
+    "francis-means": francis_means,
+    "francis-scores": francis_scores,
+    "francis-outcomes": francis_outcomes,
+    "francis-full": francis_full,
+    "navwareset-references": navwareset_references,
+    "flows-table": flows_table,
+    "presets-paper": presets_paper,
+    "presets-francis": presets_francis,
+    "rankings-summary": rankings_summary,
+    "rankings-intervals": rankings_intervals,
+    "selection-table": selection_table,
+    "discriminative-tables": discriminative_tables,
+    "rl-usual-misses": rl_usual_misses,
+    "oracle-cost": oracle_cost,
+}
+
+
+def render(name: str, page: Path) -> str:
+    """The text of block ``name`` as written on ``page``."""
+    global _PAGE
+    _PAGE = page
+    if name not in BLOCKS:
+        raise SystemExit(f"{page}: unknown generated block {name!r}; known: {sorted(BLOCKS)}")
+    try:
+        return BLOCKS[name]().strip()
+    except MissingError as exc:
+        return f"*Not measured yet: no committed results set {exc}.*"
+
+
+def rewrite(text: str, page: Path) -> tuple[str, list[str]]:
+    """The page with every block regenerated, and the names of the blocks that changed."""
+    out, pos, changed = [], 0, []
+    for match in BEGIN.finditer(text):
+        name = match.group(1)
+        end = text.find(END.format(name=name), match.end())
+        if end < 0:
+            raise SystemExit(f"{page}: block {name!r} has no {END.format(name=name)!r}")
+        new = "\n" + render(name, page) + "\n\n"
+        if text[match.end() : end] != new:
+            changed.append(name)
+        out += [text[pos : match.end()], new]
+        pos = end
+    out.append(text[pos:])
+    return "".join(out), changed
+
+
+def pages() -> list[Path]:
+    """Every Markdown page under docs/ with a generated block."""
+    return sorted(p for p in DOCS.rglob("*.md") if BEGIN.search(p.read_text(encoding="utf-8")))
+
+
+def stale() -> list[str]:
+    """``page: block`` for every block whose committed text differs from the data's."""
+    found = []
+    for page in pages():
+        _, changed = rewrite(page.read_text(encoding="utf-8"), page)
+        found += [f"{page.relative_to(sets.ROOT)}: {name}" for name in changed]
+    return found
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--check", action="store_true", help="change nothing; exit 1 if stale")
+    args = ap.parse_args(argv)
+    if args.check:
+        found = stale()
+        for line in found:
+            print(f"stale: {line}")
+        if found:
+            raise SystemExit("generated blocks differ from the results sets: make docs-tables")
+        return
+    for page in pages():
+        text = page.read_text(encoding="utf-8")
+        new, changed = rewrite(text, page)
+        if changed:
+            page.write_text(new, encoding="utf-8")
+            print(f"{page.relative_to(sets.ROOT)}: {', '.join(changed)}")
+
+
+if __name__ == "__main__":
+    main()

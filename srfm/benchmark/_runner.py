@@ -40,6 +40,7 @@ from srfm._io import (
 from srfm._text import plain
 from srfm.benchmark._dask import check_scheduler, map_on_dask
 from srfm.benchmark._draws import ParamDraws, check_param_draws, draw_folder, render_rankings
+from srfm.benchmark._floor import FloorTask, pending_floors, run_floor_task
 from srfm.benchmark._html import REPORT, render_report
 from srfm.benchmark._models import (
     ROBUSTNESS_JSON,
@@ -63,6 +64,7 @@ from srfm.benchmark.figures import (
 )
 from srfm.errors import BenchmarkError, SrfmError
 from srfm.metrics import EpisodeMetrics, episode_metrics
+from srfm.metrics.floor_files import load_floors
 from srfm.metrics.report import render_tables
 from srfm.models.params import SRFMParams
 from srfm.planners.external import is_external
@@ -187,6 +189,14 @@ def _run_task(task: _Task) -> tuple[str, int, bool]:
                 save_figure_episode(out, record)
             write_episode(out, metrics)  # last: an episode counts as done once this exists
     return task.scenario.name, task.size, task.has_figure
+
+
+def _run_any(task: _Task | FloorTask) -> tuple[str, int, bool]:
+    """Worker: an episode task (:func:`_run_task`) or a noise floor task
+    (:func:`srfm.benchmark._floor.run_floor_task`)."""
+    if isinstance(task, FloorTask):
+        return run_floor_task(task)
+    return _run_task(task)
 
 
 def _warm_up(task: _Start, *, metrics: bool = True) -> EpisodeRecord | None:
@@ -574,6 +584,7 @@ def run_benchmark(
         atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
         damaged: list[str] = []
         tasks = _pending_tasks(out, request, writer, figures, damaged)
+        floor_tasks = pending_floors(out, request.scenarios, request.seeds, request.params, _CHUNK)
         cells = len(request.scenarios) * len(request.planners) * len(request.seeds)
         total = cells * (1 + n_draws + len(others))
         pending = sum(t.size for t in tasks)
@@ -583,12 +594,12 @@ def run_benchmark(
             on_progress(cells - pending)
         start = time.perf_counter()
         drawn = _EarlyFigures(out, request, tasks)
-        if tasks:
-            if executor == "process" and jobs > 1 and sys.platform != "win32":
+        if tasks or floor_tasks:
+            if tasks and executor == "process" and jobs > 1 and sys.platform != "win32":
                 _compile_in_parent(tasks)  # the forked workers (map_tasks) inherit them
             for scenario, done, figure in map_tasks(
-                _run_task,
-                tasks,
+                _run_any,
+                [*tasks, *floor_tasks],
                 executor=executor,
                 jobs=jobs,
                 scheduler=scheduler,
@@ -664,16 +675,22 @@ def _write_reports(
     a kill never leaves tables of one run beside CSV files of another. ``drawn``: the
     path figures already rendered (:class:`_EarlyFigures`)."""
     results = load_results(out, request)
+    names = [s.name for s in request.scenarios]
     files, tables = render_tables(
         results,
-        scenarios=[s.name for s in request.scenarios],
+        scenarios=names,
         planners=request.planners,
         seeds=request.seeds,
         params=request.params,
         reference=request.reference,
+        floors=load_floors(out, names, request.seeds),
     )
     if figures:
-        files.update(render_figures(out, request, tables.table, tables.extended, drawn=drawn))
+        files.update(
+            render_figures(
+                out, request, tables.table, tables.extended, drawn=drawn, suite=tables.suite
+            )
+        )
     files.update(
         render_rankings(out, [s.name for s in request.scenarios], request.planners, request.seeds)
     )

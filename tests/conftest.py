@@ -17,6 +17,7 @@ RESULT_TABLES = (
     "outcomes.md",
     "table_extended.md",
     "table_extended.tex",
+    "suite.md",
     "summary.json",
     "episodes.csv",
     "pedestrians.csv",

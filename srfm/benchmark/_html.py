@@ -30,6 +30,7 @@ from srfm.benchmark._request import check_manifest_schema
 from srfm.benchmark._results import episode_path, read_episode
 from srfm.errors import BenchmarkError, SrfmError
 from srfm.metrics.episode import EPISODE_METRICS, METRIC_GROUPS
+from srfm.metrics.floor_files import load_floors
 from srfm.metrics.report import MANIFEST, SUMMARY_SCHEMA, render_tables
 from srfm.metrics.tables import GIVEN_SUCCESS, base_metric, outcome_shares, share_text
 from srfm.models.params import SRFMParams
@@ -55,6 +56,7 @@ _DATA_FILES: Final = (
     ("outcomes.md", "robot outcomes (Markdown)"),
     ("table_extended.md", "every metric (Markdown)"),
     ("table_extended.tex", "every metric (LaTeX)"),
+    ("suite.md", "suite statistics: IQMs, probabilities of improvement (Markdown)"),
     ("episodes.csv", "one row per episode"),
     ("episodes.parquet", "the same as Parquet"),
     ("pedestrians.csv", "one row per episode and pedestrian"),
@@ -215,6 +217,122 @@ def _interval(entry: Mapping[str, Any], digits: int) -> str:
     return f"{est:.{digits}f} [{low:.{digits}f}, {high:.{digits}f}]"
 
 
+def _score(ref: Mapping[str, Any], planner: str) -> str:
+    """A normalised score as the tables print it (:func:`srfm.metrics.tables.score_text`)."""
+    score = ref["scores"][planner]
+    k = f"(k={score['n']}/{ref.get('n_seeds', score['n'])})"
+    if score.get("estimate") is None:
+        return f"undefined {k}"
+    return f"{_interval(score, 2)} {k}"
+
+
+def _headroom(ref: Mapping[str, Any]) -> str:
+    text = _interval(ref["headroom"], 3)
+    beats = ref.get("beats_oracle") or []
+    if beats:
+        text += f" ≥ (lower bound: {', '.join(beats)} beat the oracle)"
+    return text
+
+
+def _attribution(doc: Mapping[str, Any] | None, planners: Sequence[str]) -> str:
+    """The noise floor and the direct / knock-on deviation of every scenario."""
+    if not doc:
+        return "<p>No attribution in this summary.</p>"
+    floor_rows, split_rows = [], []
+    for scenario, entry in doc["scenarios"].items():
+        floor = entry.get("floor")
+        if floor is not None:
+            weak = [
+                f"{d['a']}–{d['b']}" for d in entry.get("differences", []) if not d["attributable"]
+            ]
+            share = floor.get("share")
+            std = floor.get("std")
+            floor_rows.append(
+                f'<tr><td class="name">{_esc(scenario)}</td><td>{floor["mean"]:.4f}</td>'
+                f"<td>{'–' if std is None else f'{std:.4f}'}</td>"
+                f"<td>{'–' if share is None else f'{100 * share:.1f} %'}</td>"
+                f'<td class="name verdict">{_esc(floor["verdict"])}</td>'
+                f'<td class="name weak">{_esc(", ".join(weak) or "none")}</td></tr>'
+            )
+        tds = []
+        for p in planners:
+            cells = entry["split"][p]
+            direct = cells["frechet_direct_m"]["mean"]
+            knock = cells["frechet_knock_on_m"]["mean"]
+            felt = cells["pedestrians_felt"]["mean"]
+            text = "–" if direct is None else f"{direct:.3f} / {knock:.3f} ({felt:.1f} felt)"
+            tds.append(f'<td class="split">{_esc(text)}</td>')
+        split_rows.append(f'<tr><td class="name">{_esc(scenario)}</td>{"".join(tds)}</tr>')
+    parts = []
+    if floor_rows:
+        parts.append(
+            '<h3 id="floor">Noise floor</h3><div class="scroll"><table class="floor"><thead>'
+            '<tr><th class="name">Scenario</th><th>Floor (m)</th><th>SD over seeds (m)</th>'
+            '<th>Share of the deviation</th><th class="name">Measures</th>'
+            '<th class="name">Differences not attributable to the planners</th></tr></thead>'
+            "<tbody>" + "".join(floor_rows) + "</tbody></table></div>"
+        )
+    else:
+        parts.append("<p>This folder has no noise floor files.</p>")
+    head = "".join(f"<th>{_esc(p)}</th>" for p in planners)
+    parts.append(
+        '<h3 id="split">Direct and knock-on deviation</h3><div class="scroll">'
+        '<table class="split"><thead><tr><th class="name">Scenario</th>'
+        f"{head}</tr></thead><tbody>"
+        + "".join(split_rows)
+        + "</tbody></table></div>"
+        + '<p class="legend">Each cell: mean direct / knock-on deviation (m) and the mean '
+        "number of pedestrians who felt the robot. " + _esc(doc["legend"]) + "</p>"
+    )
+    return "".join(parts)
+
+
+def _suite(doc: Mapping[str, Any] | None, profiles: bool) -> str:
+    """The suite statistics: IQMs, probabilities of improvement, profiles."""
+    if not doc:
+        return "<p>No suite statistics in this summary.</p>"
+    planners = list(doc["deviation_iqm"])
+    scored = bool(doc.get("score_iqm"))
+    rows = []
+    for p in planners:
+        d = doc["deviation_iqm"][p]
+        row = (
+            f'<tr><td class="name">{_esc(p)}</td><td>{_esc(_interval(d, 3))}</td><td>{d["n"]}</td>'
+        )
+        if scored:
+            x = doc["score_iqm"][p]
+            row += f"<td>{_esc(_interval(x, 2))}</td><td>{x['n']}</td>"
+        rows.append(row + "</tr>")
+    score_head = "<th>IQM norm. score [95 % CI]</th><th>episodes</th>" if scored else ""
+    poi = []
+    for a in planners:
+        tds = "".join(
+            "<td>–</td>" if a == b else f"<td>{_esc(_interval(doc['improvement'][a][b], 2))}</td>"
+            for b in planners
+        )
+        poi.append(f'<tr><td class="name">{_esc(a)}</td>{tds}</tr>')
+    figure = (
+        '<figure><img src="figures/profiles.png" alt="Performance profiles">'
+        "<figcaption>Performance profiles: the share of each planner's episodes whose "
+        "deviation is at most τ.</figcaption></figure>"
+        if profiles
+        else "<p>No profiles figure (<code>--no-figures</code>).</p>"
+    )
+    return (
+        '<h3 id="iqm">Interquartile means</h3><div class="scroll"><table class="iqm"><thead>'
+        '<tr><th class="name">Planner</th><th>IQM deviation (m) [95 % CI]</th><th>n</th>'
+        f"{score_head}</tr></thead><tbody>" + "".join(rows) + "</tbody></table></div>"
+        '<h3 id="improvement">Probability of improvement P(row &lt; column)</h3>'
+        '<div class="scroll"><table class="poi"><thead><tr><th class="name"></th>'
+        + "".join(f"<th>{_esc(p)}</th>" for p in planners)
+        + "</tr></thead><tbody>"
+        + "".join(poi)
+        + '</tbody></table></div><h3 id="profiles">Performance profiles</h3>'
+        + figure
+        + f'<p class="legend">{_esc(doc["legend"])}</p>'
+    )
+
+
 def _references(summary: Mapping[str, Any]) -> str:
     """The reference points of every scenario (headroom, SE, seeds needed, whether it
     discriminates), when the run has ``straight`` and ``oracle``."""
@@ -231,7 +349,7 @@ def _references(summary: Mapping[str, Any]) -> str:
         se = ref.get("standard_error")
         rows.append(
             f'<tr><td class="name">{_esc(scenario)}</td>'
-            f"<td>{_esc(_interval(ref['headroom'], 3))}</td>"
+            f"<td>{_esc(_headroom(ref))}</td>"
             f"<td>{'–' if se is None else f'{se:.3f}'}</td>"
             f"<td>{_esc(ref.get('seeds_needed') or '–')}</td>{flag}</tr>"
         )
@@ -271,8 +389,7 @@ def _wide_table(summary: Mapping[str, Any]) -> str:
                 _cell(cells[n], n_seeds, conditioned=n.endswith(GIVEN_SUCCESS)) for n, _ in columns
             )
             if refs:
-                score = refs[scenario]["scores"][planner]
-                tds += f'<td class="score">{_esc(_interval(score, 2))}</td>'
+                tds += f'<td class="score">{_esc(_score(refs[scenario], planner))}</td>'
             tds += _shares(summary, scenario, planner)
             rows.append(f'<tr>{first}<td class="name">{_esc(planner)}</td>{tds}</tr>')
     score_head = "<th>Norm. score ↑</th>" if refs else ""
@@ -670,6 +787,8 @@ def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
             ("table", "Table 3 layout"),
             ("outcomes", "Robot outcomes"),
             ("extended", "Every metric"),
+            ("attribution", "Attribution"),
+            ("suite", "Suite statistics"),
             *((("rankings", "Rankings under parameter draws"),) if rankings else ()),
             *((("robustness", "Under every response model"),) if robust else ()),
             ("figures", "Figures"),
@@ -693,6 +812,13 @@ def render_report(out: Path, files: Mapping[str, bytes] | None = None) -> bytes:
         '<h2 id="extended">Every metric</h2>',
         "<p>One table per scenario; hover over a metric for its definition.</p>",
         _extended_tables(summary["extended"]),
+        '<h2 id="attribution">What of the deviation is the robot\'s doing</h2>',
+        _attribution(summary.get("attribution"), planners),
+        '<h2 id="suite">Suite statistics</h2>',
+        _suite(
+            summary.get("suite"),
+            "figures/profiles.png" in files or (out / "figures/profiles.png").is_file(),
+        ),
         *(
             (
                 '<h2 id="rankings">Rankings under the model\'s uncertainty</h2>',
@@ -790,6 +916,7 @@ def check_reports(out: Path) -> None:
         seeds=seeds,
         params=params,
         reference=reference,
+        floors=load_floors(out, scenarios, seeds),
     )
     for name in _CHECKED_REPORTS:
         if _read_bytes(out, name, {}) != files[name]:

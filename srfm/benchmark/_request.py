@@ -31,6 +31,7 @@ from srfm.metrics.report import MANIFEST
 from srfm.models.params import SRFMParams
 from srfm.planners import available_planners
 from srfm.scenarios import EVALUATION_SCENARIOS, Scenario, load_scenario
+from srfm.scenarios._schema import MAX_CROWD_SUBSTEPS
 from srfm.sim.episode import build_planner
 
 __all__ = [
@@ -123,11 +124,26 @@ class BenchmarkRequest:
         params: SRFMParams | None = None,
         reference: str | None = None,
         quick: bool = False,
+        crowd_substeps: int | None = None,
     ) -> BenchmarkRequest:
         """A request with the defaults filled in: the five evaluation scenarios, every
         registered planner, seeds 0–99 (``quick``: seeds 0–2); the reference is
-        ``td3-srfm`` when it runs, else none."""
+        ``td3-srfm`` when it runs, else none. ``crowd_substeps`` replaces every
+        scenario's crowd substeps (:attr:`srfm.scenarios.Scenario.crowd_substeps`)."""
         scenario_objs = tuple(load_scenario(s) for s in (scenarios or EVALUATION_SCENARIOS))
+        if crowd_substeps is not None:
+            if (
+                isinstance(crowd_substeps, bool)
+                or not isinstance(crowd_substeps, int)
+                or not 1 <= crowd_substeps <= MAX_CROWD_SUBSTEPS
+            ):
+                raise BenchmarkError(
+                    f"crowd_substeps must be an integer in [1, {MAX_CROWD_SUBSTEPS}], "
+                    f"got {crowd_substeps!r}"
+                )
+            scenario_objs = tuple(
+                attrs.evolve(s, crowd_substeps=crowd_substeps) for s in scenario_objs
+            )
         planner_names = tuple(planners) if planners else default_planners()
         for name in planner_names:
             build_planner(name)  # an unknown name or a failing factory: here, before any work

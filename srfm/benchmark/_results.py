@@ -198,8 +198,12 @@ def _plain(value: Any) -> Any:
 
 
 def fingerprint(scenario: Scenario) -> str:
-    """SHA-256 of a scenario's content (every field but where it was read from)."""
+    """SHA-256 of a scenario's content (every field but where it was read from; the
+    crowd substeps only when not 1, so a folder of the paper's scheme keeps its
+    fingerprints)."""
     data = _plain(scenario)
     data.pop("source", None)
+    if data.get("crowd_substeps") == 1:  # the default: the fingerprints of before it
+        data.pop("crowd_substeps")
     text = json.dumps(data, sort_keys=True, allow_nan=True)
     return hashlib.sha256(text.encode("utf-8")).hexdigest()

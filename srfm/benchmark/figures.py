@@ -5,7 +5,7 @@ from __future__ import annotations
 import io
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Final
 
 import attrs
 import numpy as np
@@ -14,6 +14,7 @@ from numpy.typing import NDArray
 from srfm._io import atomic_write_bytes, write_file_set
 from srfm.benchmark._request import BenchmarkRequest
 from srfm.metrics import BenchmarkTable
+from srfm.metrics.suite import SuiteStats
 from srfm.sim.episode import build_planner, run_episode
 from srfm.sim.record import EpisodeRecord
 
@@ -25,6 +26,7 @@ if TYPE_CHECKING:
     from srfm.scenarios import Scenario
 
 __all__ = [
+    "PROFILES",
     "FigureEpisode",
     "deviation_figure",
     "figure_episode_path",
@@ -32,6 +34,8 @@ __all__ = [
     "metric_bars_figure",
     "paths_figure",
     "paths_figure_name",
+    "profiles_figure",
+    "render_figures",
     "render_paths_figure",
     "save_figure_episode",
     "write_figures",
@@ -284,6 +288,30 @@ def metric_bars_figure(table: BenchmarkTable, metric: str, ylabel: str, title: s
     return fig
 
 
+PROFILES: Final = "figures/profiles.png"
+"""The performance profiles figure of a run."""
+
+
+def profiles_figure(stats: SuiteStats) -> Figure:
+    """Performance profiles: per planner, the share of its episodes (every scenario and
+    seed) whose Fréchet deviation is at most τ, against τ (log scale)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.4, 4.0))
+    ax = fig.add_axes((0.11, 0.13, 0.6, 0.78))
+    for planner in stats.planners:
+        ax.step(stats.taus, stats.profiles[planner], where="post", label=planner)
+    if stats.taus.size and stats.taus[0] > 0.0:
+        ax.set_xscale("log")
+    ax.set_ylim(0.0, 1.02)
+    ax.set_xlabel("τ: Fréchet deviation of an episode (m)")
+    ax.set_ylabel("share of episodes with deviation ≤ τ")
+    ax.set_title("Performance profiles (higher and further left: gentler)", fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.legend(fontsize=8, loc="center right", bbox_to_anchor=(0.99, 0.5))
+    return fig
+
+
 def write_figures(
     out: Path,
     request: BenchmarkRequest,
@@ -325,8 +353,10 @@ def render_figures(
     extended: BenchmarkTable | None = None,
     *,
     drawn: Mapping[str, bytes] | None = None,
+    suite: SuiteStats | None = None,
 ) -> dict[str, bytes]:
-    """The PNG bytes of every figure by path relative to ``out`` (nothing written).
+    """The PNG bytes of every figure by path relative to ``out`` (nothing written);
+    with ``suite``, the performance profiles too (:data:`PROFILES`).
 
     ``drawn``: path figures already rendered (:func:`render_paths_figure`, by
     :func:`paths_figure_name`), e.g. while the other episodes ran; the rest are drawn
@@ -347,4 +377,6 @@ def render_figures(
                 "Robot force integrated along each pedestrian's path (mean ± std over seeds)",
             )
         )
+    if suite is not None and suite.taus.size:
+        written[PROFILES] = _png(profiles_figure(suite))
     return written

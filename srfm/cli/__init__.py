@@ -12,6 +12,7 @@ from typing import Any
 
 import click
 
+from srfm._blas import load_cython_blas
 from srfm._version import DISTRIBUTION, __version__
 from srfm.cli._common import (
     DEBUG_ENV,
@@ -113,6 +114,9 @@ def main(ctx: click.Context, debug: bool) -> None:
     """
     ctx.meta["srfm.debug"] = debug
     _current_folder_importable()
+    # numba's BLAS check without importing scipy.linalg: 0.12 s of every command
+    # that runs a kernel (srfm._blas).
+    load_cython_blas()
 
 
 def _current_folder_importable() -> None:

@@ -227,6 +227,15 @@ def _split(values: tuple[str, ...]) -> list[str]:
     metavar="PLANNER",
     help="Planner the others are tested against. Default: td3-srfm when it runs.",
 )
+@click.option(
+    "--crowd-substeps",
+    type=click.IntRange(min=1, max=64),
+    default=None,
+    metavar="N",
+    help="Step the crowd N times per control step (dt / N each), the planner's control "
+    "rate unchanged: the convergence check of docs/metrics.md. Default: each "
+    "scenario's own (1, the paper's scheme, for every built-in one).",
+)
 @click.option("--no-figures", is_flag=True, help="Skip the PNG figures.")
 @click.option(
     "--logs/--no-logs",
@@ -293,6 +302,7 @@ def benchmark(
     scheduler_file: Path | None,
     params_spec: str | None,
     reference: str | None,
+    crowd_substeps: int | None,
     no_figures: bool,
     logs: bool,
     mcap: bool,
@@ -343,6 +353,7 @@ def benchmark(
         params=models.params[0] if models else load_params_option(params_spec),
         reference=reference,
         quick=quick,
+        crowd_substeps=crowd_substeps,
     )
     draws = (
         None

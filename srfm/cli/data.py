@@ -431,7 +431,8 @@ def _load_windows(files: Sequence[Path], **config: Any) -> Any:
     default=None,
     help="The form of the robot force (docs/model.md) that the result uses and the robot "
     "stage fits: its strength and range (exponential: A_r, B_r; ttc: k, τ0; "
-    "collision_prediction: A, B; elliptical: A_e, B_e, Δt). Default: the --start "
+    "collision_prediction: A, B; elliptical: A_e, B_e, Δt; sidestep: A, d_on, T, γ). "
+    "Default: the --start "
     "parameters' form (the paper's exponential one for a preset).",
 )
 @click.option(

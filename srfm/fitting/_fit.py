@@ -58,6 +58,11 @@ BOUNDS: Final[dict[str, tuple[float, float]]] = {
     "ell_a": (0.0, 100.0),
     "ell_b": (0.05, 3.0),
     "ell_dt": (0.0, 5.0),
+    "ss_a": (0.0, 5.0),
+    "ss_miss": (0.1, 3.0),
+    "ss_horizon": (0.3, 8.0),
+    "ss_speed_gain": (-3.0, 3.0),
+    "robot_force_cap": (0.02, 20.0),
 }
 # The parameters a robot-stage fit of each robot-force form varies by default: its
 # strength and range (the exponential form's λ_r, and the elliptical form's too, only when
@@ -68,6 +73,7 @@ FORM_FIT_FIELDS: Final[dict[str, tuple[str, ...]]] = {
     "ttc": ("ttc_k", "ttc_tau0"),
     "collision_prediction": ("cp_a", "cp_b"),
     "elliptical": ("ell_a", "ell_b", "ell_dt"),
+    "sidestep": ("ss_a", "ss_miss", "ss_horizon", "ss_speed_gain"),
 }
 _MAX_NFEV: Final = 1_000_000
 # The published parameter sets every fit also starts from (not fitted presets such as

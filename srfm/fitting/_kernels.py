@@ -12,12 +12,16 @@ kernels in ``srfm/models/_kernels.py`` (or of the primitives in
 kernel compiles in a few seconds once per process.
 
 Shapes: W windows, S = Σ steps of all windows, G frames of all scenes, E neighbour
-entries (one per pedestrian per frame).
+entries (one per pedestrian per frame). The kernel takes its data in three bundles, as
+the crowd kernels do: :class:`ReplayWindows` (per window), :class:`ReplayScenes` (per
+frame and neighbour entry) and :class:`ReplayBodies` (radii and the substep);
+:meth:`srfm.fitting.Windows.replay_bundles` builds them.
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -27,29 +31,76 @@ from srfm.models._kernels import _agent_forces, exact_cut, integrate
 from srfm.models.params import SRFMKernelParams
 
 
+class ReplayWindows(NamedTuple):
+    """The windows to replay, per window (W).
+
+    Attributes:
+        agent: (W,) int64 global agent index of each window's pedestrian (skipped among
+            the neighbours).
+        frame0: (W,) int64 global frame index of the window start.
+        steps: (W,) int64 number of observed steps to predict.
+        out_row: (W,) int64 row in ``out`` of each window's first predicted step.
+        pos, vel, goal: (W, 2) initial position (m), velocity (m/s), goal (m).
+        v0, vmax: (W,) desired speed and speed cap (m/s).
+    """
+
+    agent: np.ndarray
+    frame0: np.ndarray
+    steps: np.ndarray
+    out_row: np.ndarray
+    pos: np.ndarray
+    vel: np.ndarray
+    goal: np.ndarray
+    v0: np.ndarray
+    vmax: np.ndarray
+
+
+class ReplayScenes(NamedTuple):
+    """What the replayed pedestrian meets, per frame (G) and neighbour entry (E).
+
+    Attributes:
+        fr_off: (G + 1,) int64 offsets into the entry arrays of each frame's pedestrians.
+        e_agent: (E,) int64 global agent index of each entry.
+        e_a, e_b: (E, 2) entry position at its frame and at the next frame (the same
+            if the pedestrian is not observed there).
+        rb_on: (G,) bool, the robot is observed at this frame.
+        rb_a, rb_b: (G, 2) robot position at the frame and at the next frame (the
+            robot's velocity over the interval, (rb_b − rb_a) / dt, is what the
+            anticipatory robot forms read).
+        dt: (G,) time from each frame to the next (s); 0 after a scene's last frame.
+    """
+
+    fr_off: np.ndarray
+    e_agent: np.ndarray
+    e_a: np.ndarray
+    e_b: np.ndarray
+    rb_on: np.ndarray
+    rb_a: np.ndarray
+    rb_b: np.ndarray
+    dt: np.ndarray
+
+
+class ReplayBodies(NamedTuple):
+    """Body radii and the integration step of the replay.
+
+    Attributes:
+        ped_radius, robot_radius: body radii (m).
+        max_substep: longest integration step (s); each frame interval is split into
+            ceil(dt / max_substep − 1e-6) equal substeps (the tolerance keeps a 15 Hz
+            interval rounded to whole nanoseconds at one substep of 1/15 s).
+    """
+
+    ped_radius: float
+    robot_radius: float
+    max_substep: float
+
+
 @njit(cache=False)
 def replay_windows(
     sel: np.ndarray,
-    w_agent: np.ndarray,
-    w_frame0: np.ndarray,
-    w_steps: np.ndarray,
-    w_out: np.ndarray,
-    w_pos: np.ndarray,
-    w_vel: np.ndarray,
-    w_goal: np.ndarray,
-    w_v0: np.ndarray,
-    w_vmax: np.ndarray,
-    fr_off: np.ndarray,
-    e_agent: np.ndarray,
-    e_a: np.ndarray,
-    e_b: np.ndarray,
-    rb_on: np.ndarray,
-    rb_a: np.ndarray,
-    rb_b: np.ndarray,
-    dt: np.ndarray,
-    ped_radius: float,
-    robot_radius: float,
-    max_substep: float,
+    windows: ReplayWindows,
+    scenes: ReplayScenes,
+    bodies: ReplayBodies,
     params: SRFMKernelParams,
     use_robot: bool,
     out: np.ndarray,
@@ -58,31 +109,23 @@ def replay_windows(
 
     Args:
         sel: (Q,) int64 indices of the windows to simulate.
-        w_agent: (W,) global agent index of each window's pedestrian (skipped among the
-            neighbours).
-        w_frame0: (W,) global frame index of the window start.
-        w_steps: (W,) number of observed steps to predict.
-        w_out: (W,) row in ``out`` of each window's first predicted step.
-        w_pos, w_vel, w_goal: (W, 2) initial position (m), velocity (m/s), goal (m).
-        w_v0, w_vmax: (W,) desired speed and speed cap (m/s).
-        fr_off: (G + 1,) offsets into the entry arrays of each frame's pedestrians.
-        e_agent: (E,) global agent index of each entry.
-        e_a, e_b: (E, 2) entry position at its frame and at the next frame (the same
-            if the pedestrian is not observed there).
-        rb_on: (G,) the robot is observed at this frame.
-        rb_a, rb_b: (G, 2) robot position at the frame and at the next frame (the
-            robot's velocity over the interval, (rb_b − rb_a) / dt, is what the
-            anticipatory robot forms read).
-        dt: (G,) time from each frame to the next (s); 0 after a scene's last frame.
-        ped_radius, robot_radius: body radii (m).
-        max_substep: longest integration step (s); each frame interval is split into
-            ceil(dt / max_substep − 1e-6) equal substeps (the tolerance keeps a 15 Hz
-            interval rounded to whole nanoseconds at one substep of 1/15 s).
+        windows: the windows (:class:`ReplayWindows`).
+        scenes: their neighbours and robot (:class:`ReplayScenes`).
+        bodies: radii and substep (:class:`ReplayBodies`).
         params: the SRFM parameters (``SRFMParams.for_kernels``), with the robot force in
             its form (``robot_form``).
         use_robot: apply the robot force (SRFM); False ignores the robot (SFM).
         out: (S, 2) predicted positions (m), written for the selected windows only.
     """
+    fr_off = scenes.fr_off
+    e_agent = scenes.e_agent
+    e_a = scenes.e_a
+    e_b = scenes.e_b
+    rb_on = scenes.rb_on
+    rb_a = scenes.rb_a
+    rb_b = scenes.rb_b
+    dt = scenes.dt
+    max_substep = bodies.max_substep
     max_nb = 0
     for g in range(fr_off.shape[0] - 1):
         max_nb = max(max_nb, fr_off[g + 1] - fr_off[g])
@@ -90,27 +133,27 @@ def replay_windows(
     pos = np.zeros((n_buf, 2))
     vel = np.zeros((n_buf, 2))
     goal = np.zeros((n_buf, 2))
-    radius = np.full(n_buf, ped_radius)
+    radius = np.full(n_buf, bodies.ped_radius)
     v0 = np.zeros(n_buf)
     vmax = np.zeros(1)
     force = np.zeros((1, 2))
     cut, ped = exact_cut()
     robot = np.zeros(5)  # x, y, radius, vx, vy
-    robot[2] = robot_radius
+    robot[2] = bodies.robot_radius
     obstacles = ObstacleArrays(np.zeros((0, 4)), np.zeros((0, 3)), np.zeros((0, 2)), np.zeros(0))
     for q in range(sel.shape[0]):
         w = sel[q]
-        me = w_agent[w]
-        pos[0, 0] = w_pos[w, 0]
-        pos[0, 1] = w_pos[w, 1]
-        vel[0, 0] = w_vel[w, 0]
-        vel[0, 1] = w_vel[w, 1]
-        goal[0, 0] = w_goal[w, 0]
-        goal[0, 1] = w_goal[w, 1]
-        v0[0] = w_v0[w]
-        vmax[0] = w_vmax[w]
-        for s in range(w_steps[w]):
-            g = w_frame0[w] + s
+        me = windows.agent[w]
+        pos[0, 0] = windows.pos[w, 0]
+        pos[0, 1] = windows.pos[w, 1]
+        vel[0, 0] = windows.vel[w, 0]
+        vel[0, 1] = windows.vel[w, 1]
+        goal[0, 0] = windows.goal[w, 0]
+        goal[0, 1] = windows.goal[w, 1]
+        v0[0] = windows.v0[w]
+        vmax[0] = windows.vmax[w]
+        for s in range(windows.steps[w]):
+            g = windows.frame0[w] + s
             n_sub = max(1, math.ceil(dt[g] / max_substep - 1e-6))
             h = dt[g] / n_sub
             robot_on = use_robot and rb_on[g]
@@ -135,5 +178,5 @@ def replay_windows(
                 force[0, 0] = g0 + p0 + r0 + o0
                 force[0, 1] = g1 + p1 + r1 + o1
                 integrate(pos[:1], vel[:1], force, vmax, h)
-            out[w_out[w] + s, 0] = pos[0, 0]
-            out[w_out[w] + s, 1] = pos[0, 1]
+            out[windows.out_row[w] + s, 0] = pos[0, 0]
+            out[windows.out_row[w] + s, 1] = pos[0, 1]

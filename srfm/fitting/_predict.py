@@ -53,32 +53,7 @@ def predict(
             a_robot=params.a_ped, b_robot=params.b_ped, lambda_robot=params.lambda_ped
         )
     out = np.zeros_like(windows.observed)
-    replay_windows(
-        sel,
-        windows.agent,
-        windows.frame0,
-        windows.steps,
-        windows.out_row,
-        windows.pos,
-        windows.vel,
-        windows.goal,
-        windows.v0,
-        windows.vmax,
-        windows.fr_off,
-        windows.e_agent,
-        windows.e_a,
-        windows.e_b,
-        windows.rb_on,
-        windows.rb_a,
-        windows.rb_b,
-        windows.dt,
-        float(windows.config.ped_radius_m),
-        float(windows.config.robot_radius_m),
-        float(windows.config.max_substep_s),
-        params.for_kernels(),
-        mode != "sfm",
-        out,
-    )
+    replay_windows(sel, *windows.replay_bundles(), params.for_kernels(), mode != "sfm", out)
     return out[rows]
 
 

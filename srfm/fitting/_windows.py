@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from typing import Final, Literal, NamedTuple, get_args
+from typing import TYPE_CHECKING, Final, Literal, NamedTuple, get_args
 
 import attrs
 import numpy as np
@@ -19,6 +19,9 @@ from srfm._text import plain
 from srfm._validate import physical, positive, unit_interval
 from srfm.datasets._trajectories import PEDESTRIAN, Trajectories
 from srfm.errors import DatasetError, ParameterError
+
+if TYPE_CHECKING:
+    from srfm.fitting._kernels import ReplayBodies, ReplayScenes, ReplayWindows
 
 __all__ = ["ALIGNS", "GOALS", "Align", "Goal", "WindowConfig", "Windows", "build_windows"]
 
@@ -194,6 +197,39 @@ class Windows:
     rb_a: FloatArray
     rb_b: FloatArray
     dt: FloatArray
+
+    def replay_bundles(self) -> tuple[ReplayWindows, ReplayScenes, ReplayBodies]:
+        """The windows as the replay kernel takes them (the arrays themselves, no copy)."""
+        from srfm.fitting._kernels import ReplayBodies, ReplayScenes, ReplayWindows
+
+        return (
+            ReplayWindows(
+                self.agent,
+                self.frame0,
+                self.steps,
+                self.out_row,
+                self.pos,
+                self.vel,
+                self.goal,
+                self.v0,
+                self.vmax,
+            ),
+            ReplayScenes(
+                self.fr_off,
+                self.e_agent,
+                self.e_a,
+                self.e_b,
+                self.rb_on,
+                self.rb_a,
+                self.rb_b,
+                self.dt,
+            ),
+            ReplayBodies(
+                float(self.config.ped_radius_m),
+                float(self.config.robot_radius_m),
+                float(self.config.max_substep_s),
+            ),
+        )
 
     @property
     def n_windows(self) -> int:

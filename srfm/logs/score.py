@@ -24,9 +24,11 @@ from typing import Any, Final
 import attrs
 import numpy as np
 
-from srfm.errors import LogError
+from srfm.errors import BenchmarkError, LogError
 from srfm.logs._mcap import LogFile, episode_from_log, read_log
+from srfm.logs._writer import LOGS_DIR
 from srfm.metrics import EpisodeMetrics, episode_metrics
+from srfm.metrics.floor_files import load_floors
 from srfm.metrics.report import MANIFEST, write_tables
 from srfm.models.params import SRFMParams
 from srfm.scenarios import EVALUATION_SCENARIOS
@@ -329,5 +331,23 @@ def write_score_reports(out: str | Path, result: ScoreResult) -> list[str]:
         seeds=result.seeds,
         params=result.params,
         reference=result.reference,
+        floors=_floors_beside(result),
     )
     return files
+
+
+def _floors_beside(result: ScoreResult) -> Mapping[str, list[float]] | None:
+    """The noise floors of the results folder the logs lie in (``OUT/logs/<scenario>/
+    <planner>/seed-N.mcap`` beside ``OUT/floor/``), when every one of the table's is
+    there: a floor needs a simulation, not a log, so the logs cannot give it."""
+    folders = {
+        e.path.parents[3]
+        for e in result.episodes
+        if len(e.path.parents) > 3 and e.path.parents[2].name == LOGS_DIR
+    }
+    if len(folders) != 1:
+        return None
+    try:
+        return load_floors(folders.pop(), result.scenarios, result.seeds)
+    except BenchmarkError:
+        return None

@@ -46,6 +46,7 @@ from srfm.metrics.stats import ALPHA
 __all__ = [
     "DETECT_M",
     "MIN_HEADROOM_M",
+    "MIN_SCORE_SHARE",
     "MIN_STANDARD_ERRORS",
     "N_BOOTSTRAP",
     "POWER",
@@ -53,7 +54,9 @@ __all__ = [
     "Interval",
     "ScenarioReferences",
     "discriminates",
+    "episode_scores",
     "headroom",
+    "min_score_seeds",
     "normalised_score",
     "paired_sd",
     "scenario_references",
@@ -75,6 +78,9 @@ POWER: Final = 0.8
 N_BOOTSTRAP: Final = 4000
 """Resamples of the normalised score's paired bootstrap."""
 _BOOTSTRAP_SEED: Final = 29
+MIN_SCORE_SHARE: Final = 0.5
+"""A normalised score needs the planner, ``straight`` and the oracle to reach the goal
+on at least this share of the seeds (:func:`min_score_seeds`)."""
 REFERENCE_PLANNERS: Final = ("straight", "oracle", "stay")
 """Planners that are reference points, not entries: left out of σ_d's pairs."""
 
@@ -171,6 +177,24 @@ def normalised_score(
     tail = (1.0 - level) / 2.0
     low, high = np.quantile(ratios, [tail, 1.0 - tail])
     return Interval(estimate, float(low), float(high), n, level)
+
+
+def min_score_seeds(n_seeds: int) -> int:
+    """The least number k of seeds on which the planner, ``straight`` and the oracle all
+    reached the goal for a normalised score to be shown: max(2, ⌈``MIN_SCORE_SHARE`` ·
+    n_seeds⌉); with fewer the score is undefined."""
+    return max(2, math.ceil(MIN_SCORE_SHARE * n_seeds - 1e-9))
+
+
+def episode_scores(straight: ArrayLike, planner: ArrayLike, oracle: ArrayLike) -> FloatArray:
+    """Each shared seed's normalised score ``(straight − planner) / H``, H the mean of
+    ``straight − oracle`` over the same seeds (the seeds where all three have a value):
+    their mean is :func:`normalised_score`'s estimate. Empty when H is not positive."""
+    s, p, o = _aligned((straight, "straight"), (planner, "planner"), (oracle, "oracle"))
+    room = float((s - o).mean()) if s.size else math.nan
+    if not room > 0.0:
+        return np.zeros(0)
+    return np.asarray((s - p) / room, dtype=np.float64)
 
 
 def standard_error(values: ArrayLike) -> float:
@@ -274,6 +298,10 @@ class ScenarioReferences:
         sd_diff: σ_d, the SD of paired differences :func:`seeds_needed` uses (m).
         seeds_needed: seeds to detect ``DETECT_M`` between two planners.
         discriminates: the scenario's headroom passes :func:`discriminates`.
+        n_seeds: the seeds of the run (the n of a score's k/n).
+        beats_oracle: the planners whose score exceeds 1 (they disturbed the crowd
+            less than the oracle on the seeds where both reached the goal): the
+            oracle is then not a bound and the headroom is a lower bound.
     """
 
     n: int
@@ -283,6 +311,13 @@ class ScenarioReferences:
     sd_diff: float
     seeds_needed: int | None
     discriminates: bool
+    n_seeds: int = 0
+    beats_oracle: tuple[str, ...] = ()
+
+    @property
+    def oracle_is_bound(self) -> bool:
+        """No planner scored above the oracle: the headroom is the oracle's."""
+        return not self.beats_oracle
 
 
 def scenario_references(
@@ -292,6 +327,7 @@ def scenario_references(
     oracle: str = "oracle",
     references: Sequence[str] = REFERENCE_PLANNERS,
     n_bootstrap: int = N_BOOTSTRAP,
+    success: Mapping[str, ArrayLike] | None = None,
 ) -> ScenarioReferences:
     """Headroom, normalised scores, standard error and seeds needed of one scenario.
 
@@ -301,6 +337,10 @@ def scenario_references(
         straight, oracle: the names of the two reference planners.
         references: planners left out of σ_d's pairs (and scored all the same).
         n_bootstrap: resamples of the normalised scores' bootstrap.
+        success: per planner, whether it reached the goal on each seed. Given, the
+            headroom is taken over the seeds where ``straight`` and the oracle both
+            reached it, and each planner's score over the seeds where it did too
+            (paired), undefined below :func:`min_score_seeds` of them.
 
     Raises:
         MetricError: ``straight`` or ``oracle`` missing, or unaligned values.
@@ -308,13 +348,31 @@ def scenario_references(
     for name in (straight, oracle):
         if name not in values:
             raise MetricError(f"need the {name!r} planner's values, got {sorted(values)}")
-    s = _values(values[straight], straight)
-    o = _values(values[oracle], oracle)
+    raw = {p: _values(v, p) for p, v in values.items()}
+    n_seeds = len(raw[straight])
+    if success is None:
+        kept = raw
+    else:
+        kept = {}
+        for p, v in raw.items():
+            ok = np.asarray(success[p], dtype=np.bool_)
+            if ok.shape != v.shape:
+                raise MetricError(f"{p}: {ok.shape} success flags for {v.shape} values")
+            kept[p] = np.where(ok, v, np.nan)
+    s = kept[straight]
+    o = kept[oracle]
     room = headroom(s, o)
-    se = standard_error(s)
-    scores = {p: normalised_score(s, v, o, n_bootstrap=n_bootstrap) for p, v in values.items()}
-    sd_diff = sigma_d(values, references=references, fallback=(straight, oracle))
+    se = standard_error(raw[straight])
+    min_k = min_score_seeds(n_seeds) if success is not None else 1
+    scores = {}
+    for p, v in kept.items():
+        score = normalised_score(s, v, o, n_bootstrap=n_bootstrap)
+        if score.n < min_k:
+            score = Interval(math.nan, math.nan, math.nan, score.n, score.level)
+        scores[p] = score
+    sd_diff = sigma_d(raw, references=references, fallback=(straight, oracle))
     needed = seeds_needed(sd_diff) if math.isfinite(sd_diff) else None
+    beats = tuple(p for p, x in scores.items() if p not in (straight, oracle) and x.estimate > 1.0)
     return ScenarioReferences(
         n=room.n,
         standard_error=se,
@@ -323,4 +381,6 @@ def scenario_references(
         sd_diff=sd_diff,
         seeds_needed=needed,
         discriminates=discriminates(room.estimate, se),
+        n_seeds=n_seeds,
+        beats_oracle=beats,
     )

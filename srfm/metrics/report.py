@@ -11,19 +11,22 @@ import csv
 import io
 import json
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, Final
 
 import attrs
 
 from srfm._io import atomic_write_text, write_file_set
+from srfm.metrics._attribution_report import attribution, suite_dict, suite_markdown
+from srfm.metrics.attribution import SPLIT_COLUMNS, deviation_split, felt_robot
 from srfm.metrics.episode import (
     EPISODE_METRICS,
     PEDESTRIAN_METRICS,
     EpisodeMetrics,
     MetricParams,
 )
+from srfm.metrics.suite import SuiteStats, suite_stats
 from srfm.metrics.tables import (
     EXTENDED_COLUMNS,
     OUTCOME_COLUMNS,
@@ -40,6 +43,7 @@ from srfm.models.params import SRFMParams
 
 __all__ = [
     "CORRECTION_OF",
+    "FELT_COLUMN",
     "MANIFEST",
     "SUMMARY_SCHEMA",
     "ReportTables",
@@ -51,10 +55,16 @@ __all__ = [
 
 MANIFEST: Final = "manifest.json"
 """The file that marks a benchmark results folder (written by the benchmark)."""
-SUMMARY_SCHEMA: Final = "srfm.summary/3"
+SUMMARY_SCHEMA: Final = "srfm.summary/4"
 """Layout of ``summary.json``; 2: the extended table, n and undefined counts, the rules;
 3 (issue 29): columns conditioned on success, outcome counts, adjusted p-values and
-each table's correction."""
+each table's correction; 4 (issue 41): ``attribution`` (the noise floor, the direct
+and knock-on deviation), ``suite`` (IQMs, probabilities of improvement, performance
+profiles), the normalised scores' k/n and whether the oracle is a bound."""
+
+FELT_COLUMN: Final = "felt_robot"
+"""``pedestrians.csv``'s column: 1 if the pedestrian felt the robot
+(:func:`srfm.metrics.attribution.felt_robot`), else 0."""
 
 CORRECTION_OF: Final = {"table": "holm", "outcomes": "holm", "extended": "bh"}
 """The multiple-comparison correction of each table: Holm's (the family-wise error
@@ -66,11 +76,12 @@ a screen of some 60 columns where Holm's would hide nearly everything."""
 @attrs.frozen
 class ReportTables:
     """The three tables of a report: the paper's layout, the robot outcomes, and every
-    metric (extended)."""
+    metric (extended); and the suite statistics (:mod:`srfm.metrics.suite`)."""
 
     table: BenchmarkTable
     outcomes: BenchmarkTable
     extended: BenchmarkTable
+    suite: SuiteStats
 
 
 def _csv_number(x: float) -> str:
@@ -91,13 +102,18 @@ def write_episodes_csv(path: Path, results: Sequence[EpisodeMetrics]) -> None:
     atomic_write_text(path, _episodes_csv(results))
 
 
+_SPLIT_NAMES: Final = tuple(name for name, _, _ in SPLIT_COLUMNS)
+
+
 def _episodes_csv(results: Sequence[EpisodeMetrics]) -> str:
     header = ["scenario", "planner", "seed", "outcome", "end_step"]
     header += [m.name for m in EPISODE_METRICS]
+    header += list(_SPLIT_NAMES)
     rows = (
         [r.scenario, r.planner, r.seed, r.outcome, r.end_step]
         + [_csv_number(r.values[m.name]) for m in EPISODE_METRICS]
-        for r in results
+        + [_csv_number(split[name]) for name in _SPLIT_NAMES]
+        for r, split in ((r, deviation_split(r)) for r in results)
     )
     return _csv_text(header, rows)
 
@@ -110,10 +126,12 @@ def write_pedestrians_csv(path: Path, results: Sequence[EpisodeMetrics]) -> None
 def _pedestrians_csv(results: Sequence[EpisodeMetrics]) -> str:
     header = ["scenario", "planner", "seed", "pedestrian"]
     header += [m.name for m in PEDESTRIAN_METRICS]
+    header.append(FELT_COLUMN)
     rows = (
         [r.scenario, r.planner, r.seed, k]
         + [_csv_number(r.pedestrians[m.name][k]) for m in PEDESTRIAN_METRICS]
-        for r in results
+        + [int(felt[k])]
+        for r, felt in ((r, felt_robot(r)) for r in results)
         for k in range(len(r.pedestrians["frechet_m"]))
     )
     return _csv_text(header, rows)
@@ -150,6 +168,9 @@ def _episodes_parquet(results: Sequence[EpisodeMetrics]) -> bytes:
     }
     for m in EPISODE_METRICS:
         columns[m.name] = ("float", [r.values[m.name] for r in results])
+    splits = [deviation_split(r) for r in results]
+    for name in _SPLIT_NAMES:
+        columns[name] = ("float", [x[name] for x in splits])
     return _parquet(columns)
 
 
@@ -164,6 +185,8 @@ def _pedestrians_parquet(results: Sequence[EpisodeMetrics]) -> bytes:
     }
     for m in PEDESTRIAN_METRICS:
         columns[m.name] = ("float", [float(r.pedestrians[m.name][k]) for r, k in rows])
+    felt = {id(r): felt_robot(r) for r in results}
+    columns[FELT_COLUMN] = ("int", [int(felt[id(r)][k]) for r, k in rows])
     return _parquet(columns)
 
 
@@ -176,10 +199,12 @@ def write_tables(
     seeds: Sequence[int],
     params: SRFMParams,
     reference: str | None,
+    floors: Mapping[str, Sequence[float]] | None = None,
 ) -> tuple[list[str], BenchmarkTable]:
     """Write the tables, CSV files and JSON summary of ``results`` (every scenario ×
     planner × seed) into ``out`` as a whole (:func:`srfm._io.write_file_set`: all old
-    or all new, also when the disk fills); also used by ``srfm score``.
+    or all new, also when the disk fills); also used by ``srfm score``. ``floors``: as
+    :func:`render_tables`.
 
     Returns:
         The files written (relative to ``out``) and the Table 3 layout table.
@@ -191,6 +216,7 @@ def write_tables(
         seeds=seeds,
         params=params,
         reference=reference,
+        floors=floors,
     )
     write_file_set(out, files)
     return list(files), tables.table
@@ -205,9 +231,13 @@ def render_tables(
     params: SRFMParams,
     reference: str | None,
     metric_params: MetricParams | None = None,
+    floors: Mapping[str, Sequence[float]] | None = None,
 ) -> tuple[dict[str, bytes], ReportTables]:
     """The tables, CSV and Parquet files and JSON summary of ``results`` (every scenario
     × planner × seed), nothing written.
+
+    ``floors``: per scenario, the noise floor of each seed in seed order
+    (:mod:`srfm.metrics.attribution`), shown beside each scenario when given.
 
     Returns:
         The file contents by name (relative to the results folder, in a fixed order)
@@ -231,6 +261,10 @@ def render_tables(
             ("extended", EXTENDED_COLUMNS),
         )
     )
+    blocks, attribution_doc = attribution(
+        results, scenarios=names, planners=planners, seeds=seeds, floors=floors
+    )
+    stats = suite_stats(results, scenarios=names, planners=planners, seeds=seeds)
     summary = {
         "schema": SUMMARY_SCHEMA,
         "request": {
@@ -243,6 +277,8 @@ def render_tables(
         "table": summary_dict(table),
         "outcomes": summary_dict(outcomes),
         "extended": summary_dict(extended),
+        "attribution": attribution_doc,
+        "suite": suite_dict(stats),
     }
     texts = {
         "episodes.csv": _episodes_csv(results),
@@ -250,11 +286,12 @@ def render_tables(
         "table.md": to_markdown(table),
         "table.tex": to_latex(table),
         "outcomes.md": to_markdown(outcomes),
-        "table_extended.md": to_markdown_extended(extended),
-        "table_extended.tex": to_latex_extended(extended),
+        "table_extended.md": to_markdown_extended(extended, blocks),
+        "table_extended.tex": to_latex_extended(extended, blocks),
+        "suite.md": suite_markdown(stats, len(seeds)),
         "summary.json": json.dumps(summary, indent=1) + "\n",
     }
     files = {name: text.encode("utf-8") for name, text in texts.items()}
     files["episodes.parquet"] = _episodes_parquet(results)
     files["pedestrians.parquet"] = _pedestrians_parquet(results)
-    return files, ReportTables(table, outcomes, extended)
+    return files, ReportTables(table, outcomes, extended, stats)

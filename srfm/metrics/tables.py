@@ -10,8 +10,10 @@ a value. Rules, stated under every table:
   the mean; they are counted (``undefined`` in ``summary.json``), and a cell whose n
   is below the number of seeds S shows its n.
 - **Bold.** The best mean of a column within a scenario, among the cells with
-  n ≥ :func:`min_n_for_best` (S) = max(2, ⌈0.8 S⌉): a planner that reached its goal in
-  one seed of a hundred is never bold for its time to goal. Nothing is bold in a
+  n ≥ :func:`min_n_for_best` (S) = max(2, ⌈0.8 S⌉) whose planner reached the goal in at
+  least the scenario's best goal rate minus ``GOAL_MARGIN`` (10 percentage points): a
+  planner that reached its goal in one seed of a hundred is never bold for its time to
+  goal, nor one that waited out the horizon for its gentle deviation. Nothing is bold in a
   column where every planner's mean ties (every planner reached its goal every time).
 - **Conditioned on success.** A column ``METRIC|success`` (:func:`given_success`) holds
   the metric over the episodes in which the robot reached its goal only, and always
@@ -45,6 +47,7 @@ from srfm.metrics.episode import EPISODE_METRICS, METRIC_GROUPS, EpisodeMetrics,
 from srfm.metrics.headroom import (
     DETECT_M,
     MIN_HEADROOM_M,
+    MIN_SCORE_SHARE,
     MIN_STANDARD_ERRORS,
     POWER,
     Interval,
@@ -65,18 +68,22 @@ from srfm.sim.record import ROBOT_OUTCOMES
 __all__ = [
     "EXTENDED_COLUMNS",
     "GIVEN_SUCCESS",
+    "GOAL_MARGIN",
     "OUTCOME_COLUMNS",
     "TABLE_COLUMNS",
     "BenchmarkTable",
     "Cell",
+    "ExtraBlock",
     "base_metric",
     "benchmark_table",
     "discrimination_text",
     "given_success",
+    "headroom_text",
     "legend",
     "min_n_for_best",
     "outcome_shares",
     "references_markdown",
+    "score_text",
     "share_text",
     "summary_dict",
     "to_latex",
@@ -152,6 +159,12 @@ to a table with a Fréchet column."""
 
 DEFAULT_CORRECTION: Final = "holm"
 """The correction of a table's family of tests unless it names another."""
+
+
+GOAL_MARGIN: Final = 0.1
+"""A cell is bold only when its planner reached the goal in at least the scenario's
+best goal rate minus this (10 percentage points): a planner that stays put is never
+the gentlest."""
 
 
 def min_n_for_best(n_seeds: int) -> int:
@@ -301,22 +314,25 @@ def benchmark_table(
         and any(n == "frechet_m" for n, _ in columns)
     ):
         for scenario in scenarios:
+            episodes = {p: _by_seed(results, scenario, p, seeds) for p in planners}
             references[scenario] = scenario_references(
                 {
-                    p: np.array(
-                        [
-                            _column_value(r, "frechet_m")
-                            for r in _by_seed(results, scenario, p, seeds)
-                        ]
-                    )
+                    p: np.array([_column_value(r, "frechet_m") for r in episodes[p]])
                     for p in planners
-                }
+                },
+                success={
+                    p: np.array([r.outcome == SUCCESS_OUTCOME for r in episodes[p]])
+                    for p in planners
+                },
             )
     cells: dict[tuple[str, str], dict[str, Cell]] = {}
     for scenario in scenarios:
+        rates = {p: outcomes[(scenario, p)][SUCCESS_OUTCOME] / max(1, len(seeds)) for p in planners}
+        top = max(rates.values(), default=0.0)
+        eligible = {p for p in planners if rates[p] >= top - GOAL_MARGIN - 1e-12}
         for name, _ in columns:
             column = {p: summaries[(scenario, p)][name] for p in planners}
-            best = _best(column, _INFO[base_metric(name)], min_n)
+            best = _best(column, _INFO[base_metric(name)], min_n, eligible)
             row_comps = {p: comps[(scenario, p)][name] for p in planners if (scenario, p) in comps}
             for p in planners:
                 welch, paired = _marks(p, reference, row_comps)
@@ -362,8 +378,14 @@ def _adjusted(
     return out, family
 
 
-def _best(summaries: Mapping[str, Summary], info: MetricInfo, min_n: int) -> set[str]:
-    means = {p: s.mean for p, s in summaries.items() if s.n >= min_n and not math.isnan(s.mean)}
+def _best(
+    summaries: Mapping[str, Summary], info: MetricInfo, min_n: int, eligible: set[str]
+) -> set[str]:
+    means = {
+        p: s.mean
+        for p, s in summaries.items()
+        if s.n >= min_n and not math.isnan(s.mean) and p in eligible
+    }
     if not means or info.better == "":
         return set()
     target = min(means.values()) if info.better == "lower" else max(means.values())
@@ -469,8 +491,9 @@ def legend(table: BenchmarkTable, *, markdown: bool = True) -> str:
         "seeds have one (the others are undefined, e.g. a time to goal that never "
         f"happened; counted as {undefined} in summary.json, never silently dropped). Bold: "
         f"best mean of the column within the scenario among the cells with n ≥ {table.min_n} "
-        f"(the rule: n ≥ max(2, ⌈0.8 × {s} seeds⌉)), none where every planner ties; "
-        "↓ lower is better, ↑ higher is better."
+        f"(the rule: n ≥ max(2, ⌈0.8 × {s} seeds⌉)) whose planner reached the goal in at "
+        f"least the scenario's best goal rate minus {GOAL_MARGIN * 100:g} percentage points, "
+        "none where every planner ties; ↓ lower is better, ↑ higher is better."
     )
     if any(_conditioned(n) for n, _ in table.columns):
         text += (
@@ -519,7 +542,7 @@ def to_markdown(table: BenchmarkTable) -> str:
         for planner in table.planners:
             texts = [_text(table, scenario, planner, n, latex=False) for n, _ in table.columns]
             if scored:
-                texts.append(_interval_text(table.references[scenario].scores[planner], ".2f"))
+                texts.append(score_text(table.references[scenario], planner))
             shares = outcome_shares(table.outcomes[(scenario, planner)])
             lines.append("| " + " | ".join([scenario, planner, *texts, shares]) + " |")
     text = "\n".join(lines) + "\n\n" + legend(table) + "\n"
@@ -534,6 +557,26 @@ def _interval_text(x: Interval, spec: str) -> str:
     if math.isnan(x.low):
         return format(x.estimate, spec)
     return f"{x.estimate:{spec}} [{x.low:{spec}}, {x.high:{spec}}]"
+
+
+def score_text(ref: ScenarioReferences, planner: str) -> str:
+    """A planner's normalised score with its interval and k/n, the seeds on which it,
+    ``straight`` and the oracle all reached the goal: ``0.19 [0.16, 0.23] (k=97/100)``;
+    ``undefined (k=1/3)`` below :func:`srfm.metrics.headroom.min_score_seeds`."""
+    score = ref.scores[planner]
+    k = f"(k={score.n}/{ref.n_seeds})"
+    if math.isnan(score.estimate):
+        return f"undefined {k}"
+    return f"{_interval_text(score, '.2f')} {k}"
+
+
+def headroom_text(ref: ScenarioReferences) -> str:
+    """The headroom with its interval, labelled a lower bound where a planner beat the
+    oracle (the oracle is then not a bound)."""
+    text = _interval_text(ref.headroom, ".3f")
+    if not ref.oracle_is_bound:
+        text += f" ≥ (lower bound: {', '.join(ref.beats_oracle)} beat the oracle)"
+    return text
 
 
 def discrimination_text(ref: ScenarioReferences) -> str:
@@ -559,7 +602,11 @@ def references_legend() -> str:
         f"power {POWER:g}); a scenario whose headroom is below {MIN_HEADROOM_M:g} m or "
         f"below {MIN_STANDARD_ERRORS:g} SE does not discriminate. Norm. score = "
         "(straight − planner) / (straight − oracle) of the means (0: straight, 1: the "
-        "oracle), with the 95 % percentile interval of a paired bootstrap over seeds."
+        "oracle) over the k of the n seeds on which the planner, straight and the oracle "
+        "all reached the goal (paired; the headroom over the seeds on which straight and "
+        "the oracle did), with the 95 % percentile interval of a paired bootstrap over "
+        f"those seeds; undefined below k = max(2, ⌈{MIN_SCORE_SHARE:g} n⌉). Where a planner "
+        "scores above 1 the oracle is not a bound and the headroom is a lower bound."
     )
 
 
@@ -575,8 +622,7 @@ def references_markdown(table: BenchmarkTable) -> str:
         needed = "–" if ref.seeds_needed is None else str(ref.seeds_needed)
         se = "–" if math.isnan(ref.standard_error) else f"{ref.standard_error:.3f}"
         lines.append(
-            f"| {scenario} | {_interval_text(ref.headroom, '.3f')} | {se} | {needed} | "
-            f"{discrimination_text(ref)} |"
+            f"| {scenario} | {headroom_text(ref)} | {se} | {needed} | {discrimination_text(ref)} |"
         )
     return "\n".join(lines) + "\n\n" + references_legend() + "\n"
 
@@ -587,10 +633,28 @@ def _row_label(name: str) -> str:
     return f"`{base}` \\| success" if _conditioned(name) else f"`{base}`"
 
 
-def to_markdown_extended(table: BenchmarkTable) -> str:
+@attrs.frozen
+class ExtraBlock:
+    """Rows added under a scenario's block of the extended table (no bold, no tests).
+
+    Attributes:
+        title: the group's title row.
+        rows: (name, unit, one text per planner) per row.
+        note: a paragraph under the scenario's table.
+    """
+
+    title: str
+    rows: tuple[tuple[str, str, tuple[str, ...]], ...]
+    note: str = ""
+
+
+def to_markdown_extended(
+    table: BenchmarkTable, extra: Mapping[str, ExtraBlock] | None = None
+) -> str:
     """Every column of ``table`` as rows, a column per planner, one block per scenario,
     grouped as :data:`~srfm.metrics.episode.METRIC_GROUPS`, under a row of the
-    planners' outcome shares (the extended table)."""
+    planners' outcome shares (the extended table); ``extra[scenario]`` adds its rows
+    and note under the scenario's block."""
     names = [n for n, _ in table.columns]
     lines = [
         "# Every metric, per scenario",
@@ -618,6 +682,13 @@ def to_markdown_extended(table: BenchmarkTable) -> str:
                 lines.append(
                     f"| {_row_label(name)}{_arrow(name)} | {unit} | " + " | ".join(texts) + " |"
                 )
+        block = (extra or {}).get(scenario)
+        if block is not None:
+            lines.append(f"| *{block.title}* | |" + " |" * len(table.planners))
+            for name, unit, row in block.rows:
+                lines.append(f"| {name} | {unit} | " + " | ".join(row) + " |")
+            if block.note:
+                lines += ["", block.note]
         lines.append("")
     return "\n".join(lines)
 
@@ -665,8 +736,9 @@ def to_latex(table: BenchmarkTable) -> str:
             )
             texts = [_text(table, scenario, planner, n, latex=True) for n, _ in table.columns]
             if scored:
-                score = table.references[scenario].scores[planner]
-                texts.append(_interval_text(score, ".2f").replace("–", "--"))
+                texts.append(
+                    _tex_escape(score_text(table.references[scenario], planner)).replace("–", "--")
+                )
             shares = _tex_escape(outcome_shares(table.outcomes[(scenario, planner)]))
             lines.append(" & ".join([first, _tex_escape(planner), *texts, shares]) + " \\\\")
         lines.append("\\hline")
@@ -674,8 +746,9 @@ def to_latex(table: BenchmarkTable) -> str:
     return "\n".join(lines) + "\n"
 
 
-def to_latex_extended(table: BenchmarkTable) -> str:
-    """The extended table as LaTeX: one ``tabular`` per scenario, a row per metric."""
+def to_latex_extended(table: BenchmarkTable, extra: Mapping[str, ExtraBlock] | None = None) -> str:
+    """The extended table as LaTeX: one ``tabular`` per scenario, a row per metric
+    (``extra``: as :func:`to_markdown_extended`, its note as a comment)."""
     names = [n for n, _ in table.columns]
     cols = len(table.planners)
     lines = [_tex_comment(legend(table, markdown=False))]
@@ -710,7 +783,18 @@ def to_latex_extended(table: BenchmarkTable) -> str:
                 head = f"{label} {_TEX_ARROWS[_INFO[base].better]}".rstrip()
                 unit = _tex_escape(_INFO[base].unit)
                 lines.append(" & ".join([head, unit, *texts]) + " \\\\")
+        block = (extra or {}).get(scenario)
+        if block is not None:
+            lines.append(
+                f"\\multicolumn{{{cols + 2}}}{{l}}{{\\textit{{{_tex_escape(block.title)}}}}} \\\\"
+            )
+            for name, unit, row in block.rows:
+                cells = [_tex_escape(name.replace("`", "")), _tex_escape(unit)]
+                cells += [_tex_escape(t).replace("±", "$\\pm$").replace("–", "--") for t in row]
+                lines.append(" & ".join(cells) + " \\\\")
         lines += ["\\hline", "\\end{tabular}", ""]
+        if block is not None and block.note:
+            lines += [_tex_comment(block.note), ""]
     return "\n".join(lines)
 
 
@@ -788,5 +872,9 @@ def _references_dict(ref: ScenarioReferences) -> dict[str, Any]:
         "sd_diff": _json_number(ref.sd_diff),
         "seeds_needed": ref.seeds_needed,
         "discriminates": ref.discriminates,
+        "n_seeds": ref.n_seeds,
+        "oracle_is_bound": ref.oracle_is_bound,
+        "beats_oracle": list(ref.beats_oracle),
+        "headroom_is_lower_bound": not ref.oracle_is_bound,
         "scores": {p: _interval_dict(x) for p, x in ref.scores.items()},
     }

@@ -7,6 +7,6 @@ from typing import Final
 
 __all__ = ["ROBOT_FORMS"]
 
-ROBOT_FORMS: Final = ("exponential", "ttc", "collision_prediction", "elliptical")
+ROBOT_FORMS: Final = ("exponential", "ttc", "collision_prediction", "elliptical", "sidestep")
 """The forms of the robot force (:class:`srfm.SRFMParams` ``robot_form``); a form's
 kernel code is its index here."""

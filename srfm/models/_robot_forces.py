@@ -1,7 +1,7 @@
 """The robot's force on a pedestrian, in each of its forms (numba kernels).
 
 The one definition of the robot term f_robot(i) of the SRFM force (docs/model.md, "The
-robot's force: four forms"): the crowd step, the fitting predictor and the
+robot's force: five forms"): the crowd step, the fitting predictor and the
 environment's one-step deviation all reach it through :func:`robot_force`, which picks
 the form the parameter set names (``SRFMKernelParams.robot_form``, a ``FORM_*`` code):
 
@@ -12,7 +12,10 @@ the form the parameter set names (``SRFMKernelParams.robot_form``, a ``FORM_*`` 
 - ``FORM_COLLISION_PREDICTION``, the collision-prediction social force (Zanlungo, Ikeda,
   Kanda 2011, EPL 93, 68005): :func:`collision_prediction_force`;
 - ``FORM_ELLIPTICAL``, the velocity-dependent elliptical force (Johansson, Helbing,
-  Shukla 2007, Adv. Complex Syst. 10, 271): :func:`elliptical_force`.
+  Shukla 2007, Adv. Complex Syst. 10, 271): :func:`elliptical_force`;
+- ``FORM_SIDESTEP``, srfm's sideways response to a predicted near miss, with the onset,
+  amplitude, horizon and robot-speed dependence that NavWareSet's encounters show
+  (docs/real_encounters.md, issue 40): :func:`sidestep_force`.
 
 Each form is zero when its strength is zero (the twin guarantee: a crowd that feels a
 robot of zero strength moves bit for bit as its blind twin). The anticipatory forms
@@ -47,12 +50,15 @@ __all__ = [
     "FORM_COLLISION_PREDICTION",
     "FORM_ELLIPTICAL",
     "FORM_EXPONENTIAL",
+    "FORM_SIDESTEP",
     "FORM_TTC",
+    "SIDESTEP_REF_SPEED_MPS",
     "TTC_MIN_TAU_S",
     "collision_prediction_force",
     "elliptical_force",
     "robot_force",
     "robot_strength",
+    "sidestep_force",
     "ttc_force",
 ]
 
@@ -61,6 +67,10 @@ FORM_EXPONENTIAL: Final = 0
 FORM_TTC: Final = 1
 FORM_COLLISION_PREDICTION: Final = 2
 FORM_ELLIPTICAL: Final = 3
+FORM_SIDESTEP: Final = 4
+
+SIDESTEP_REF_SPEED_MPS: Final = 1.0
+"""The robot speed at which the sidestep force's amplitude is ``ss_a`` (m/s)."""
 
 TTC_MIN_TAU_S: Final = 1e-6
 """Floor of the time to collision τ (s) in the TTC force: keeps τ⁻³ finite (the cap
@@ -300,10 +310,106 @@ def elliptical_force(
 
 
 @njit(cache=True, inline="always")
+def sidestep_force(
+    x: float,
+    y: float,
+    vx: float,
+    vy: float,
+    sx: float,
+    sy: float,
+    svx: float,
+    svy: float,
+    hx: float,
+    hy: float,
+    has_heading: bool,
+    amplitude: float,
+    onset: float,
+    horizon: float,
+    speed_gain: float,
+    cap: float,
+) -> tuple[float, float]:
+    """The sidestep force on an agent: a sideways step away from the predicted side of
+    a near miss (srfm, issue 40; docs/model.md).
+
+    Both moving at constant velocity (p = x_i − x_s, w = v_i − v_s), the closest
+    approach is at t* = −(p·w)/|w|², at the predicted miss vector m = p + w t* (from the
+    source to the agent), of length d* (centre distance). The agent reacts only while
+    the two close in (p·w < 0), the closest approach lies within the horizon
+    (t* < T) and the predicted miss is below the onset (d* < d_on):
+
+        |f| = A (1 − d*/d_on) (1 − t*/T) exp(γ (|v_s| − v_ref)),
+
+    v_ref = :data:`SIDESTEP_REF_SPEED_MPS`: the amplitude A is the force at a predicted
+    collision course, now, of a source at v_ref; γ (s/m) is the dependence on the
+    source's speed (0: none; the exponent capped as everywhere). The direction is
+    sideways to the agent's heading h, n = h turned by +90°, toward the side of m:
+    +n when m·n > 0, −n when m·n < 0, and −n (to the right) on an exact collision
+    course (m·n = 0). An agent without heading steps along m (along p when m = 0).
+    No force when the centres coincide (|p| < EPS) or the relative speed is below
+    √EPS. The force is capped at ``cap``; the step ends when the source has passed
+    (p·w ≥ 0).
+
+    Args:
+        x, y: the agent's position (m).
+        vx, vy: the agent's velocity (m/s).
+        sx, sy: the source's position (m).
+        svx, svy: the source's velocity (m/s).
+        hx, hy: the agent's unit heading.
+        has_heading: False for an agent without heading.
+        amplitude: A (m/s²), >= 0.
+        onset: d_on, the predicted miss below which the agent reacts (m), > 0.
+        horizon: T, the longest time ahead at which it reacts (s), > 0.
+        speed_gain: γ (s/m).
+        cap: the largest force (m/s²), > 0.
+
+    Returns:
+        (fx, fy), the acceleration (m/s²) on the agent.
+    """
+    px = x - sx
+    py = y - sy
+    wx = vx - svx
+    wy = vy - svy
+    s = px * wx + py * wy
+    w2 = wx * wx + wy * wy
+    if s >= 0.0 or w2 < EPS or math.sqrt(px * px + py * py) < EPS:
+        return 0.0, 0.0
+    t = -s / w2
+    if t >= horizon:
+        return 0.0, 0.0
+    mx = px + wx * t
+    my = py + wy * t
+    miss = math.sqrt(mx * mx + my * my)
+    if miss >= onset:
+        return 0.0, 0.0
+    speed = math.sqrt(svx * svx + svy * svy)
+    mag = (
+        amplitude
+        * (1.0 - miss / onset)
+        * (1.0 - t / horizon)
+        * capped_exp(speed_gain * (speed - SIDESTEP_REF_SPEED_MPS))
+    )
+    if has_heading:
+        nx = -hy
+        ny = hx
+        if mx * nx + my * ny > 0.0:
+            return _capped(mag * nx, mag * ny, cap)
+        return _capped(-mag * nx, -mag * ny, cap)
+    if miss < EPS:
+        mx = px
+        my = py
+        miss = math.sqrt(px * px + py * py)
+        if miss < EPS:
+            return 0.0, 0.0
+    return _capped(mag * mx / miss, mag * my / miss, cap)
+
+
+@njit(cache=True, inline="always")
 def robot_strength(params: SRFMKernelParams) -> float:
-    """The strength of the parameter set's robot form (A_r, k, A or A_e): 0 switches the
-    robot off."""
+    """The strength of the parameter set's robot form (A_r, k, A, A_e or the sidestep's
+    A): 0 switches the robot off."""
     form = params.robot_form
+    if form == FORM_SIDESTEP:
+        return params.ss_a
     if form == FORM_TTC:
         return params.ttc_k
     if form == FORM_COLLISION_PREDICTION:
@@ -335,6 +441,27 @@ def robot_force(
     """
     form = params.robot_form
     r_sum = radius + robot[2]
+    if form == FORM_SIDESTEP:
+        if params.ss_a == 0.0:
+            return 0.0, 0.0
+        return sidestep_force(
+            x,
+            y,
+            vx,
+            vy,
+            robot[0],
+            robot[1],
+            robot[3],
+            robot[4],
+            hx,
+            hy,
+            has_heading,
+            params.ss_a,
+            params.ss_miss,
+            params.ss_horizon,
+            params.ss_speed_gain,
+            params.robot_force_cap,
+        )
     if form == FORM_TTC:
         if params.ttc_k == 0.0:
             return 0.0, 0.0

@@ -11,11 +11,12 @@ with the acceleration (unit mass, so forces are accelerations, m/s²)
     f_obs      = A_o exp((r_i − d_io) / B_o) n_oi
     ψ(φ; λ)    = λ + (1 − λ) (1 + cos φ) / 2                      (Eq. 5)
 
-The robot term f_robot has four forms (``robot_form``; docs/model.md): the paper's
+The robot term f_robot has five forms (``robot_form``; docs/model.md): the paper's
 exponential force above (the default), the time-to-collision force of Karamouzas,
 Skinner and Guy (2014), the collision-prediction force of Zanlungo, Ikeda and Kanda
-(2011) and the elliptical force of Johansson, Helbing and Shukla (2007); each reads
-only its own parameters (:data:`FORM_FIELDS`).
+(2011), the elliptical force of Johansson, Helbing and Shukla (2007) and srfm's
+sidestep, a sideways response to a predicted near miss (issue 40); each reads only its
+own parameters (:data:`FORM_FIELDS`).
 
 Model-level parameters live here; per-agent values (radius, desired and maximum speed)
 are arrays in :class:`srfm.CrowdState`.
@@ -65,6 +66,7 @@ FORM_FIELDS: Final[dict[str, tuple[str, ...]]] = {
     "ttc": ("ttc_k", "ttc_tau0", "robot_force_cap"),
     "collision_prediction": ("cp_a", "cp_b", "cp_t_min", "cp_t_max", "robot_force_cap"),
     "elliptical": ("ell_a", "ell_b", "ell_dt", "lambda_robot", "robot_force_cap"),
+    "sidestep": ("ss_a", "ss_miss", "ss_horizon", "ss_speed_gain", "robot_force_cap"),
 }
 """The parameters each robot form reads (its strength first)."""
 
@@ -111,8 +113,12 @@ class SRFMKernelParams(NamedTuple):
         ell_a: A_e, strength of the elliptical force (m/s²).
         ell_b: B_e, its range (m).
         ell_dt: Δt, its prediction time (s).
-        robot_force_cap: the largest robot force of the ttc, collision_prediction and
-            elliptical forms (m/s²).
+        robot_force_cap: the largest robot force of the ttc, collision_prediction,
+            elliptical and sidestep forms (m/s²).
+        ss_a: A, amplitude of the sidestep force (m/s²).
+        ss_miss: d_on, its onset: the predicted miss below which people react (m).
+        ss_horizon: T, its anticipation horizon (s).
+        ss_speed_gain: γ, its dependence on the robot's speed (s/m).
     """
 
     a_ped: float
@@ -135,6 +141,10 @@ class SRFMKernelParams(NamedTuple):
     ell_b: float
     ell_dt: float
     robot_force_cap: float
+    ss_a: float
+    ss_miss: float
+    ss_horizon: float
+    ss_speed_gain: float
 
 
 def _check_positive(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
@@ -183,6 +193,20 @@ def _check_duration(inst: Any, attribute: attrs.Attribute[float], value: Any) ->
         raise ParameterError(f"{attribute.name} must be <= {MAX_TIME_S:g} s, got {plain(value)}")
 
 
+# Bound of the sidestep force's speed gain γ (s/m): exp(γ Δv) stays finite below the
+# exponent's cap and a response 1e4 times stronger per m/s is far outside any data.
+MAX_SPEED_GAIN: Final = 10.0
+
+
+def _check_gain(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
+    out = finite_float(value, attribute.name, ParameterError)
+    if not -MAX_SPEED_GAIN <= out <= MAX_SPEED_GAIN:
+        raise ParameterError(
+            f"{attribute.name} must be in [{-MAX_SPEED_GAIN:g}, {MAX_SPEED_GAIN:g}] s/m, "
+            f"got {plain(value)}"
+        )
+
+
 def _check_cap(inst: Any, attribute: attrs.Attribute[float], value: Any) -> None:
     out = positive(value, attribute.name, ParameterError)
     if out > MAX_STRENGTH:
@@ -225,7 +249,8 @@ class SRFMParams:
             ``"exponential"`` (the paper's; A_r, B_r, λ_r), ``"ttc"`` (Karamouzas,
             Skinner, Guy 2014; k, τ0), ``"collision_prediction"`` (Zanlungo, Ikeda,
             Kanda 2011; A, B, t_min, t_max) or ``"elliptical"`` (Johansson, Helbing,
-            Shukla 2007; A_e, B_e, Δt, λ_r). Each form reads only its own fields
+            Shukla 2007; A_e, B_e, Δt, λ_r) or ``"sidestep"`` (srfm's response to a
+            predicted near miss; A, d_on, T, γ). Each form reads only its own fields
             (:data:`FORM_FIELDS`); docs/model.md gives the equations.
         ttc_k: k, strength of the time-to-collision energy E = k τ⁻² e^(−τ/τ0) (m²
             per unit mass), in [0, 1e6]; 0 switches the robot off.
@@ -243,13 +268,25 @@ class SRFMParams:
         ell_dt: Δt, its prediction time (s), in [0, 1e3]; 0 is the paper's circular
             force.
         robot_force_cap: the largest robot force (m/s²) of the ttc,
-            collision_prediction and elliptical forms, in (0, 1e6] (their
+            collision_prediction, elliptical and sidestep forms, in (0, 1e6] (their
             singularities: a collision or closest approach now, a grazing course).
+        ss_a: A, amplitude of the sidestep force (m/s²), in [0, 1e6]: its force on a
+            predicted collision course, now, of a robot at 1 m/s; 0 switches the robot
+            off.
+        ss_miss: d_on, its onset (m), > 0: people react while the predicted miss (the
+            centre distance at the closest approach, both at constant velocity) is
+            below it.
+        ss_horizon: T, its anticipation horizon (s), in [1e-3, 1e3]: people react
+            while the closest approach is less than T ahead.
+        ss_speed_gain: γ, its dependence on the robot's speed (s/m), in [−10, 10]: the
+            amplitude is A exp(γ (|v_r| − 1 m/s)); 0 makes it independent of the speed.
 
     The defaults of the other forms are starting values, not fits (issue 28 fits them
     on NavWareSet): τ0 = 3 s is Karamouzas et al.'s cut-off; the elliptical A_e, B_e
     are the paper's A_r, B_r, so that at equal velocities (or Δt = 0) it is the paper's
-    force.
+    force; the sidestep's d_on = 0.75 m and T = 3.5 s are the model-free onsets of
+    docs/real_encounters.md (part 1), A = 0.2 m/s² the size of the sideways
+    acceleration measured there, γ = 0 no speed dependence.
     """
 
     a_ped: float = attrs.field(default=2.0, converter=_to_float, validator=_check_strength)
@@ -272,6 +309,10 @@ class SRFMParams:
     ell_b: float = attrs.field(default=0.99, converter=_to_float, validator=_check_positive)
     ell_dt: float = attrs.field(default=1.0, converter=_to_float, validator=_check_duration)
     robot_force_cap: float = attrs.field(default=20.0, converter=_to_float, validator=_check_cap)
+    ss_a: float = attrs.field(default=0.2, converter=_to_float, validator=_check_strength)
+    ss_miss: float = attrs.field(default=0.75, converter=_to_float, validator=_check_positive)
+    ss_horizon: float = attrs.field(default=3.5, converter=_to_float, validator=_check_time)
+    ss_speed_gain: float = attrs.field(default=0.0, converter=_to_float, validator=_check_gain)
 
     def __attrs_post_init__(self) -> None:
         if self.cp_t_max < self.cp_t_min:

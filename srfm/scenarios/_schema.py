@@ -17,6 +17,9 @@ malformed values raise :class:`srfm.errors.ScenarioError` naming the file and ke
     [simulation]
     dt_s = 0.06666666666666667          # step (s), in (0, 1], default 1/15
     horizon_steps = 750                 # steps of both twins, 1..MAX_HORIZON_STEPS
+    crowd_substeps = 1                  # crowd steps of dt_s / crowd_substeps per step,
+                                        # 1..MAX_CROWD_SUBSTEPS (the robot's control rate
+                                        # stays 1 / dt_s; 1, the paper's scheme, by default)
 
     [world]                             # the robot is out of bounds outside it
     x_min = 0.0                         # defaults: [0, 15] x [0, 15] m; |x|, |y| <= 1e7
@@ -96,6 +99,8 @@ SCHEMA_VERSION: Final = 2
 SCHEMA_VERSIONS: Final = (1, 2)
 DEFAULT_SWITCH_RADIUS_M: Final = 0.5
 MAX_HORIZON_STEPS: Final = 1_000_000
+MAX_CROWD_SUBSTEPS: Final = 64
+"""The most crowd substeps per step (``[simulation] crowd_substeps``)."""
 DEFAULT_DT_S: Final = 1.0 / 15.0
 # [pedestrians] keys of version 2.
 _V2_PEDESTRIAN_KEYS: Final = (
@@ -140,6 +145,10 @@ class Scenario:
         kind: ``"fixed"`` or ``"random"``.
         dt_s: simulation step (s).
         horizon_steps: steps of both twins in every episode.
+        crowd_substeps: crowd steps of ``dt_s / crowd_substeps`` per step: the crowd at
+            a finer step while the robot's planner keeps its control rate 1 / ``dt_s``
+            and the record its samples (1, the paper's scheme, by default;
+            docs/metrics.md, "Convergence in the time step").
         world: the world rectangle (m); the robot is out of bounds outside it.
         robot: the robot's body and limits (m, m/s, rad/s, m/s², rad/s²).
         robot_start, robot_goal: (2,) the robot's start and goal (m); None for
@@ -208,6 +217,7 @@ class Scenario:
     ped_enter_s: FloatArray | None = None
     ped_enter_noise_s: float = 0.0
     ped_sources: tuple[_v2.EntrySource, ...] = ()
+    crowd_substeps: int = 1
 
     def region(self, name: str) -> tuple[float, float, float, float]:
         """The named region (x_min, y_min, x_max, y_max) (m).
@@ -240,7 +250,7 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
     """
     top = TableReader(data, "", source)
     head = _read_head(top)
-    dt_s, horizon = _read_simulation(top)
+    dt_s, horizon, substeps = _read_simulation(top)
     world = _read_world(top, source)
     regions = _v2.read_regions(top, world) if head.v2 else {}
     robot = _read_robot(top, head, world)
@@ -295,6 +305,7 @@ def parse_scenario(data: Mapping[str, Any], source: str) -> Scenario:
         ),
         ped_enter_noise_s=peds.enter_noise_s,
         ped_sources=() if layout is None else layout.sources,
+        crowd_substeps=substeps,
     )
 
 
@@ -338,13 +349,14 @@ def _read_head(top: TableReader) -> _Head:
     return _Head(version, name, description, kind)
 
 
-def _read_simulation(top: TableReader) -> tuple[float, int]:
-    """``[simulation]``: the step (s) and the horizon (steps)."""
+def _read_simulation(top: TableReader) -> tuple[float, int, int]:
+    """``[simulation]``: the step (s), the horizon (steps) and the crowd substeps."""
     sim = top.table("simulation")
     dt_s = sim.number("dt_s", DEFAULT_DT_S, minimum=0.0, strict=True, maximum=MAX_DT_S)
     horizon = sim.integer("horizon_steps", 750, minimum=1, maximum=MAX_HORIZON_STEPS)
+    substeps = sim.integer("crowd_substeps", 1, minimum=1, maximum=MAX_CROWD_SUBSTEPS)
     sim.finish()
-    return dt_s, horizon
+    return dt_s, horizon, substeps
 
 
 def _read_world(top: TableReader, source: str) -> WorldBounds:

@@ -9,7 +9,10 @@ environment alike:
    has ended, when it stays where it is at rest); the robot moves under the command
    (:func:`move_robot`);
 2. the factual crowd takes one SRFM step feeling that body, and, unless the
-   counterfactual twin is switched off, the counterfactual crowd one step without it;
+   counterfactual twin is switched off, the counterfactual crowd one step without it
+   (with ``crowd_substeps`` > 1, that many crowd steps of dt / crowd_substeps, the body
+   moved along the robot's step between them: the crowd at a finer step, the robot's
+   control rate unchanged);
 3. pedestrians within the goal radius of their goal are flagged as new arrivals
    (:func:`mark_arrivals`; the engine decides in Python what an arrival means);
 4. for a robot still active, the robot event at sample k + 1 (:func:`robot_event`).
@@ -81,11 +84,17 @@ class StepOptions(NamedTuple):
         ped_goal_radius_m: a pedestrian arrives within this distance of its goal (m).
         counterfactual: step the counterfactual crowd too (the environment may skip
             it in training: its reward needs only the one-step deviation).
+        crowd_substeps: crowd steps of ``dt_s / crowd_substeps`` per step (1: the
+            paper's scheme, one crowd step per control step); the robot moves once
+            per step under its command, and each crowd substep feels its body where
+            it is at that time (linear between the samples, at the new velocity after
+            the first substep).
     """
 
     dt_s: float
     ped_goal_radius_m: float
     counterfactual: bool
+    crowd_substeps: int = 1
 
 
 class Samples(NamedTuple):
@@ -245,17 +254,28 @@ def _advance(
     if not active:
         robot[VX:] = 0.0  # at rest where its episode ended
     body = ep.felt.robot
-    body[0] = robot[X]
-    body[1] = robot[Y]
+    x0 = robot[X]
+    y0 = robot[Y]
+    body[0] = x0
+    body[1] = y0
     body[3] = robot[VX]
     body[4] = robot[VY]
     if active:
         move_robot(robot, c0, c1, ep.limits, o.dt_s)
     felt = ep.felt
-    crowd_step(ep.factual, felt, o.dt_s, ep.force_buf)
-    if o.counterfactual:
-        blind = ForceContext(felt.params, body, FALSE, felt.obstacles, felt.cut)
-        crowd_step(ep.counterfactual, blind, o.dt_s, ep.force_buf)
+    blind = ForceContext(felt.params, body, FALSE, felt.obstacles, felt.cut)
+    n_sub = o.crowd_substeps
+    h = o.dt_s / n_sub  # dt itself for one substep
+    for j in range(n_sub):
+        if j > 0:  # the body where the robot is at time k dt + j h
+            frac = j / n_sub
+            body[0] = x0 + frac * (robot[X] - x0)
+            body[1] = y0 + frac * (robot[Y] - y0)
+            body[3] = robot[VX]
+            body[4] = robot[VY]
+        crowd_step(ep.factual, felt, h, ep.force_buf)
+        if o.counterfactual:
+            crowd_step(ep.counterfactual, blind, h, ep.force_buf)
     radius = o.ped_goal_radius_m
     f = ep.factual
     flags = ep.factual_arrivals

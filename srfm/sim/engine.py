@@ -40,7 +40,7 @@ from srfm._jit import specialize_once
 from srfm.errors import SimulationError
 from srfm.models import _robot_kernels as _rk
 from srfm.models._arrays import ForceContext
-from srfm.models._primitives import TRUE
+from srfm.models._primitives import FALSE, TRUE
 from srfm.models.forces import Cutoff, kernel_cutoffs
 from srfm.models.params import SRFMParams
 from srfm.models.robot import RobotState
@@ -87,6 +87,8 @@ class EpisodeEngine:
             counterfactual).
         records: return the events as :class:`~srfm.sim.record.Event` records (the
             environment, which needs none, saves their cost).
+        robot_felt: the factual crowd feels the robot (False: both crowds are blind
+            to it, as for the noise floor, :func:`srfm.sim.floor.nudged_twins`).
 
     Attributes:
         factual, counterfactual: the two crowds, every pedestrian of the episode (the
@@ -117,9 +119,11 @@ class EpisodeEngine:
         cutoff: Cutoff = "auto",
         counterfactual: bool = True,
         records: bool = True,
+        robot_felt: bool = True,
     ) -> None:
         self.params = params if params is not None else SRFMParams()
         self.records = records
+        self._robot_felt = robot_felt
         self._parallel = parallel
         self._cutoff: Cutoff = cutoff
         self._counterfactual = counterfactual
@@ -184,12 +188,14 @@ class EpisodeEngine:
             self._obstacles_of = obstacles
         self._cut = kernel_cutoffs(self._cutoff, self.params, crowd.radius)
         kernel_params = self.params.for_kernels()
-        self._felt = ForceContext(kernel_params, self._body, TRUE, self._obstacles, self._cut)
+        felt = TRUE if self._robot_felt else FALSE
+        self._felt = ForceContext(kernel_params, self._body, felt, self._obstacles, self._cut)
         self._limits = scenario.robot.for_kernels()
         self._options = _k.StepOptions(
             dt_s=float(scenario.dt_s),
             ped_goal_radius_m=float(scenario.ped_goal_radius_m),
             counterfactual=self._counterfactual,
+            crowd_substeps=int(scenario.crowd_substeps),
         )
         # The step kernel, and its run of steps with the robot at rest (none threaded).
         self._rest_kernel: Callable[..., tuple[int, int]] | None = None

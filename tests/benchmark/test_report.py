@@ -286,6 +286,26 @@ def _load_in_chromium(page_path: Path) -> dict[str, object]:
                 "r => r.offsetHeight > 0).map(r => Array.from(r.querySelectorAll('td'))"
                 ".map(t => t.innerText.trim()))"
             )
+            # issue 41: the noise floor, the direct / knock-on split, the suite statistics
+            floor = page.evaluate(
+                "Array.from(document.querySelectorAll('table.floor tbody tr')).filter("
+                "r => r.offsetHeight > 0).map(r => Array.from(r.querySelectorAll('td'))"
+                ".map(t => t.innerText.trim()))"
+            )
+            split = page.evaluate(
+                "Array.from(document.querySelectorAll('table.split td.split')).filter("
+                "t => t.offsetWidth > 0).map(t => t.innerText.trim())"
+            )
+            iqm = page.evaluate(
+                "Array.from(document.querySelectorAll('table.iqm tbody tr')).filter("
+                "r => r.offsetHeight > 0).map(r => Array.from(r.querySelectorAll('td'))"
+                ".map(t => t.innerText.trim()))"
+            )
+            poi = page.evaluate(
+                "Array.from(document.querySelectorAll('table.poi tbody tr')).filter("
+                "r => r.offsetHeight > 0).map(r => Array.from(r.querySelectorAll('td'))"
+                ".map(t => t.innerText.trim()))"
+            )
         finally:
             browser.close()
     return {
@@ -302,6 +322,10 @@ def _load_in_chromium(page_path: Path) -> dict[str, object]:
         "ranks": ranks,
         "scores": scores,
         "references": references,
+        "floor": floor,
+        "split": split,
+        "iqm": iqm,
+        "poi": poi,
     }
 
 
@@ -313,7 +337,8 @@ def test_the_page_loads_cleanly_in_chromium(results: Path, tmp_path: Path) -> No
     assert seen["title"] == "srfm benchmark results"
     images = seen["images"]
     assert isinstance(images, list)
-    assert len(images) == 4  # deviation, social work, two path figures
+    assert len(images) == 5  # deviation, social work, profiles, two path figures
+    assert "figures/profiles.png" in [src for src, _, _ in images]
     for src, complete, width in images:
         assert complete, src
         assert width > 0, src
@@ -345,6 +370,7 @@ def test_the_page_loads_cleanly_in_chromium(results: Path, tmp_path: Path) -> No
     for row in ranks:
         assert len(row) == 2
         assert sum(row) == pytest.approx(1.0, abs=0.011)  # two decimals shown
+    _check_issue_41(results, seen)
     # The same check on a folder with a figure gone: the browser reports it.
     broken = tmp_path / "broken"
     shutil.copytree(results, broken)
@@ -356,6 +382,47 @@ def test_the_page_loads_cleanly_in_chromium(results: Path, tmp_path: Path) -> No
     images = seen["images"]
     assert isinstance(images, list)
     assert [src for src, _, width in images if width == 0] == ["figures/social_work.png"]
+
+
+def _check_issue_41(results: Path, seen: dict[str, object]) -> None:
+    """The noise floor per scenario, the direct / knock-on split of every cell, the IQM
+    of every planner and the probabilities of improvement are on the page, visible, as
+    summary.json holds them."""
+    summary = json.loads((results / "summary.json").read_text(encoding="utf-8"))
+    attribution = summary["attribution"]["scenarios"]
+    suite = summary["suite"]
+    planners = summary["request"]["planners"]
+    floor = seen["floor"]
+    assert isinstance(floor, list)
+    assert [row[0] for row in floor] == list(attribution)  # every scenario has its floor
+    for row in floor:
+        f = attribution[row[0]]["floor"]
+        assert row[1] == f"{f['mean']:.4f}"
+        assert f["mean"] > 0.0
+        assert len(f["values"]) == 3  # one per seed, not per planner
+        assert row[4] == f["verdict"]
+    split = seen["split"]
+    assert isinstance(split, list)
+    assert len(split) == len(attribution) * len(planners)
+    cells = [attribution[s]["split"][p] for s in attribution for p in planners]
+    for text, cell in zip(split, cells, strict=True):
+        assert text.startswith(f"{cell['frechet_direct_m']['mean']:.3f} / ")
+        assert f"({cell['pedestrians_felt']['mean']:.1f} felt)" in text
+    iqm = seen["iqm"]
+    assert isinstance(iqm, list)
+    assert [row[0] for row in iqm] == planners
+    for row in iqm:
+        x = suite["deviation_iqm"][row[0]]
+        assert row[1] == f"{x['estimate']:.3f} [{x['low']:.3f}, {x['high']:.3f}]"
+    poi = seen["poi"]
+    assert isinstance(poi, list)
+    assert len(poi) == len(planners)
+    a, b = planners
+    x = suite["improvement"][a][b]
+    assert poi[0][1:] == ["–", f"{x['estimate']:.2f} [{x['low']:.2f}, {x['high']:.2f}]"]
+    assert suite["improvement"][b][a]["estimate"] == pytest.approx(1.0 - x["estimate"])
+    floor_files = sorted((results / "floor").rglob("seed-*.json"))
+    assert len(floor_files) == 2 * 3  # per (scenario, seed), whatever the planners
 
 
 @pytest.fixture(scope="module")
@@ -407,9 +474,14 @@ def test_the_page_shows_the_reference_points_in_chromium(walled_results: Path) -
     for scenario in ("pedestrian_overtaking", "parallel_traffic"):
         for planner in ("straight", "oracle"):
             score = refs[scenario]["scores"][planner]
-            expected.append(f"{score['estimate']:.2f} [{score['low']:.2f}, {score['high']:.2f}]")
+            k = f"(k={score['n']}/{refs[scenario]['n_seeds']})"
+            if score["estimate"] is None:
+                expected.append(f"undefined {k}")
+            else:
+                interval = f"{score['estimate']:.2f} [{score['low']:.2f}, {score['high']:.2f}]"
+                expected.append(f"{interval} {k}")
     assert scores == expected
-    assert scores[1] == "1.00 [1.00, 1.00]"  # the oracle is the end of the ruler
+    assert scores[1] == "1.00 [1.00, 1.00] (k=2/2)"  # the oracle is the end of the ruler
     references = seen["references"]
     assert isinstance(references, list)
     assert [row[0] for row in references] == ["pedestrian_overtaking", "parallel_traffic"]

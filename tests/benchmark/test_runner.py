@@ -119,6 +119,21 @@ def test_results_folder_layout(reference_run: Path) -> None:
     md = (out / "table.md").read_text()
     assert md.count("| short |") == 2
     assert "Fréchet" in md
+    # Issue 41: one noise floor per (scenario, seed), whatever the planners, in the
+    # summary beside each scenario; the same numbers as the crowd simulated again.
+    floors = sorted(p.relative_to(out).as_posix() for p in (out / "floor").rglob("*.json"))
+    assert floors == [
+        f"floor/{s}/seed-{k:06d}.json" for s in ("concert", "short") for k in range(4)
+    ]
+    summary = json.loads((out / "summary.json").read_text())
+    floor = summary["attribution"]["scenarios"]["concert"]["floor"]
+    from srfm.metrics.attribution import noise_floor
+    from srfm.scenarios import load_scenario
+    from srfm.sim.floor import nudged_twins
+
+    again = noise_floor(nudged_twins(load_scenario("concert"), 2, SRFMParams()))
+    assert floor["values"][2] == float(again.mean())
+    assert "Noise floor (no robot, one start moved 1 mm)" in (out / "table_extended.md").read_text()
 
 
 def test_episode_files_hold_the_metrics_of_the_episode(reference_run: Path) -> None:
@@ -392,8 +407,7 @@ def test_kernels_are_compiled_in_the_parent_before_forking(
     tasks = [
         _Task(
             scenario=scenario,
-            planner=planner,
-            seeds=(0,),
+            episodes=((0, (planner,)),),
             params=SRFMParams(),
             out=str(tmp_path),
             writer=None,

@@ -337,3 +337,23 @@ def test_fit_robot_force_form_on_real_encounters(real_data: Path, tmp_path: Path
     code, text = run("fit", str(data), "-o", str(out), "--robot-force", "spring")
     assert code == 2
     assert "spring" in text
+
+
+def test_fit_the_sidestep_form_on_real_encounters(real_data: Path, tmp_path: Path) -> None:
+    """srfm fit --robot-force sidestep fits A, d_on, T and γ (issue 40)."""
+    data = tmp_path / "nav.mcap"
+    code, text = run("data", "convert", "navwareset", str(real_data / "navwareset"), str(data))
+    assert code == 0, text
+    out = tmp_path / "sidestep.toml"
+    code, text = run(
+        "fit", str(data), "-o", str(out), "--stage", "robot", "--robot-force", "sidestep",
+        "--max-nfev", "5", "--align", "encounter", "--goal", "heading",
+        "--min-start-speed", "0.3",
+    )  # fmt: skip
+    assert code == 0, text
+    fitted = srfm.load_params(out)
+    assert fitted.robot_form == "sidestep"
+    default = srfm.SRFMParams()
+    fields = ("ss_a", "ss_miss", "ss_horizon", "ss_speed_gain")
+    assert any(getattr(fitted, f) != getattr(default, f) for f in fields)
+    assert fitted.robot_force_cap == default.robot_force_cap  # not a field of srfm fit

@@ -377,8 +377,10 @@ def test_columns_conditioned_on_success_and_outcome_shares() -> None:
     }
     md = to_markdown(table)
     # The conditioned cell always shows n, the unconditional one only below S.
-    assert "| s | ref | 3.75 ± 3.59 | 2.00 ± 1.00 (n=3) | 75 % goal, 25 % coll. |" in md
-    assert "| s | stops | **0.57 ± 0.64** | 1.00 ± 0.71 (n=2) | 50 % goal, 50 % timeout |" in md
+    # stops deviates less but reached the goal 25 percentage points less often than
+    # ref, beyond the 10-point margin (GOAL_MARGIN): it is not bold, ref is.
+    assert "| s | ref | **3.75 ± 3.59** | 2.00 ± 1.00 (n=3) | 75 % goal, 25 % coll. |" in md
+    assert "| s | stops | 0.57 ± 0.64 | 1.00 ± 0.71 (n=2) | 50 % goal, 50 % timeout |" in md
     assert md.splitlines()[0] == (
         "| Scenario | Planner | Fréchet ↓ | Fréchet \\| success ↓ | Outcomes |"
     )

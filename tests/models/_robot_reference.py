@@ -18,6 +18,10 @@ v_i − v_r (N, 2), ``r`` the radius sums (N,).
 - Elliptical specification II (Johansson, Helbing, Shukla 2007): y = (v_r − v_i) Δt,
   2β = √((|p| + |p − y|)² − |y|²), F = A_e e^((r − β)/B_e) ψ (|p| + |p − y|)/(2β)
   (p̂ + (p − y)^)/2; capped.
+- Sidestep (srfm, issue 40): with t* = −(p·w)/|w|² and m = p + w t*, for p·w < 0,
+  t* < T and |m| < d_on, |F| = A (1 − |m|/d_on)(1 − t*/T) e^(γ(|v_r| − 1)), pointing
+  along the component of m perpendicular to the heading (to the heading's right when
+  that component is 0), along m (else p) without a heading; capped.
 
 Degenerate cases use the kernel's documented conventions (the EPS thresholds of
 ``srfm.models._primitives``), so that the branches agree; everything else is computed
@@ -130,6 +134,43 @@ def elliptical(
     return _cap(f, cap)
 
 
+def sidestep(
+    p: FloatArray,
+    w: FloatArray,
+    robot_v: FloatArray,
+    heading: FloatArray,
+    has_heading: NDArray[np.bool_],
+    a: float,
+    onset: float,
+    horizon: float,
+    gain: float,
+    cap: float,
+) -> FloatArray:
+    """The sidestep force (N, 2): the heading's perpendicular component of the
+    predicted miss gives the side, projected with the heading's rejection."""
+    s = _dot(p, w)
+    w2 = _dot(w, w)
+    t = -s / np.where(w2 >= EPS, w2, 1.0)
+    m = p + w * t[:, None]
+    miss = np.linalg.norm(m, axis=1)
+    ok = (s < 0.0) & (w2 >= EPS) & (t < horizon) & (miss < onset)
+    ok &= np.linalg.norm(p, axis=1) >= EPS
+    speed = float(np.hypot(robot_v[0], robot_v[1]))
+    mag = a * (1.0 - miss / onset) * (1.0 - t / horizon) * np.exp(min(gain * (speed - 1.0), 60.0))
+    # the side: m minus its part along the heading; its sign along the left normal
+    lateral = m - _dot(m, heading)[:, None] * heading
+    left = np.stack([-heading[:, 1], heading[:, 0]], axis=1)
+    side = np.where(_dot(lateral, left) > 0.0, 1.0, -1.0)
+    with_heading = side[:, None] * left
+    far = np.where((miss >= EPS)[:, None], m, p)
+    far_n = np.linalg.norm(far, axis=1)
+    without = far / np.where(far_n >= EPS, far_n, 1.0)[:, None]
+    without = np.where((far_n >= EPS)[:, None], without, 0.0)
+    unit = np.where(has_heading[:, None], with_heading, without)
+    f = np.where(ok[:, None], mag[:, None] * unit, 0.0)
+    return _cap(f, cap)
+
+
 def robot_force(
     crowd: srfm.CrowdState,
     params: srfm.SRFMParams,
@@ -153,6 +194,21 @@ def robot_force(
             return np.zeros_like(p)
         return collision_prediction(
             p, w, crowd.vel, r, params.cp_a, params.cp_b, params.cp_t_min, params.cp_t_max, cap
+        )
+    if params.robot_form == "sidestep":
+        if params.ss_a == 0.0:
+            return np.zeros_like(p)
+        return sidestep(
+            p,
+            w,
+            rvel,
+            heading,
+            has_heading,
+            params.ss_a,
+            params.ss_miss,
+            params.ss_horizon,
+            params.ss_speed_gain,
+            cap,
         )
     assert params.robot_form == "elliptical"
     if params.ell_a == 0.0:

@@ -19,9 +19,10 @@ from srfm.scenarios import BUILTIN_SCENARIOS
 from tests.models import _reference as ref
 from tests.models import _robot_reference as rref
 
-ANTICIPATORY = ("ttc", "collision_prediction", "elliptical")
+ANTICIPATORY = ("ttc", "collision_prediction", "elliptical", "sidestep")
 STRENGTH = {"exponential": "a_robot", "ttc": "ttc_k", "collision_prediction": "cp_a"}
 STRENGTH["elliptical"] = "ell_a"
+STRENGTH["sidestep"] = "ss_a"
 
 # --------------------------------------------------------------------------------------
 # Kernels against the NumPy reference.
@@ -44,6 +45,10 @@ def form_params(draw: st.DrawFn, form: str) -> srfm.SRFMParams:
         ell_dt=draw(st.floats(0.0, 3.0)),
         lambda_robot=draw(st.floats(0.0, 1.0)),
         robot_force_cap=draw(st.floats(1.0, 50.0)),
+        ss_a=draw(st.floats(0.0, 30.0)),
+        ss_miss=draw(st.floats(0.05, 3.0)),
+        ss_horizon=draw(st.floats(0.1, 8.0)),
+        ss_speed_gain=draw(st.floats(-3.0, 3.0)),
     )
 
 
@@ -124,8 +129,12 @@ def test_singular_states_give_finite_capped_forces_matching_the_reference(form: 
     if form != "elliptical":
         assert mag[7] == 0.0  # no relative motion: nothing to anticipate
         assert mag[9] == 0.0  # behind and falling back
-    assert mag[3] > 0.0  # an exact collision course pushes back along the course
-    assert f[3, 0] > 0.0
+    assert mag[3] > 0.0  # an exact collision course pushes
+    if form == "sidestep":  # sideways, to the right of its heading (−x): +y
+        assert f[3, 0] == 0.0
+        assert f[3, 1] > 0.0
+    else:  # back along the course
+        assert f[3, 0] > 0.0
     _check_against_reference(crowd, params, robot)
 
 
@@ -145,6 +154,10 @@ def test_extreme_valid_inputs_stay_finite(form: str) -> None:
         ell_b=1e-5,
         ell_dt=1e3,
         robot_force_cap=1e6,
+        ss_a=1e6,
+        ss_miss=1e-5,
+        ss_horizon=1e3,
+        ss_speed_gain=10.0,
     )
     rng = np.random.default_rng(3)
     pos = rng.uniform(-1.0, 1.0, (40, 2)) * rng.choice([1e-9, 1e-3, 1.0, 1e3], (40, 1))
@@ -315,6 +328,11 @@ def test_a_file_names_its_form_over_a_preset(tmp_path: Path) -> None:
         ({"robot_force_cap": 0.0}, r"robot_force_cap.*0\.0"),
         ({"robot_force_cap": float("inf")}, r"robot_force_cap.*inf"),
         ({"ttc_horizon": 3.0}, r"'ttc_horizon'"),
+        ({"ss_a": -0.1}, r"ss_a.*-0\.1"),
+        ({"ss_miss": 0.0}, r"ss_miss.*0\.0"),
+        ({"ss_horizon": 0.0}, r"ss_horizon.*0\.0"),
+        ({"ss_speed_gain": 11.0}, r"ss_speed_gain.*\[-10, 10\] s/m, got 11\.0"),
+        ({"ss_speed_gain": float("nan")}, r"ss_speed_gain.*nan"),
     ],
 )
 def test_bad_form_parameters_raise_naming_them(changes: dict[str, object], pattern: str) -> None:
@@ -330,7 +348,13 @@ def test_a_bad_form_in_a_file_names_the_file(tmp_path: Path) -> None:
 
 
 def test_kernel_codes_follow_the_form_names() -> None:
-    codes = (rf.FORM_EXPONENTIAL, rf.FORM_TTC, rf.FORM_COLLISION_PREDICTION, rf.FORM_ELLIPTICAL)
+    codes = (
+        rf.FORM_EXPONENTIAL,
+        rf.FORM_TTC,
+        rf.FORM_COLLISION_PREDICTION,
+        rf.FORM_ELLIPTICAL,
+        rf.FORM_SIDESTEP,
+    )
     assert tuple(ROBOT_FORMS[c] for c in codes) == ROBOT_FORMS
     for form in ROBOT_FORMS:
         assert srfm.SRFMParams(robot_form=form).for_kernels().robot_form == ROBOT_FORMS.index(form)
@@ -342,3 +366,51 @@ def test_robot_body_velocity_is_validated() -> None:
         srfm.force_components(crowd, robot=srfm.RobotBody(x=1.0, y=1.0, vx=2e3))
     with pytest.raises(srfm.SimulationError, match="nan"):
         srfm.force_components(crowd, robot=srfm.RobotBody(x=1.0, y=1.0, vy=float("nan")))
+
+
+# --------------------------------------------------------------------------------------
+# The sidestep form (issue 40): onset, horizon, amplitude, side and robot speed.
+
+
+def _sidestep(
+    ped: tuple[float, float], vel: tuple[float, float], robot_v: float, **changes: float
+) -> np.ndarray:
+    crowd = srfm.CrowdState.create(
+        pos=np.array([ped]), vel=np.array([vel]), goal=np.array([ped]) + 10 * np.array([vel])
+    )
+    params = srfm.SRFMParams(robot_form="sidestep").replace(**changes)
+    robot = srfm.RobotBody(x=0.0, y=0.0, vx=robot_v, vy=0.0)
+    return np.asarray(srfm.force_components(crowd, params, robot).robot[0])
+
+
+def test_sidestep_is_the_documented_hinge_of_miss_and_time() -> None:
+    # A pedestrian 4 m ahead walking at 1 m/s toward a robot at 1 m/s, 0.3 m to the
+    # side: t* = 2 s, d* = 0.3 m; the force is A (1 − d*/d_on)(1 − t*/T), sideways to
+    # its heading (−x), on the side of the predicted miss (+y).
+    f = _sidestep((4.0, 0.3), (-1.0, 0.0), 1.0, ss_a=0.5, ss_miss=0.75, ss_horizon=3.5)
+    want = 0.5 * (1 - 0.3 / 0.75) * (1 - 2.0 / 3.5)
+    np.testing.assert_allclose(f, [0.0, want], rtol=1e-12, atol=1e-15)
+    # mirrored miss, mirrored step
+    g = _sidestep((4.0, -0.3), (-1.0, 0.0), 1.0, ss_a=0.5, ss_miss=0.75, ss_horizon=3.5)
+    np.testing.assert_allclose(g, [0.0, -want], rtol=1e-12, atol=1e-15)
+    # beyond the onset, beyond the horizon, after the pass: nothing
+    assert not np.any(_sidestep((4.0, 0.8), (-1.0, 0.0), 1.0, ss_miss=0.75))
+    assert not np.any(_sidestep((8.0, 0.3), (-1.0, 0.0), 1.0, ss_horizon=3.5))
+    assert not np.any(_sidestep((-1.0, 0.3), (-1.0, 0.0), 1.0))
+
+
+def test_sidestep_grows_with_the_robots_speed_by_its_gain() -> None:
+    # the same relative motion (w = −2 m/s along x) with the robot at 1.5 or 0.5 m/s
+    fast = _sidestep((4.0, 0.3), (-0.5, 0.0), 1.5, ss_speed_gain=1.2)
+    slow = _sidestep((4.0, 0.3), (-1.5, 0.0), 0.5, ss_speed_gain=1.2)
+    np.testing.assert_allclose(np.linalg.norm(fast) / np.linalg.norm(slow), math.exp(1.2))
+    flat = _sidestep((4.0, 0.3), (-0.5, 0.0), 1.5, ss_speed_gain=0.0)
+    np.testing.assert_allclose(np.linalg.norm(flat), np.linalg.norm(slow / math.exp(-0.6)))
+
+
+def test_sidestep_amplitude_is_separate_from_the_cap() -> None:
+    a = _sidestep((4.0, 0.3), (-1.0, 0.0), 1.0, ss_a=0.5, robot_force_cap=20.0)
+    b = _sidestep((4.0, 0.3), (-1.0, 0.0), 1.0, ss_a=0.5, robot_force_cap=0.05)
+    assert np.linalg.norm(a) > 0.05
+    np.testing.assert_allclose(np.linalg.norm(b), 0.05)
+    np.testing.assert_allclose(b / np.linalg.norm(b), a / np.linalg.norm(a))

@@ -46,7 +46,10 @@ def test_the_same_seed_gives_the_same_layout_in_any_order_and_process() -> None:
         "from srfm.scenarios.generated import generated_scenario;"
         "sys.stdout.buffer.write(_fingerprint(generated_scenario(123)))"
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, check=True).stdout
+    root = Path(__file__).resolve().parents[2]
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, check=True, cwd=root
+    ).stdout
     assert out == forward[2]
     assert len(set(forward)) == len(forward)  # different seeds, different layouts
 

@@ -68,7 +68,8 @@ short runs: noisier than the main table, which times chunks until a budget is sp
 ``--robot-forms`` times srfm's default step (``parallel=False``, ``cutoff="auto"``) with
 a robot in the middle of the crowd, walking at 1 m/s, in each form of the robot force
 (``SRFMParams(robot_form=...)``, default parameters), the forms in turn within each
-repeat, and prints each form's time per step beside the paper's exponential form.
+repeat, and prints each form's time per step beside the paper's exponential form, and
+whether each form stays within 1.3× of it (the target of issues 28 and 40).
 """
 
 from __future__ import annotations
@@ -97,6 +98,7 @@ DT_S = 1.0 / 15.0
 DENSITY_PER_M2 = 0.25
 SPEED_MPS = 1.25
 ROBOT_SPEED_MPS = 1.0  # the robot of --robot-forms
+ROBOT_FORM_TARGET = 1.3  # a robot form's step at most this times the paper's form's
 CHUNK_MIN_S = 2e-3  # steps are timed in chunks of at least this long
 
 FloatArray = NDArray[np.float64]
@@ -306,6 +308,11 @@ def print_robot_form_rows(rows: list[tuple[int, dict[str, float]]]) -> None:
         base = rates["exponential"]
         cells = [f"{fmt_step_us(rates[f], n)} ({base / rates[f]:.2f}×)" for f in forms]
         print(f"| {n} | " + " | ".join(cells) + " |")
+    print()
+    for f in forms:
+        worst = max(rates["exponential"] / rates[f] for _, rates in rows)
+        verdict = "within" if worst <= ROBOT_FORM_TARGET else "OVER"
+        print(f"- {f}: at most {worst:.2f}× the paper's form ({verdict} {ROBOT_FORM_TARGET}×)")
 
 
 @contextlib.contextmanager

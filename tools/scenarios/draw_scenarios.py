@@ -7,6 +7,9 @@ during the run (seed 0's entries) in orange, dotted; the robot's start, goal and
 (srfm.sim.routes.RobotRoute) in red.
 
     .venv/bin/python tools/scenarios/draw_scenarios.py [NAME ...]
+
+A NAME may be any scenario name, e.g. ``generated:door:1`` or a TOML path; the file is
+named after the scenario (``generated_door_1.png``).
 """
 
 from __future__ import annotations
@@ -87,7 +90,7 @@ def draw(name: str) -> Path:
     ax.set_title(name, fontsize=9)
     ax.tick_params(labelsize=7)
     OUT.mkdir(parents=True, exist_ok=True)
-    out = OUT / f"{name}.png"
+    out = OUT / f"{scenario.name}.png"  # generated:door:1 -> generated_door_1.png
     fig.savefig(out, dpi=70, bbox_inches="tight", metadata={"Software": None})
     plt.close(fig)
     return out

@@ -1,0 +1,170 @@
+"""Has the deviation converged in the time step? (issue 41; docs/metrics.md,
+"Convergence in the time step").
+
+The paper suite at the scenarios' step dt (1/15 s) and with the crowd stepped 2 and 4
+times per control step (dt/2, dt/4; the planners' control rate unchanged,
+``srfm benchmark --crowd-substeps N``), seeds 0-99, the default planners:
+
+    for n in 1 2 4; do
+      nice -n 5 .venv/bin/srfm benchmark --suite paper --seeds 0-99 --crowd-substeps $n \\
+          --no-logs --no-figures -j 2 --out results/conv-sub$n
+    done
+    # every episode's deviation at the three steps (the committed data)
+    .venv/bin/python tools/analysis/convergence.py collect results/conv-sub1 \\
+        results/conv-sub2 results/conv-sub4 --csv docs/convergence/frechet.csv
+    # the tables of docs/metrics.md from that file alone
+    .venv/bin/python tools/analysis/convergence.py table docs/convergence/frechet.csv
+
+Relative change of a quantity q from dt to a finer step: (q(dt) − q(fine)) / |q(fine)|,
+q the mean deviation of a (scenario, planner) or the difference of two planners' mean
+deviations in a scenario. The default step has converged for q when the change from
+dt to dt/4 is at most 5 % (``THRESHOLD``). A difference smaller than ``SMALL_M`` is
+left out of the relative figures (a change of a near-zero difference says nothing):
+its absolute change is printed instead.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import itertools
+import math
+import sys
+from collections import defaultdict
+from pathlib import Path
+
+SUBSTEPS = (1, 2, 4)
+THRESHOLD = 0.05
+SMALL_M = 0.01
+_COLUMNS = tuple(f"frechet_sub{n}" for n in SUBSTEPS)
+
+
+def collect(folders: list[Path], out: Path) -> None:
+    """One row per (scenario, planner, seed): the episode's frechet_m at each step."""
+    from srfm.benchmark._results import EPISODES_DIR, read_episode
+
+    if len(folders) != len(SUBSTEPS):
+        raise SystemExit(f"give {len(SUBSTEPS)} folders, for crowd substeps {SUBSTEPS}")
+    values: dict[tuple[str, str, int], list[float]] = defaultdict(lambda: [math.nan] * 3)
+    for k, folder in enumerate(folders):
+        for path in sorted((folder / EPISODES_DIR).glob("*/*/seed-*.json")):
+            r = read_episode(path)
+            values[(r.scenario, r.planner, r.seed)][k] = r["frechet_m"]
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with out.open("w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(["scenario", "planner", "seed", *_COLUMNS])
+        for key in sorted(values):
+            w.writerow([*key, *(repr(v) for v in values[key])])
+    print(f"{len(values)} episodes -> {out}")
+
+
+def _read(path: Path) -> dict[tuple[str, str], list[list[float]]]:
+    """(scenario, planner) -> per step, the episodes' deviations (seed order)."""
+    cells: dict[tuple[str, str], list[list[float]]] = defaultdict(lambda: [[], [], []])
+    scenarios: list[str] = []
+    with path.open() as f:
+        for row in csv.DictReader(f):
+            if row["scenario"] not in scenarios:
+                scenarios.append(row["scenario"])
+            for k, column in enumerate(_COLUMNS):
+                cells[(row["scenario"], row["planner"])][k].append(float(row[column]))
+    return cells
+
+
+def _mean(x: list[float]) -> float:
+    return sum(x) / len(x)
+
+
+def _rel(coarse: float, fine: float) -> float:
+    return (coarse - fine) / abs(fine) if fine != 0.0 else math.nan
+
+
+def _pct(x: float) -> str:
+    return "–" if math.isnan(x) else f"{100.0 * x:+.1f} %"
+
+
+def table(path: Path) -> None:
+    """Print the two Markdown tables and the verdict."""
+    cells = _read(path)
+    scenarios = list(dict.fromkeys(s for s, _ in cells))
+    planners = list(dict.fromkeys(p for _, p in cells))
+    n = len(cells[(scenarios[0], planners[0])][0])
+    print(f"Mean deviation (m), {n} seeds, and its relative change from dt to dt/2, dt/4:\n")
+    print("| scenario | planner | dt | dt/2 | dt/4 | dt vs dt/2 | dt vs dt/4 |")
+    print("|---|---|--:|--:|--:|--:|--:|")
+    worst_mean: dict[str, float] = {}
+    for s in scenarios:
+        for p in planners:
+            m = [_mean(x) for x in cells[(s, p)]]
+            r2, r4 = _rel(m[0], m[1]), _rel(m[0], m[2])
+            worst_mean[s] = max(worst_mean.get(s, 0.0), abs(r4))
+            print(f"| {s} | {p} | {m[0]:.3f} | {m[1]:.3f} | {m[2]:.3f} | {_pct(r2)} | {_pct(r4)} |")
+    print(
+        "\nPairwise differences of mean deviation (row planner − column planner), per "
+        f"scenario: pairs, how many of those with |difference at dt/4| ≥ {SMALL_M} m "
+        "change by more than 5 % from dt to dt/4, the largest such change, the largest "
+        "absolute change (m), how many of the > 5 % changes exceed twice their standard "
+        "error over the seeds (a systematic change, not the seeds' noise), and pairs "
+        "whose sign flips:\n"
+    )
+    print(
+        "| scenario | pairs | ≥ 0.01 m | > 5 % | largest relative | largest absolute (m) "
+        "| > 5 % and > 2 SE | sign flips dt→dt/4 |"
+    )
+    print("|---|--:|--:|--:|--:|--:|--:|---|")
+    verdict = {}
+    for s in scenarios:
+        means = {p: [_mean(x) for x in cells[(s, p)]] for p in planners}
+        big = over = systematic = 0
+        worst_rel = 0.0
+        worst_abs = 0.0
+        flips = []
+        for a, b in itertools.combinations(planners, 2):
+            d = [means[a][k] - means[b][k] for k in range(3)]
+            worst_abs = max(worst_abs, abs(d[0] - d[2]))
+            if d[0] * d[2] < 0.0:
+                flips.append(f"{a}–{b}")
+            if abs(d[2]) >= SMALL_M:
+                big += 1
+                rel = abs(_rel(d[0], d[2]))
+                worst_rel = max(worst_rel, rel)
+                over += rel > THRESHOLD
+                if rel > THRESHOLD:
+                    ea, eb = cells[(s, a)], cells[(s, b)]
+                    change = [(ea[0][i] - eb[0][i]) - (ea[2][i] - eb[2][i]) for i in range(n)]
+                    mu = _mean(change)
+                    sd = math.sqrt(sum((c - mu) ** 2 for c in change) / (n - 1))
+                    systematic += abs(mu) > 2.0 * sd / math.sqrt(n)
+        pairs = len(planners) * (len(planners) - 1) // 2
+        print(
+            f"| {s} | {pairs} | {big} | {over} | {_pct(worst_rel)} | {worst_abs:.3f} | "
+            f"{systematic} | {', '.join(flips) or 'none'} |"
+        )
+        verdict[s] = worst_mean[s] <= THRESHOLD and over == 0
+    print()
+    for s in scenarios:
+        state = "converged" if verdict[s] else "NOT converged"
+        print(
+            f"- {s}: {state} at dt (largest change of a mean deviation dt vs dt/4: "
+            f"{_pct(worst_mean[s])})"
+        )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    c = sub.add_parser("collect", help="the episodes' deviations of three folders -> CSV")
+    c.add_argument("folders", nargs=3, type=Path)
+    c.add_argument("--csv", type=Path, required=True)
+    t = sub.add_parser("table", help="the Markdown tables from the CSV")
+    t.add_argument("csv", type=Path)
+    args = parser.parse_args()
+    if args.command == "collect":
+        collect(args.folders, args.csv)
+    else:
+        table(args.csv)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

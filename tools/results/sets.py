@@ -115,8 +115,7 @@ SETS: dict[str, ResultsSet] = {
             "francis_nws2025",
             "--suite francis --params navwareset2025 --seeds 0-99",
             "frechet",
-            "the navwareset2025 side of the orderings under every response model (Francis "
-            "suite)",
+            "the navwareset2025 side of the orderings under every response model (Francis suite)",
         ),
         _set(
             "flows",

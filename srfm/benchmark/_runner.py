@@ -68,7 +68,13 @@ from srfm.models.params import SRFMParams
 from srfm.planners.external import is_external
 from srfm.scenarios import Scenario
 from srfm.sim.budget import RunEstimate, check_run, estimate_run
-from srfm.sim.episode import build_planner, check_episode_memory, first_command, run_episode
+from srfm.sim.episode import (
+    build_planner,
+    check_episode_memory,
+    first_command,
+    run_episode,
+    run_planners,
+)
 from srfm.sim.record import EpisodeRecord
 
 __all__ = [
@@ -84,7 +90,7 @@ __all__ = [
 ]
 
 EXECUTORS: Final = ("process", "dask")
-_CHUNK: Final = 5  # seeds per worker task: small enough for a smooth progress bar
+_CHUNK: Final = 5  # episodes per worker task at least: few enough for a smooth progress bar
 _HELPER_TIMEOUT_S: Final = 900.0  # the warm-up helper's time limit (_compile_in_parent)
 # What this process holds per episode for the whole run (bytes, tracemalloc): its share
 # of the task list and, in the report phase, its metrics (plus 2 kB per pedestrian).
@@ -130,43 +136,67 @@ It must be picklable (a module-level function or an instance of a module-level c
 
 @attrs.frozen
 class _Task:
+    """Episodes of one scenario for a worker: for each seed, the planners to run (all
+    of the request's but those a resumed run has already)."""
+
     scenario: Scenario
-    planner: str
-    seeds: tuple[int, ...]
+    episodes: tuple[tuple[int, tuple[str, ...]], ...]  # (seed, its planners)
     params: SRFMParams
     out: str
     writer: EpisodeWriter | None
     figure_seed: int | None
 
+    @property
+    def size(self) -> int:
+        """The number of episodes."""
+        return sum(len(planners) for _, planners in self.episodes)
+
+    @property
+    def has_figure(self) -> bool:
+        """Whether one of its episodes is a path figure's."""
+        return any(seed == self.figure_seed for seed, _ in self.episodes)
+
+
+@attrs.frozen
+class _Start:
+    """One planner's first episode of a task, for the warm-up (:func:`_compile_in_parent`)."""
+
+    scenario: Scenario
+    planner: str
+    seed: int
+    params: SRFMParams
+
 
 def _run_task(task: _Task) -> tuple[str, int, bool]:
     """Worker: simulate and score the task's episodes, one atomic file each. Returns
     the scenario's name, the number of episodes and whether one of them is a path
-    figure's (saved for it)."""
+    figure's (saved for it).
+
+    A seed's planners run through :func:`srfm.sim.episode.run_planners`, which
+    simulates the counterfactual crowd (the same for every planner) once for all of
+    them: the same records as one :func:`run_episode` each, at less cost."""
     out = Path(task.out)
-    for seed in task.seeds:
-        # make_planner names the planner task.planner (also a module:attribute spec),
-        # so the record and its metrics file carry the requested name.
-        record = run_episode(
-            task.scenario, seed, build_planner(task.planner), task.params, parallel=False
-        )
-        metrics = episode_metrics(record)
-        if task.writer is not None:
-            task.writer(out, record, metrics)
-        if seed == task.figure_seed:
-            save_figure_episode(out, record)
-        write_episode(out, metrics)  # last: an episode counts as done once this exists
-    return task.scenario.name, len(task.seeds), task.figure_seed in task.seeds
+    for seed, planners in task.episodes:
+        # Planners are built by name (also a module:attribute spec), so the record and
+        # its metrics file carry the requested name.
+        for record in run_planners(task.scenario, seed, planners, task.params, parallel=False):
+            metrics = episode_metrics(record)
+            if task.writer is not None:
+                task.writer(out, record, metrics)
+            if seed == task.figure_seed:
+                save_figure_episode(out, record)
+            write_episode(out, metrics)  # last: an episode counts as done once this exists
+    return task.scenario.name, task.size, task.has_figure
 
 
-def _warm_up(task: _Task, *, metrics: bool = True) -> EpisodeRecord | None:
+def _warm_up(task: _Start, *, metrics: bool = True) -> EpisodeRecord | None:
     """One two-step episode of ``task``'s planner on its scenario, with its parameters,
     and (``metrics``) its metrics: compiles (or loads from numba's cache) every kernel
     such an episode calls. Nothing is written. Returns the record (None on an error,
     which is left for the worker to report in its own words)."""
     short = attrs.evolve(task.scenario, horizon_steps=min(2, task.scenario.horizon_steps))
     try:
-        record = run_episode(short, task.seeds[0], build_planner(task.planner), task.params)
+        record = run_episode(short, task.seed, build_planner(task.planner), task.params)
         if metrics:
             episode_metrics(record)
     except SrfmError:
@@ -174,18 +204,18 @@ def _warm_up(task: _Task, *, metrics: bool = True) -> EpisodeRecord | None:
     return record
 
 
-def _warm_up_planner(task: _Task) -> None:
+def _warm_up_planner(task: _Start) -> None:
     """Compile (or load) ``task``'s planner's own kernels and the observation's, but not
     the crowd's: the planner's first command on its scenario
     (:func:`srfm.sim.episode.first_command`). Errors are left for the worker."""
     # Any error (a user's planner raises what it likes) is left for the worker, which
     # reports it in its own words; here it only means nothing is compiled.
     with contextlib.suppress(Exception):
-        first_command(task.scenario, task.seeds[0], task.planner, task.params)
+        first_command(task.scenario, task.seed, task.planner, task.params)
 
 
 def _warm_up_shared(
-    groups: Sequence[Sequence[_Task]], counter: Any, warm_up: Callable[[_Task], object]
+    groups: Sequence[Sequence[_Start]], counter: Any, warm_up: Callable[[_Start], object]
 ) -> None:
     """``warm_up`` the planner groups whose index this process draws from ``counter``
     (a shared ``multiprocessing.Value``), until none is left."""
@@ -225,17 +255,21 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
     order (the crowd kernels first, alone, then the helper) left the second core idle
     for the first 5-6 s of a cold run.
     """
-    first: dict[str, _Task] = {}
+    first: dict[str, _Start] = {}
     for task in tasks:
-        if not is_external(task.planner):  # its process is its own: nothing to compile
-            first.setdefault(task.planner, task)
+        for seed, planners in task.episodes:
+            for planner in planners:
+                if not is_external(planner):  # its process is its own: nothing to compile
+                    first.setdefault(planner, _Start(task.scenario, planner, seed, task.params))
     if not tasks:
         return
-    straight = attrs.evolve(next(iter(first.values()), tasks[0]), planner="straight")
-    groups: dict[type, list[_Task]] = {}
-    for name, task in first.items():
+    some = tasks[0]
+    straight = _Start(some.scenario, "straight", some.episodes[0][0], some.params)
+    straight = attrs.evolve(next(iter(first.values()), straight), planner="straight")
+    groups: dict[type, list[_Start]] = {}
+    for name, start in first.items():
         if name != "straight":
-            groups.setdefault(type(build_planner(name)), []).append(task)
+            groups.setdefault(type(build_planner(name)), []).append(start)
     ordered = list(groups.values())
     if not ordered:
         _warm_up(straight)
@@ -254,8 +288,8 @@ def _compile_in_parent(tasks: Sequence[_Task]) -> None:
             if helper.is_alive():  # stuck: what it had not compiled, the loop below does
                 helper.terminate()
                 helper.join()
-    for task in (straight, *first.values()):
-        _warm_up(task)
+    for start in (straight, *first.values()):
+        _warm_up(start)
 
 
 class _EarlyFigures:
@@ -268,9 +302,7 @@ class _EarlyFigures:
         self.out = out
         self.request = request
         self.figures: dict[str, bytes] = {}
-        self._pending = collections.Counter(
-            t.scenario.name for t in tasks if t.figure_seed is not None and t.figure_seed in t.seeds
-        )
+        self._pending = collections.Counter(t.scenario.name for t in tasks if t.has_figure)
         self._scenarios = {s.name: s for s in request.scenarios}
 
     def task_done(self, scenario: str) -> None:
@@ -368,28 +400,27 @@ def _pending_tasks(
     figure_seed = request.drawn_seed if figures else None
     tasks = []
     for scenario in request.scenarios:
-        for planner in request.planners:
-            todo = [
-                s
-                for s in request.seeds
+        todo: list[tuple[int, tuple[str, ...]]] = []
+        for seed in request.seeds:
+            planners = tuple(
+                p
+                for p in request.planners
                 if not _is_done(
-                    episode_path(out, scenario.name, planner, s),
-                    (scenario.name, planner, s),
-                    damaged,
+                    episode_path(out, scenario.name, p, seed), (scenario.name, p, seed), damaged
                 )
-            ]
-            for k in range(0, len(todo), _CHUNK):
+            )
+            if planners:
+                todo.append((seed, planners))
+        # A task: a seed's planners together (they share the counterfactual crowd),
+        # seeds added up to _CHUNK episodes.
+        chunk: list[tuple[int, tuple[str, ...]]] = []
+        for k, item in enumerate(todo):
+            chunk.append(item)
+            if sum(len(p) for _, p in chunk) >= _CHUNK or k == len(todo) - 1:
                 tasks.append(
-                    _Task(
-                        scenario,
-                        planner,
-                        tuple(todo[k : k + _CHUNK]),
-                        request.params,
-                        str(out),
-                        writer,
-                        figure_seed,
-                    )
+                    _Task(scenario, tuple(chunk), request.params, str(out), writer, figure_seed)
                 )
+                chunk = []
     return tasks
 
 
@@ -545,7 +576,7 @@ def run_benchmark(
         tasks = _pending_tasks(out, request, writer, figures, damaged)
         cells = len(request.scenarios) * len(request.planners) * len(request.seeds)
         total = cells * (1 + n_draws + len(others))
-        pending = sum(len(t.seeds) for t in tasks)
+        pending = sum(t.size for t in tasks)
         if on_start is not None:
             on_start(estimate)
         if on_progress is not None:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 import re
 import warnings
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Final
 
@@ -50,6 +51,7 @@ __all__ = [
     "memory_room",
     "planner_rng",
     "run_episode",
+    "run_planners",
 ]
 
 
@@ -227,10 +229,11 @@ def _start(
     *,
     parallel: bool = False,
     cutoff: Cutoff = "auto",
+    counterfactual: bool = True,
 ) -> _Start:
     """Build the planner (by name) or check it, set up the episode and the twin
-    simulator, and reset the planner: everything :func:`run_episode` does before its
-    first step."""
+    simulator (``counterfactual``: stepping the counterfactual crowd), and reset the
+    planner: everything :func:`run_episode` does before its first step."""
     if isinstance(planner, str):
         planner = build_planner(planner)
     else:
@@ -239,7 +242,9 @@ def _start(
     detection = _detection_range(planner)
     setup = episode_setup(scenario, seed)
     check_episode_memory(scenario)
-    sim = TwinSimulator(setup, params, parallel=parallel, cutoff=cutoff)
+    sim = TwinSimulator(
+        setup, params, parallel=parallel, cutoff=cutoff, counterfactual=counterfactual
+    )
     user = is_user_code(planner)
     where = f" (scenario {scenario.name}, seed {setup.seed})"
     context = sim.planner_context()
@@ -313,6 +318,90 @@ def run_episode(
     if not isinstance(scenario, Scenario):
         scenario = load_scenario(scenario)
     start = _start(scenario, seed, planner, params, parallel=parallel, cutoff=cutoff)
+    return _simulate(scenario, start, None)
+
+
+def run_planners(
+    scenario: Scenario | str,
+    seed: int,
+    planners: Sequence[Planner | str],
+    params: SRFMParams | None = None,
+    *,
+    parallel: bool = False,
+    cutoff: Cutoff = "auto",
+) -> Iterator[EpisodeRecord]:
+    """The episodes of several planners on one scenario and seed, in order: the same
+    records as :func:`run_episode` for each, bit for bit, at less cost.
+
+    The counterfactual crowd does not perceive the robot, so it is the same in every
+    planner's episode of a scenario, seed and parameter set: it is simulated with the
+    first planner's episode only, and the others step the factual crowd alone and take
+    the counterfactual crowd (its trajectories, goals and arrivals) from the first.
+    The benchmark runs its planners this way (:mod:`srfm.benchmark._runner`).
+
+    Records are yielded one at a time (each as soon as it is simulated), so only one
+    is held beside the shared counterfactual crowd; each record has arrays of its own.
+
+    Args:
+        scenario, seed, params, parallel, cutoff: as for :func:`run_episode`.
+        planners: planner instances or names, as for :func:`run_episode`.
+
+    Raises:
+        As :func:`run_episode`, for the planner whose episode raised.
+    """
+    if not isinstance(scenario, Scenario):
+        scenario = load_scenario(scenario)
+    twin: _CounterfactualCrowd | None = None
+    for planner in planners:
+        start = _start(
+            scenario,
+            seed,
+            planner,
+            params,
+            parallel=parallel,
+            cutoff=cutoff,
+            counterfactual=twin is None,
+        )
+        record = _simulate(scenario, start, twin)
+        if twin is None:
+            twin = _CounterfactualCrowd.of(record)
+        yield record
+
+
+@attrs.frozen(eq=False)
+class _CounterfactualCrowd:
+    """The counterfactual crowd of one episode (:func:`run_planners`): its record
+    arrays and its arrival events."""
+
+    pos: np.ndarray
+    vel: np.ndarray
+    goal: np.ndarray
+    events: tuple[Event, ...]
+
+    @classmethod
+    def of(cls, record: EpisodeRecord) -> _CounterfactualCrowd:
+        """The counterfactual crowd of a full twin episode's record (copies)."""
+        return cls(
+            record.counterfactual_pos.copy(),
+            record.counterfactual_vel.copy(),
+            record.counterfactual_goal.copy(),
+            tuple(e for e in record.events if e.twin == "counterfactual"),
+        )
+
+
+def _event_order(event: Event) -> tuple[int, int]:
+    """Where an event stands among those of its sample (:meth:`EpisodeEngine.apply_events`):
+    factual arrivals, then counterfactual arrivals, then the robot's event."""
+    rank = 2 if event.kind != "ped_arrival" else 0 if event.twin == "factual" else 1
+    return event.step, rank
+
+
+def _simulate(
+    scenario: Scenario, start: _Start, twin: _CounterfactualCrowd | None
+) -> EpisodeRecord:
+    """Step the started episode to the horizon and return its record; with ``twin``,
+    the simulator steps the factual crowd only and the record's counterfactual crowd
+    is ``twin``'s (copied)."""
     planner, name, detection = start.planner, start.name, start.detection
     sim, user, where = start.sim, start.user, start.where
     setup = sim.setup
@@ -322,10 +411,11 @@ def run_episode(
     try:
         f_pos = np.empty((T + 1, n, 2))
         f_vel = np.empty((T + 1, n, 2))
-        c_pos = np.empty((T + 1, n, 2))
-        c_vel = np.empty((T + 1, n, 2))
         f_goal = np.empty((T + 1, n, 2))
-        c_goal = np.empty((T + 1, n, 2))
+        c_pos = np.empty((T + 1, n, 2))
+        # With a shared counterfactual crowd, one scratch array for the kernels to write.
+        c_vel = np.empty((T + 1, n, 2)) if twin is None else c_pos
+        c_goal = np.empty((T + 1, n, 2)) if twin is None else c_pos
     except MemoryError:
         raise SimulationError(
             f"{scenario.source}: an episode record of {T + 1} samples x {n} pedestrians "
@@ -342,14 +432,16 @@ def run_episode(
     # 1-2 µs of every step).
     engine = sim.engine
     factual, counterfactual, robot = engine.factual, engine.counterfactual, engine.robot
+    shared = twin is not None
 
     def sample(k: int) -> None:
         f_pos[k] = factual.pos
         f_vel[k] = factual.vel
-        c_pos[k] = counterfactual.pos
-        c_vel[k] = counterfactual.vel
         f_goal[k] = factual.goal
-        c_goal[k] = counterfactual.goal
+        if not shared:
+            c_pos[k] = counterfactual.pos
+            c_vel[k] = counterfactual.vel
+            c_goal[k] = counterfactual.goal
         pose[k] = robot[_POSE]
         rvel[k] = robot[_VELOCITY]
         active[k] = engine.robot_active
@@ -388,6 +480,9 @@ def run_episode(
         sample(k)
 
     assert sim.outcome is not None
+    if twin is not None:  # the arrays above were the kernels' scratch
+        c_pos, c_vel, c_goal = twin.pos.copy(), twin.vel.copy(), twin.goal.copy()
+        events = sorted([*events, *twin.events], key=_event_order)  # stable
     return EpisodeRecord(
         scenario=scenario.name,
         seed=setup.seed,

@@ -46,6 +46,8 @@ class TwinSimulator:
         params: SRFM parameters; the ``agrawal2024`` preset when omitted.
         parallel: the threaded force kernel, see :class:`~srfm.sim.engine.EpisodeEngine`.
         cutoff: the interaction cut-off, see :class:`~srfm.sim.engine.EpisodeEngine`.
+        counterfactual: step the counterfactual crowd (else it stays at its start, for
+            a caller that has it already: :func:`srfm.sim.episode.run_planners`).
 
     Attributes:
         engine: the episode (:class:`srfm.sim.engine.EpisodeEngine`).
@@ -59,8 +61,11 @@ class TwinSimulator:
         *,
         parallel: bool = False,
         cutoff: Cutoff = "auto",
+        counterfactual: bool = True,
     ) -> None:
-        self.engine = EpisodeEngine(setup, params, parallel=parallel, cutoff=cutoff)
+        self.engine = EpisodeEngine(
+            setup, params, parallel=parallel, cutoff=cutoff, counterfactual=counterfactual
+        )
         self.setup = setup
         self.scenario = setup.scenario
         self.params = self.engine.params

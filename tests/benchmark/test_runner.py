@@ -392,8 +392,7 @@ def test_kernels_are_compiled_in_the_parent_before_forking(
     tasks = [
         _Task(
             scenario=scenario,
-            planner=planner,
-            seeds=(0,),
+            episodes=((0, (planner,)),),
             params=SRFMParams(),
             out=str(tmp_path),
             writer=None,

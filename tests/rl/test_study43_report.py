@@ -151,3 +151,24 @@ def test_the_planners_module_names_chosen_and_final_policies() -> None:
     assert callable(planners.k2_seed10_final)
     with pytest.raises(AttributeError, match="k3_seedx"):
         _ = planners.k3_seedx
+
+
+def test_validation_check_reads_the_issue_30_report_and_scene_outcomes(tmp_path: Path) -> None:
+    """The cells missed per issue-30 run, as docs/rl.md's table lists them."""
+    from tools.rl.study43 import validation_check
+
+    missed = validation_check.missed_cells(validation_check.STUDY30 / "report.md")
+    assert len(missed) == 20
+    expected = {"k0-seed1": 0, "k0-seed2": 5, "k0-seed4": 2, "k0-seed10": 6}
+    expected |= {"k2-seed4": 0, "k2-seed6": 1, "k2-seed10": 9}
+    assert {run: missed[run] for run in expected} == expected
+    with (tmp_path / "episodes.csv").open("w", newline="") as fh:
+        out = csv.DictWriter(fh, ["planner", "robot_success", "robot_collision"])
+        out.writeheader()
+        for success, collision in ((1, 0), (0, 1), (0, 0)):
+            out.writerow(
+                {"planner": "tools.rl.study_planners:k2_seed3", "robot_success": success,
+                 "robot_collision": collision}
+            )  # fmt: skip
+        out.writerow({"planner": "dwa", "robot_success": 1, "robot_collision": 0})
+    assert validation_check.scene_outcomes(tmp_path) == {"k2-seed3": (1, 1, 3)}

@@ -152,7 +152,11 @@ def main() -> None:
         else:
             first: dict[str, Any] = {}
             for task in tasks:
-                first.setdefault(task.planner, task)
+                for seed, planners in task.episodes:
+                    for planner in planners:
+                        first.setdefault(
+                            planner, _runner._Start(task.scenario, planner, seed, task.params)
+                        )
             for name, task in first.items():
                 phase[0] = f"warm-up {name}"
                 start = time.process_time()

@@ -378,11 +378,13 @@ def _number(x: float, digits: int = 3) -> str:
     return "–" if not math.isfinite(x) else f"{x:+.{digits}f}"
 
 
-def robustness_markdown(table: Robustness) -> str:
-    """``robustness.md``: the verdict counts, the pairs and the τ table."""
+def robustness_markdown(table: Robustness, *, level: int = 1) -> str:
+    """``robustness.md``: the verdict counts, the pairs and the τ table; its headings
+    at ``level`` (the title) and below (a page's section uses 3)."""
     models = ", ".join(f"`{m}`" for m in table.models)
+    sub = "#" * (level + 1)
     lines = [
-        "# Orderings of planners under every response model",
+        "#" * level + " Orderings of planners under every response model",
         "",
         f"Response models: {models} (the first is this run's own). Metric: the episode's "
         f"mean Fréchet deviation, n = {table.n_seeds} seeds per cell. For each pair of "
@@ -401,7 +403,7 @@ def robustness_markdown(table: Robustness) -> str:
     for s in table.scenarios:
         c = table.counts(s)
         lines.append(f"| {s} | {c['holds']} | {c['flips']} | {c['unresolved']} |")
-    lines += ["", "## Kendall's τ between the models' orderings", ""]
+    lines += ["", f"{sub} Kendall's τ between the models' orderings", ""]
     lines += ["| scenario | models | τ | 95 % interval |", "|---|---|---|---|"]
     for row in table.taus:
         lines.append(
@@ -410,7 +412,7 @@ def robustness_markdown(table: Robustness) -> str:
         )
     header = " | ".join(f"A − B (m), `{m}`" for m in table.models)
     for s in table.scenarios:
-        lines += ["", f"## {s}", "", f"| A | B | {header} | verdict |"]
+        lines += ["", f"{sub} {s}", "", f"| A | B | {header} | verdict |"]
         lines.append("|---|---|" + "---|" * len(table.models) + "---|")
         for pair in table.pairs[s]:
             cells = " | ".join(

@@ -24,6 +24,9 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
+import numpy as np
+
+from srfm.benchmark._models import robustness_markdown, robustness_of_values
 from srfm.metrics.headroom import seeds_needed, sigma_d
 from srfm.metrics.stats import summarize
 from srfm.metrics.tables import (
@@ -32,7 +35,7 @@ from srfm.metrics.tables import (
     summary_dict,
     to_markdown,
 )
-from srfm.models.params import PRESETS
+from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
 from tools.results import sets
@@ -320,6 +323,39 @@ def presets_francis() -> str:
     return _preset_block("francis", "francis_ttc")
 
 
+def _robustness_block(names: tuple[str, ...]) -> str:
+    """Which orderings of the seven default planners hold under every response model:
+    the same episodes of a suite under each model, one committed set per model
+    (srfm.benchmark.robustness_of_values, as `srfm benchmark --params A,B,C` computes
+    them in one run)."""
+    _need(*names)
+    request = sets.manifest(names[0])["request"]
+    scenarios, seeds = list(request["scenarios"]), list(request["seeds"])
+    models = []
+    for name in names:
+        other = sets.manifest(name)
+        if other["request"]["scenarios"] != scenarios or other["request"]["seeds"] != seeds:
+            raise SystemExit(f"{names[0]} and {name} hold different scenarios or seeds")
+        models.append(response_model_name(SRFMParams(**other["params"])))
+    cells = [sets.frechet(name) for name in names]
+    values = np.array(
+        [[[sets.frechet_array(c, s, p, seeds) for p in SEVEN] for s in scenarios] for c in cells]
+    )
+    table = robustness_of_values(
+        values, models=models, scenarios=scenarios, planners=SEVEN, n_seeds=len(seeds)
+    )
+    provenances = "\n\n".join(provenance(name) for name in names)
+    return provenances + "\n\n" + robustness_markdown(table, level=3)
+
+
+def robustness_paper() -> str:
+    return _robustness_block(("paper", "paper_ttc", "paper_nws2025"))
+
+
+def robustness_francis() -> str:
+    return _robustness_block(("francis", "francis_ttc", "francis_nws2025"))
+
+
 def _rank_table() -> Any:
     _need("draws")
     return sets.rank_table_of("draws")
@@ -543,6 +579,8 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "flows-table": flows_table,
     "presets-paper": presets_paper,
     "presets-francis": presets_francis,
+    "robustness-paper": robustness_paper,
+    "robustness-francis": robustness_francis,
     "rankings-summary": rankings_summary,
     "rankings-intervals": rankings_intervals,
     "selection-table": selection_table,

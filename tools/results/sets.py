@@ -106,6 +106,18 @@ SETS: dict[str, ResultsSet] = {
             "the navwareset2026_ttc side of the preset comparison (paper suite)",
         ),
         _set(
+            "paper_nws2025",
+            "--suite paper --params navwareset2025 --seeds 0-99",
+            "frechet",
+            "the navwareset2025 side of the orderings under every response model (paper suite)",
+        ),
+        _set(
+            "francis_nws2025",
+            "--suite francis --params navwareset2025 --seeds 0-99",
+            "frechet",
+            "the navwareset2025 side of the orderings under every response model (Francis suite)",
+        ),
+        _set(
             "flows",
             "--suite flows --seeds 0-99",
             "all",

@@ -21,8 +21,9 @@ SRFM = Path(srfm.__file__).parent
 # do not import each other. "srfm" is the package's face, srfm/__init__.py.
 LAYERS: tuple[tuple[str, ...], ...] = (
     # policies: the shipped policy files, no code; _text: message text; _version: the
-    # distribution's name and version, from its metadata
-    ("errors", "policies", "_text", "_version"),
+    # distribution's name and version, from its metadata; _blas: SciPy's BLAS for numba,
+    # loaded by the srfm program before numba looks for it
+    ("errors", "policies", "_text", "_version", "_blas"),
     ("_deps", "_io", "_jit", "_lazy", "_streams", "_user_code", "_validate"),
     ("models", "datasets"),
     ("world",),

@@ -40,7 +40,13 @@ from srfm._io import (
 from srfm._text import plain
 from srfm.benchmark._dask import check_scheduler, map_on_dask
 from srfm.benchmark._draws import ParamDraws, check_param_draws, draw_folder, render_rankings
-from srfm.benchmark._floor import FloorTask, pending_floors, run_floor_task
+from srfm.benchmark._floor import (
+    FloorTask,
+    floor_tasks,
+    missing_floors,
+    run_floor_task,
+    write_floor,
+)
 from srfm.benchmark._html import REPORT, render_report
 from srfm.benchmark._models import (
     ROBUSTNESS_JSON,
@@ -77,6 +83,7 @@ from srfm.sim.episode import (
     run_episode,
     run_planners,
 )
+from srfm.sim.floor import nudged_twins
 from srfm.sim.record import EpisodeRecord
 
 __all__ = [
@@ -147,6 +154,7 @@ class _Task:
     out: str
     writer: EpisodeWriter | None
     figure_seed: int | None
+    floor_seeds: frozenset[int] = frozenset()  # seeds whose noise floor it computes too
 
     @property
     def size(self) -> int:
@@ -181,7 +189,13 @@ def _run_task(task: _Task) -> tuple[str, int, bool]:
     for seed, planners in task.episodes:
         # Planners are built by name (also a module:attribute spec), so the record and
         # its metrics file carry the requested name.
-        for record in run_planners(task.scenario, seed, planners, task.params, parallel=False):
+        records = run_planners(task.scenario, seed, planners, task.params, parallel=False)
+        for k, record in enumerate(records):
+            if k == 0 and seed in task.floor_seeds:  # the floor's reference crowd, shared
+                twins = nudged_twins(
+                    task.scenario, seed, task.params, reference=record.counterfactual_pos
+                )
+                write_floor(out, twins)
             metrics = episode_metrics(record)
             if task.writer is not None:
                 task.writer(out, record, metrics)
@@ -406,7 +420,10 @@ def _pending_tasks(
     writer: EpisodeWriter | None,
     figures: bool,
     damaged: list[str],
+    missing_floors: Mapping[str, Sequence[int]],
 ) -> list[_Task]:
+    """The episode tasks a folder still needs; each also computes the noise floor of
+    its seeds that ``missing_floors`` names."""
     figure_seed = request.drawn_seed if figures else None
     tasks = []
     for scenario in request.scenarios:
@@ -427,9 +444,14 @@ def _pending_tasks(
         for k, item in enumerate(todo):
             chunk.append(item)
             if sum(len(p) for _, p in chunk) >= _CHUNK or k == len(todo) - 1:
+                seeds = {seed for seed, _ in chunk}
+                floors = frozenset(seeds.intersection(missing_floors.get(scenario.name, ())))
                 tasks.append(
-                    _Task(scenario, tuple(chunk), request.params, str(out), writer, figure_seed)
-                )
+                    _Task(
+                        scenario, tuple(chunk), request.params, str(out), writer, figure_seed,
+                        floors,
+                    )
+                )  # fmt: skip
                 chunk = []
     return tasks
 
@@ -583,8 +605,12 @@ def run_benchmark(
             check_manifest(folder, attrs.evolve(request, params=params), command)
         atomic_write_text(out / MANIFEST, json.dumps(manifest, indent=2, sort_keys=True) + "\n")
         damaged: list[str] = []
-        tasks = _pending_tasks(out, request, writer, figures, damaged)
-        floor_tasks = pending_floors(out, request.scenarios, request.seeds, request.params, _CHUNK)
+        missing = missing_floors(out, request.scenarios, request.seeds)
+        tasks = _pending_tasks(out, request, writer, figures, damaged, missing)
+        for task in tasks:  # what the episode tasks compute is left for floor tasks no more
+            name = task.scenario.name
+            missing[name] = tuple(s for s in missing[name] if s not in task.floor_seeds)
+        floors = floor_tasks(out, request.scenarios, missing, request.params, _CHUNK)
         cells = len(request.scenarios) * len(request.planners) * len(request.seeds)
         total = cells * (1 + n_draws + len(others))
         pending = sum(t.size for t in tasks)
@@ -594,12 +620,12 @@ def run_benchmark(
             on_progress(cells - pending)
         start = time.perf_counter()
         drawn = _EarlyFigures(out, request, tasks)
-        if tasks or floor_tasks:
+        if tasks or floors:
             if tasks and executor == "process" and jobs > 1 and sys.platform != "win32":
                 _compile_in_parent(tasks)  # the forked workers (map_tasks) inherit them
             for scenario, done, figure in map_tasks(
                 _run_any,
-                [*tasks, *floor_tasks],
+                [*tasks, *floors],
                 executor=executor,
                 jobs=jobs,
                 scheduler=scheduler,

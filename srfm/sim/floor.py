@@ -71,13 +71,21 @@ def nudged_pedestrian(seed: int, n_start: int) -> int:
 
 
 def nudged_twins(
-    scenario: Scenario, seed: int, params: SRFMParams | None = None, *, nudge_m: float = NUDGE_M
+    scenario: Scenario,
+    seed: int,
+    params: SRFMParams | None = None,
+    *,
+    nudge_m: float = NUDGE_M,
+    reference: FloatArray | None = None,
 ) -> NudgedTwins:
     """Simulate the crowd of episode ``seed`` twice, blind to the robot, one start
     nudged by ``nudge_m`` along +x in the second (:func:`nudged_pedestrian`).
 
     The episode engine runs both (the same steps, entries, routes and crowd substeps
     as a benchmark episode), the robot at rest at its start and felt by neither crowd.
+    ``reference``: the crowd as set up, already simulated (an episode's
+    ``counterfactual_pos`` with the same parameters, which no robot changes): then only
+    the nudged copy is stepped, with the same bits.
 
     Raises:
         SimulationError: a scenario with nobody there at sample 0, or a nudge that is
@@ -87,26 +95,34 @@ def nudged_twins(
     if not (isinstance(nudge_m, float) and np.isfinite(nudge_m) and nudge_m > 0.0):
         raise SimulationError(f"nudge_m must be a finite number > 0, got {nudge_m!r}")
     setup = episode_setup(scenario, seed)
-    engine = EpisodeEngine(setup, params, robot_felt=False)
+    engine = EpisodeEngine(setup, params, robot_felt=False, counterfactual=reference is None)
     who = nudged_pedestrian(seed, engine.n_present)
     engine.factual.pos[who, 0] += nudge_m
     steps = scenario.horizon_steps
     n = engine.factual.n
+    if reference is not None and reference.shape != (steps + 1, n, 2):
+        raise SimulationError(
+            f"reference must be the crowd's {steps + 1} samples of {n} pedestrians, "
+            f"got shape {list(reference.shape)}"
+        )
+    simulate = reference is None
     nudged = np.empty((steps + 1, n, 2))
-    reference = np.empty((steps + 1, n, 2))
+    crowd = np.empty((steps + 1, n, 2)) if reference is None else reference
     nudged[0] = engine.factual.pos
-    reference[0] = engine.counterfactual.pos
+    if simulate:
+        crowd[0] = engine.counterfactual.pos
     for k in range(1, steps + 1):
         engine.advance(0.0, 0.0)
         nudged[k] = engine.factual.pos
-        reference[k] = engine.counterfactual.pos
+        if simulate:
+            crowd[k] = engine.counterfactual.pos
     enter = setup.ped_enter_step
     return NudgedTwins(
         scenario=scenario.name,
         seed=seed,
         nudged=who,
         nudge_m=nudge_m,
-        reference_pos=reference,
+        reference_pos=crowd,
         nudged_pos=nudged,
         ped_enter_step=None if enter is None else enter.copy(),
     )

@@ -92,3 +92,23 @@ def test_nudged_twins() -> None:
         nudged_twins(scenario, 0, nudge_m=-1.0)
     with pytest.raises(SimulationError, match="seed must be"):
         nudged_twins(scenario, -1)
+
+
+@pytest.mark.parametrize("name", ["crosswalk", "circle", "blind_corner", "random"])
+def test_the_floor_from_an_episodes_counterfactual_crowd_is_the_same(name: str) -> None:
+    """The benchmark computes a seed's floor from the counterfactual crowd its first
+    planner's episode simulated (only the nudged copy is stepped): the same bits as
+    simulating both."""
+    from srfm.models.params import SRFMParams
+    from srfm.sim.episode import run_planners
+
+    scenario = load_scenario(name)
+    params = SRFMParams.preset("navwareset2026_ttc")
+    record = next(run_planners(scenario, 3, ["dwa"], params))
+    both = nudged_twins(scenario, 3, params)
+    shared = nudged_twins(scenario, 3, params, reference=record.counterfactual_pos)
+    assert np.array_equal(both.reference_pos, record.counterfactual_pos)
+    assert np.array_equal(both.nudged_pos, shared.nudged_pos)
+    assert both.nudged == shared.nudged
+    with pytest.raises(SimulationError, match="reference must be the crowd's"):
+        nudged_twins(scenario, 3, params, reference=record.counterfactual_pos[:-1])

@@ -164,13 +164,14 @@ def collect(runs: Path) -> list[str]:
     return written
 
 
-def commit(message: str) -> None:
-    subprocess.run(["git", "-C", str(ROOT), "add", str(STUDY)])
+def commit(message: str, folder: Path = STUDY) -> None:
+    """git-commit ``folder`` (a study's artefacts) alone, if anything in it changed."""
+    subprocess.run(["git", "-C", str(ROOT), "add", str(folder)])
     staged = subprocess.run(
-        ["git", "-C", str(ROOT), "diff", "--cached", "--quiet", "--", str(STUDY)]
+        ["git", "-C", str(ROOT), "diff", "--cached", "--quiet", "--", str(folder)]
     )
     if staged.returncode:  # a failed commit (another git command running) waits for the next
-        subprocess.run(["git", "-C", str(ROOT), "commit", "-q", "-m", message, "--", str(STUDY)])
+        subprocess.run(["git", "-C", str(ROOT), "commit", "-q", "-m", message, "--", str(folder)])
 
 
 def seeds_of(text: str) -> list[int]:

@@ -50,6 +50,10 @@ ROOT: Final = Path(__file__).resolve().parents[3]
 STUDY: Final = ROOT / "tools" / "rl" / "study43"
 SRFM: Final = str(Path(sys.executable).with_name("srfm"))
 
+sys.path.insert(0, str(ROOT))
+from tools.rl import study  # noqa: E402  (issue 30's study: the helpers both use)
+from tools.rl.study import run_name, seeds_of, steps_done  # noqa: E402
+
 STEPS: Final = 300_000
 VALIDATION_SEEDS: Final = 10
 # k2 rises from 0 at K2_START to its arm's value at K2_START + K2_RAMP = 100,000, a
@@ -86,17 +90,6 @@ RECIPE: Final = (
     "--no-progress",
 )  # fmt: skip
 FINAL: Final = f"step_{STEPS:09d}.zip"
-
-
-def run_name(k2: str, seed: int) -> str:
-    return f"k{k2}-seed{seed}"
-
-
-def steps_done(run: Path) -> int:
-    try:
-        return int(json.loads((run / "state.json").read_text())["steps"])
-    except (OSError, ValueError, KeyError):
-        return 0
 
 
 def train_command(run: Path, k2: str, seed: int) -> list[str]:
@@ -157,20 +150,7 @@ def collect(runs: Path) -> list[str]:
 
 
 def commit(message: str) -> None:
-    subprocess.run(["git", "-C", str(ROOT), "add", str(STUDY)])
-    staged = subprocess.run(
-        ["git", "-C", str(ROOT), "diff", "--cached", "--quiet", "--", str(STUDY)]
-    )
-    if staged.returncode:  # a failed commit (another git command running) waits for the next
-        subprocess.run(["git", "-C", str(ROOT), "commit", "-q", "-m", message, "--", str(STUDY)])
-
-
-def seeds_of(text: str) -> list[int]:
-    out: list[int] = []
-    for part in text.split(","):
-        lo, _, hi = part.partition("-")
-        out += range(int(lo), int(hi or lo) + 1)
-    return out
+    study.commit(message, STUDY)
 
 
 def run(args: argparse.Namespace) -> None:

@@ -38,7 +38,7 @@ from srfm.metrics.tables import (
 from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
-from tools.results import sets
+from tools.results import pages, rl_study, sets
 
 DOCS = sets.ROOT / "docs"
 BEGIN = re.compile(r"<!-- generated: ([a-z0-9-]+) -->\n")
@@ -586,6 +586,21 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "selection-table": selection_table,
     "discriminative-tables": discriminative_tables,
     "rl-usual-misses": rl_usual_misses,
+    "rl-summary": rl_study.summary,
+    "rl-validation": rl_study.validation_table,
+    "rl-shipped-targets": rl_study.shipped_targets,
+    "rl-study-misses": rl_study.study_misses,
+    "rl-claim": rl_study.claim_table,
+    "rl-claim-ttc": rl_study.claim_ttc,
+    "rl-wall-times": rl_study.wall_times,
+    "planner-outcomes-unicycle": pages.outcomes_unicycle,
+    "planner-outcomes-holonomic": pages.outcomes_holonomic,
+    "planner-outcomes-summary": pages.outcomes_summary,
+    "planner-outcomes-variants": pages.outcome_variants,
+    "planner-outcomes-stress": pages.outcome_stress,
+    "convergence-tables": pages.convergence_tables,
+    "convergence-verdict": pages.convergence_verdict,
+    "attribution-tables": pages.attribution_tables,
     "oracle-cost": oracle_cost,
 }
 
@@ -600,6 +615,8 @@ def render(name: str, page: Path) -> str:
         return BLOCKS[name]().strip()
     except MissingError as exc:
         return f"*Not measured yet: no committed results set {exc}.*"
+    except pages.Missing as exc:
+        return f"*Not measured yet: no committed data {exc}.*"
 
 
 def rewrite(text: str, page: Path) -> tuple[str, list[str]]:

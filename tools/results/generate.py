@@ -548,20 +548,27 @@ def oracle_cost() -> str:
         "goal, seeds 0–99 |",
         "|---|---|--:|--:|",
     ]
+    notes = []
     for suite, file, name in (
         ("paper", "oracle_cost.json", "paper"),
         ("francis", "oracle_cost_francis.json", "francis"),
     ):
         doc = sets.read_json(DOCS / "discrimination" / file)
+        loads = doc["load_average"]
+        notes.append(
+            f"`{doc['command']}`: commit `{doc['commit']}`, started "
+            f"{doc['started'][:16].replace('T', ' ')} UTC, {doc['cpus']} CPUs, 1-min load "
+            f"{min(loads):.1f}–{max(loads):.1f}"
+        )
         cells = sets.frechet(name) if sets.exists(name) else {}
-        for scenario, entry in doc.items():
+        for scenario, entry in doc["scenarios"].items():
             by_seed = cells.get((scenario, "oracle"), {})
             reached = sum(o == "goal_reached" for _, o in by_seed.values())
             goal = f"{100 * reached / len(by_seed):.0f} %" if by_seed else "–"
             rows.append(
                 f"| {suite} | {scenario} | {entry['mean_s']:.2f} ({entry['max_s']:.2f}) | {goal} |"
             )
-    return "\n".join(rows)
+    return "*Measured by " + "; ".join(notes) + ".*\n\n" + "\n".join(rows)
 
 
 BLOCKS: dict[str, Callable[[], str]] = {
@@ -601,6 +608,8 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "convergence-tables": pages.convergence_tables,
     "convergence-verdict": pages.convergence_verdict,
     "attribution-tables": pages.attribution_tables,
+    "attribution-findings": pages.attribution_findings,
+    "scenario-checks": pages.scenario_checks,
     "oracle-cost": oracle_cost,
 }
 

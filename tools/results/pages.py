@@ -287,3 +287,182 @@ def attribution_tables() -> str:
 
 def _path(p: Path) -> str:
     return p.relative_to(sets.ROOT).as_posix()
+
+
+# -- the scenario library's checks -----------------------------------------------------
+
+SCENARIO_CHECKS = DOCS / "scenarios" / "checks.json"
+
+
+def scenario_checks() -> str:
+    """The issue-17 checks of every library scenario (tools/scenarios/check_scenarios.py)."""
+    if not SCENARIO_CHECKS.is_file():
+        raise Missing(
+            "`docs/scenarios/checks.json` (`python tools/scenarios/check_scenarios.py "
+            "--json docs/scenarios/checks.json`)"
+        )
+    doc = sets.read_json(SCENARIO_CHECKS)
+    lines = [
+        f"*`{doc['command']}`: commit `{doc['commit']}`, "
+        f"{doc['started'][:16].replace('T', ' ')} UTC, {doc['wall_s']:.0f} s on "
+        f"{doc['cpus']} CPUs (1-min load {doc['load_average']:.1f} at the end).*",
+        "",
+        "| scenario | pedestrians arrived | in a wall | overlaps | robot goal (planner) |",
+        "|---|---|---|---|---|",
+    ]
+    for name, r in doc["scenarios"].items():
+        lines.append(
+            f"| {name} | {r['ped_arrived']}/{r['ped_total']} | {r['in_wall_samples']} | "
+            f"{r['overlapping_starts']} | {r['robot_goals']}/{r['seeds']} ({r['planner']})"
+            + ("" if r["ok"] else " **FAIL**")
+            + " |"
+        )
+    failed = [n for n, r in doc["scenarios"].items() if not r["ok"]]
+    lines += [
+        "",
+        f"{len(doc['scenarios'])} scenarios × {next(iter(doc['scenarios'].values()))['seeds']} "
+        "seeds: "
+        + (f"{', '.join(failed)} fail a check." if failed else "every check passes."),
+    ]
+    return "\n".join(lines)
+
+
+def _iv(x: dict[str, Any], digits: int) -> str:
+    return f"{x['estimate']:.{digits}f} [{x['low']:.{digits}f}, {x['high']:.{digits}f}]"
+
+
+def attribution_findings() -> str:
+    """What the attribution tables say, each number from docs/attribution/paper.json."""
+    doc = sets.read_json(ATTRIBUTION)
+    planners: list[str] = doc["planners"]
+    refs = ("oracle", "stay")
+    default = [p for p in planners if p not in refs]
+    scen: dict[str, Any] = doc["scenarios"]
+    n_pairs = len(planners) * (len(planners) - 1) // 2
+    verdicts = {s: e["floor"]["verdict"] for s, e in scen.items()}
+    top = max(scen, key=lambda s: scen[s]["floor"]["share"])
+    rest = [s for s in scen if s != top]
+    f_top = scen[top]["floor"]
+    shares = [100 * scen[s]["floor"]["share"] for s in rest]
+    top_means = [scen[top]["frechet_m"][p] for p in default]
+    measures = (
+        "**Every paper scenario measures the robot**"
+        if all(v == "robot" for v in verdicts.values())
+        else "**Not every paper scenario measures the robot** ("
+        + ", ".join(f"`{s}`: {v}" for s, v in verdicts.items() if v != "robot")
+        + ")"
+    )
+    b1 = (
+        f"- {measures}, by the floor's share of the deviation: a 1 mm nudge moves the crowd "
+        f"by {min(shares):.1f}–{max(shares):.1f} % of what the planners do in "
+        + ", ".join(f"`{s}`" for s in rest)
+        + f", and by {100 * f_top['share']:.1f} % in `{top}` (mean {f_top['mean']:.3f} m; "
+        f"{max(f_top['values']):.2f} m in the worst seed). `{top}` is the chaotic one, but "
+        f"its {min(top_means):.2f}–{max(top_means):.2f} m of the {len(default)} default "
+        "planners are not chaos: the crowd does not move that far without the robot's push."
+    )
+    below = scen[top]["not_attributable"]
+    below_pairs = {frozenset((a, b)) for a, b, _ in below}
+    default_pairs = {
+        frozenset((a, b)) for i, a in enumerate(default) for b in default[i + 1 :]
+    }
+    exactly = below_pairs == default_pairs
+    spread_means = max(top_means) - min(top_means)
+    others = {s: scen[s]["not_attributable"] for s in rest}
+    counts = [len(v) for v in others.values()]
+    largest = max((abs(d) for v in others.values() for _, _, d in v), default=0.0)
+    b2 = (
+        f"- **The differences between planners in `{top}` are the crowd's chaos**: its "
+        f"floor's spread ({f_top['std']:.3f} m over the seeds) is larger than "
+        f"{len(below)} of the {n_pairs} differences of mean deviation between the "
+        f"{len(planners)} planners there"
+        + (
+            f": exactly the {len(default_pairs)} pairs of the {len(default)} default "
+            f"planners, whose means lie within {spread_means:.3f} m of each other. Only the "
+            "differences to " + " and ".join(f"`{r}`" for r in refs) + " are attributable there."
+            if exactly
+            else "."
+        )
+        + f" In the other scenarios {min(counts)}–{max(counts)} of the {n_pairs} pairs are "
+        f"below the spread, pairs whose means differ by at most {largest:.4f} m."
+    )
+    goers = [
+        (s, p)
+        for s in scen
+        for p in planners
+        if scen[s]["goal"][p] > 0 and p != "stay"
+    ]
+    knock = max(scen[s]["split"][p]["frechet_knock_on_m"]["mean"] for s, p in goers)
+    felt = [scen[s]["split"][p]["pedestrians_felt"]["mean"] for s, p in goers]
+    stay_out = [
+        (s, scen[s]["split"]["stay"]) for s in scen if scen[s]["split"]["stay"]["frechet_knock_on_m"]["mean"] > 0
+    ]
+    b3 = (
+        f"- **There is no knock-on deviation to speak of at {doc['felt_force_mps2']:g} m/s²**: "
+        f"for every planner that drives to its goal at most {knock:.3f} m of the deviation "
+        f"is knock-on, and {min(felt):.1f}–{max(felt):.1f} pedestrians a scene felt the robot"
+        + (
+            "; only `stay`, which never moves, leaves pedestrians of "
+            + " and ".join(
+                f"`{s}` out of its reach ({x['pedestrians_felt']['mean']:.1f} felt it; "
+                f"{x['frechet_knock_on_m']['mean']:.3f} m knock-on)"
+                for s, x in stay_out
+            )
+            if stay_out
+            else ""
+        )
+        + "."
+    )
+    suite = doc["suite"]
+    dev = suite["deviation_iqm"]
+    deployable = [p for p in default if p != "straight"] + ["straight"]
+    best = min(deployable, key=lambda p: dev[p]["estimate"])
+    rivals = [p for p in deployable if p != best]
+    imp = suite["improvement"][best]
+    p_vs = [imp[p]["estimate"] for p in rivals]
+    score = suite["score_iqm"]
+    best_score = score.get(best) or {}
+    named = doc["score_scenarios"].get(best, [])
+    missing = [s for s in scen if s not in named]
+    other_scores = [score[p]["estimate"] for p in rivals if score.get(p) and score[p]["estimate"] is not None]
+    above = [
+        s for s in scen if scen[s]["beats_oracle"]
+    ]
+    n_eps = dev[best]["n"]
+    b4 = (
+        f"- **Suite aggregates**: over the {n_eps} (scenario, seed) episodes `{best}` has the "
+        f"lowest IQM deviation of the deployable planners, {_iv(dev[best], 3)} m, against "
+        f"{min(dev[p]['estimate'] for p in rivals):.3f}–{max(dev[p]['estimate'] for p in rivals):.3f} m "
+        f"for the others (`oracle` {dev['oracle']['estimate']:.3f}, `stay` "
+        f"{dev['stay']['estimate']:.3f}), and it deviates a person less than each of them with "
+        f"probability {min(p_vs):.2f}–{max(p_vs):.2f}."
+        + (
+            f" Its IQM normalised score, {_iv(best_score, 2)}, is over {len(named)} scenarios"
+            + (
+                "; in "
+                + ", ".join(
+                    f"`{s}` it reached the goal in {scen[s]['goal'][best]} of "
+                    f"{scen[s]['floor']['n']} seeds, so its score there is undefined"
+                    for s in missing
+                )
+                if missing
+                else ""
+            )
+            + "."
+            if best_score.get("estimate") is not None
+            else ""
+        )
+        + (
+            f" Every other deployable planner's IQM score is {min(other_scores):.2f}–"
+            f"{max(other_scores):.2f}."
+            if other_scores
+            else ""
+        )
+        + (
+            " No planner scored above 1, so every headroom is the oracle's (none is a lower "
+            "bound in this run)."
+            if not above
+            else f" In {', '.join(above)} a planner beat the oracle: the headroom is a lower bound."
+        )
+    )
+    return "\n".join([b1, b2, b3, b4]).replace("–0.", "–0.")

@@ -19,7 +19,8 @@ def test_the_study_report_is_read_cell_by_cell() -> None:
     cells = rl_study.report_targets()
     runs = rl_study.runs_of(cells)
     assert len(runs) == 20
-    assert runs[0] == "k0-seed1" and runs[-1] == "k2-seed10"
+    assert runs[0] == "k0-seed1"
+    assert runs[-1] == "k2-seed10"
     # counted by hand in tools/rl/study/report.md
     assert sum(c.miss for (_, r), c in cells.items() if r == "k0-seed2") == 5
     assert sum(c.miss for (_, r), c in cells.items() if r == "k2-seed10") == 9
@@ -109,5 +110,6 @@ def test_the_convergence_tables_are_the_tools_output() -> None:
         convergence.table(pages.CONVERGENCE)
     assert printed.getvalue() == "\n".join(convergence.table_lines(pages.CONVERGENCE)) + "\n"
     summary = convergence.summary(pages.CONVERGENCE)
-    assert summary["n_means"] == 35 and summary["pairs"] == 21
+    assert summary["n_means"] == 35
+    assert summary["pairs"] == 21
     assert summary["worst_mean"] == max(summary["worst_mean_by_scenario"].values())

@@ -84,21 +84,24 @@ def table_lines(path: Path) -> list[str]:
     doc = json.loads(path.read_text(encoding="utf-8"))
     planners = doc["planners"]
     _emit(out, "Noise floor and attribution per scenario:\n")
-    _emit(out, 
+    _emit(
+        out,
         "| scenario | floor (m), mean ± SD over seeds | floor max (m) | planners' mean "
-        "deviation (m) | floor / deviation | measures | pairs below the floor's spread |"
+        "deviation (m) | floor / deviation | measures | pairs below the floor's spread |",
     )
     _emit(out, "|---|--:|--:|--:|--:|---|--:|")
     for s, e in doc["scenarios"].items():
         f = e["floor"]
         pairs = len(planners) * (len(planners) - 1) // 2
-        _emit(out, 
+        _emit(
+            out,
             f"| {s} | {f['mean']:.4f} ± {f['std']:.4f} | {max(f['values']):.4f} | "
             f"{f['deviation']:.3f} | {100 * f['share']:.2f} % | {f['verdict']} | "
-            f"{len(e['not_attributable'])} of {pairs} |"
+            f"{len(e['not_attributable'])} of {pairs} |",
         )
-    _emit(out, 
-        "\nDirect / knock-on deviation (m, mean over seeds) and pedestrians who felt the robot:\n"
+    _emit(
+        out,
+        "\nDirect / knock-on deviation (m, mean over seeds) and pedestrians who felt the robot:\n",
     )
     _emit(out, "| scenario | " + " | ".join(planners) + " |")
     _emit(out, "|---|" + "|".join(["--:"] * len(planners)) + "|")
@@ -111,7 +114,10 @@ def table_lines(path: Path) -> list[str]:
                 f"({x['pedestrians_felt']['mean']:.1f})"
             )
         _emit(out, f"| {s} | " + " | ".join(cells) + " |")
-    _emit(out, "\nNormalised scores (k = seeds where planner, straight and oracle reached the goal):\n")
+    _emit(
+        out,
+        "\nNormalised scores (k = seeds where planner, straight and oracle reached the goal):\n",
+    )
     _emit(out, "| scenario | headroom (m) | " + " | ".join(planners) + " |")
     _emit(out, "|---|--:|" + "|".join(["--:"] * len(planners)) + "|")
     for s, e in doc["scenarios"].items():
@@ -125,16 +131,21 @@ def table_lines(path: Path) -> list[str]:
             cells.append("undefined" if x["estimate"] is None else f"{_iv(x)} {k}")
         _emit(out, f"| {s} | {room} | " + " | ".join(cells) + " |")
     suite = doc["suite"]
-    _emit(out, "\nSuite (every scenario and seed): IQMs with stratified bootstrap 95 % intervals:\n")
+    _emit(
+        out, "\nSuite (every scenario and seed): IQMs with stratified bootstrap 95 % intervals:\n"
+    )
     _emit(out, "| planner | IQM deviation (m) | IQM norm. score | scenarios of the score |")
     _emit(out, "|---|--:|--:|---|")
     for p in planners:
         named = ", ".join(doc["score_scenarios"].get(p, [])) or "none"
-        _emit(out, 
+        _emit(
+            out,
             f"| {p} | {_iv(suite['deviation_iqm'][p], 3)} | "
-            f"{_iv(suite['score_iqm'].get(p))} | {named} |"
+            f"{_iv(suite['score_iqm'].get(p))} | {named} |",
         )
-    _emit(out, "\nP(row < column), the probability that the row's planner deviates a person less:\n")
+    _emit(
+        out, "\nP(row < column), the probability that the row's planner deviates a person less:\n"
+    )
     _emit(out, "| | " + " | ".join(planners) + " |")
     _emit(out, "|---|" + "|".join(["--:"] * len(planners)) + "|")
     for a in planners:

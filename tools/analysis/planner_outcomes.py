@@ -147,9 +147,7 @@ def _pct(n: int, total: int) -> str:
     return f"{100.0 * n / total:.0f}"
 
 
-def markdown_table(
-    results: list[Result], scenarios: list[str], planners: list[str]
-) -> list[str]:
+def markdown_table(results: list[Result], scenarios: list[str], planners: list[str]) -> list[str]:
     """One Markdown table, a row per (scenario, planner): the shares of the episodes
     that reached the goal, collided, left the world or timed out (%), the mean robot
     speed, the mean time to the goal over the successful episodes and the mean closest

@@ -16,6 +16,7 @@ measured, its wall time, its command, planners, parameters and policies.
 from __future__ import annotations
 
 import argparse
+import math
 import re
 import sys
 from collections.abc import Callable
@@ -38,7 +39,8 @@ from srfm.metrics.tables import (
 from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
-from tools.results import pages, rl_study, sets
+from tools.results import pages as data_pages
+from tools.results import rl_study, sets
 
 DOCS = sets.ROOT / "docs"
 BEGIN = re.compile(r"<!-- generated: ([a-z0-9-]+) -->\n")
@@ -554,7 +556,13 @@ def oracle_cost() -> str:
         ("francis", "oracle_cost_francis.json", "francis"),
     ):
         doc = sets.read_json(DOCS / "discrimination" / file)
-        loads = doc["load_average"]
+        if "scenarios" not in doc:
+            raise data_pages.MissingDataError(
+                f"`docs/discrimination/{file}` with its provenance (`python "
+                f"tools/analysis/discrimination.py cost --suite {suite} --seeds 0-19 "
+                f"--json docs/discrimination/{file}`)"
+            )
+        loads = doc["load_average"] or [math.nan]
         notes.append(
             f"`{doc['command']}`: commit `{doc['commit']}`, started "
             f"{doc['started'][:16].replace('T', ' ')} UTC, {doc['cpus']} CPUs, 1-min load "
@@ -600,16 +608,16 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "rl-claim": rl_study.claim_table,
     "rl-claim-ttc": rl_study.claim_ttc,
     "rl-wall-times": rl_study.wall_times,
-    "planner-outcomes-unicycle": pages.outcomes_unicycle,
-    "planner-outcomes-holonomic": pages.outcomes_holonomic,
-    "planner-outcomes-summary": pages.outcomes_summary,
-    "planner-outcomes-variants": pages.outcome_variants,
-    "planner-outcomes-stress": pages.outcome_stress,
-    "convergence-tables": pages.convergence_tables,
-    "convergence-verdict": pages.convergence_verdict,
-    "attribution-tables": pages.attribution_tables,
-    "attribution-findings": pages.attribution_findings,
-    "scenario-checks": pages.scenario_checks,
+    "planner-outcomes-unicycle": data_pages.outcomes_unicycle,
+    "planner-outcomes-holonomic": data_pages.outcomes_holonomic,
+    "planner-outcomes-summary": data_pages.outcomes_summary,
+    "planner-outcomes-variants": data_pages.outcome_variants,
+    "planner-outcomes-stress": data_pages.outcome_stress,
+    "convergence-tables": data_pages.convergence_tables,
+    "convergence-verdict": data_pages.convergence_verdict,
+    "attribution-tables": data_pages.attribution_tables,
+    "attribution-findings": data_pages.attribution_findings,
+    "scenario-checks": data_pages.scenario_checks,
     "oracle-cost": oracle_cost,
 }
 
@@ -624,7 +632,7 @@ def render(name: str, page: Path) -> str:
         return BLOCKS[name]().strip()
     except MissingError as exc:
         return f"*Not measured yet: no committed results set {exc}.*"
-    except pages.Missing as exc:
+    except data_pages.MissingDataError as exc:
         return f"*Not measured yet: no committed data {exc}.*"
 
 

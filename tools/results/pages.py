@@ -28,7 +28,7 @@ CONVERGENCE = DOCS / "convergence" / "frechet.csv"
 ATTRIBUTION = DOCS / "attribution" / "paper.json"
 
 
-class Missing(Exception):
+class MissingDataError(Exception):
     """Data a block needs is not committed."""
 
 
@@ -76,7 +76,7 @@ def outcome_run(run: str) -> tuple[list[Result], dict[str, Any]]:
     """A committed planner_outcomes run."""
     folder = OUTCOMES / run
     if not (folder / "episodes.parquet").is_file():
-        raise Missing(
+        raise MissingDataError(
             f"`docs/planner_outcomes/{run}` (`python tools/analysis/planner_outcomes.py "
             f"... --out docs/planner_outcomes/{run}`)"
         )
@@ -90,9 +90,7 @@ def _run_provenance(run: str, manifest: dict[str, Any]) -> str:
         f"{len(manifest['planners'])} planners × seeds {manifest['seeds'][0]}–"
         f"{manifest['seeds'][1]}): `{manifest['command']}`, commit `{manifest['commit']}`, "
         f"{manifest['started'][:16].replace('T', ' ')} UTC, {manifest['wall_s']:.0f} s with "
-        f"{manifest['jobs']} workers"
-        + (f" (load average {load[0]:.1f})" if load else "")
-        + ".*"
+        f"{manifest['jobs']} workers" + (f" (load average {load[0]:.1f})" if load else "") + ".*"
     )
 
 
@@ -126,7 +124,7 @@ def outcomes_holonomic() -> str:
 def outcomes_summary() -> str:
     """Which planners reached the goal every time, under either kinematics."""
     uni = [r for r in set_results("paper") if r.planner in DEFAULT_PLANNERS]
-    holo, manifest = outcome_run("holonomic")
+    holo, _ = outcome_run("holonomic")
     both = uni + holo
     failed = [r for r in both if r.outcome != "goal_reached"]
     per = len(uni) // len(DEFAULT_PLANNERS)
@@ -239,7 +237,7 @@ def convergence_verdict() -> str:
     lows = v["mean_changes"][top]
     flips_top = v["flips"][top]
     return (
-        f"**Verdict.** The planners' **mean deviations "
+        "**Verdict.** The planners' **mean deviations "
         + ("have converged" if worst <= convergence.THRESHOLD else "have not converged")
         + f"** at the default step: every one of the {v['n_means']} changes by at most "
         f"{100 * worst:.1f} % from dt to dt/4 ({100 * min(lows):.1f}–{100 * max(lows):.1f} % "
@@ -264,8 +262,7 @@ def convergence_verdict() -> str:
             + (
                 "none of them is larger than twice its standard error over the seeds"
                 if v["systematic"] == 0
-                else f"{v['systematic']} of them exceed twice their standard error over "
-                "the seeds"
+                else f"{v['systematic']} of them exceed twice their standard error over the seeds"
             )
             if v["over"]
             else "The differences between planners have converged too, by the 5 % rule"
@@ -297,7 +294,7 @@ SCENARIO_CHECKS = DOCS / "scenarios" / "checks.json"
 def scenario_checks() -> str:
     """The issue-17 checks of every library scenario (tools/scenarios/check_scenarios.py)."""
     if not SCENARIO_CHECKS.is_file():
-        raise Missing(
+        raise MissingDataError(
             "`docs/scenarios/checks.json` (`python tools/scenarios/check_scenarios.py "
             "--json docs/scenarios/checks.json`)"
         )
@@ -321,8 +318,7 @@ def scenario_checks() -> str:
     lines += [
         "",
         f"{len(doc['scenarios'])} scenarios × {next(iter(doc['scenarios'].values()))['seeds']} "
-        "seeds: "
-        + (f"{', '.join(failed)} fail a check." if failed else "every check passes."),
+        "seeds: " + (f"{', '.join(failed)} fail a check." if failed else "every check passes."),
     ]
     return "\n".join(lines)
 
@@ -363,9 +359,7 @@ def attribution_findings() -> str:
     )
     below = scen[top]["not_attributable"]
     below_pairs = {frozenset((a, b)) for a, b, _ in below}
-    default_pairs = {
-        frozenset((a, b)) for i, a in enumerate(default) for b in default[i + 1 :]
-    }
+    default_pairs = {frozenset((a, b)) for i, a in enumerate(default) for b in default[i + 1 :]}
     exactly = below_pairs == default_pairs
     spread_means = max(top_means) - min(top_means)
     others = {s: scen[s]["not_attributable"] for s in rest}
@@ -386,16 +380,13 @@ def attribution_findings() -> str:
         + f" In the other scenarios {min(counts)}–{max(counts)} of the {n_pairs} pairs are "
         f"below the spread, pairs whose means differ by at most {largest:.4f} m."
     )
-    goers = [
-        (s, p)
-        for s in scen
-        for p in planners
-        if scen[s]["goal"][p] > 0 and p != "stay"
-    ]
+    goers = [(s, p) for s in scen for p in planners if scen[s]["goal"][p] > 0 and p != "stay"]
     knock = max(scen[s]["split"][p]["frechet_knock_on_m"]["mean"] for s, p in goers)
     felt = [scen[s]["split"][p]["pedestrians_felt"]["mean"] for s, p in goers]
     stay_out = [
-        (s, scen[s]["split"]["stay"]) for s in scen if scen[s]["split"]["stay"]["frechet_knock_on_m"]["mean"] > 0
+        (s, scen[s]["split"]["stay"])
+        for s in scen
+        if scen[s]["split"]["stay"]["frechet_knock_on_m"]["mean"] > 0
     ]
     b3 = (
         f"- **There is no knock-on deviation to speak of at {doc['felt_force_mps2']:g} m/s²**: "
@@ -424,15 +415,16 @@ def attribution_findings() -> str:
     best_score = score.get(best) or {}
     named = doc["score_scenarios"].get(best, [])
     missing = [s for s in scen if s not in named]
-    other_scores = [score[p]["estimate"] for p in rivals if score.get(p) and score[p]["estimate"] is not None]
-    above = [
-        s for s in scen if scen[s]["beats_oracle"]
+    other_scores = [
+        score[p]["estimate"] for p in rivals if score.get(p) and score[p]["estimate"] is not None
     ]
+    above = [s for s in scen if scen[s]["beats_oracle"]]
     n_eps = dev[best]["n"]
+    rival_iqm = [dev[p]["estimate"] for p in rivals]
     b4 = (
         f"- **Suite aggregates**: over the {n_eps} (scenario, seed) episodes `{best}` has the "
         f"lowest IQM deviation of the deployable planners, {_iv(dev[best], 3)} m, against "
-        f"{min(dev[p]['estimate'] for p in rivals):.3f}–{max(dev[p]['estimate'] for p in rivals):.3f} m "
+        f"{min(rival_iqm):.3f}–{max(rival_iqm):.3f} m "
         f"for the others (`oracle` {dev['oracle']['estimate']:.3f}, `stay` "
         f"{dev['stay']['estimate']:.3f}), and it deviates a person less than each of them with "
         f"probability {min(p_vs):.2f}–{max(p_vs):.2f}."
@@ -465,4 +457,4 @@ def attribution_findings() -> str:
             else f" In {', '.join(above)} a planner beat the oracle: the headroom is a lower bound."
         )
     )
-    return "\n".join([b1, b2, b3, b4]).replace("–0.", "–0.")
+    return "\n".join([b1, b2, b3, b4])

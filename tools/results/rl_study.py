@@ -150,7 +150,9 @@ def shipped_cells() -> dict[tuple[str, str], tuple[Cell, dict[str, int], str]]:
             continue
         t = sets.table(name)
         counts: dict[tuple[str, str], dict[str, int]] = {}
-        for s, p, o in zip(*(t[c].to_pylist() for c in ("scenario", "planner", "outcome"))):
+        for s, p, o in zip(
+            *(t[c].to_pylist() for c in ("scenario", "planner", "outcome")), strict=True
+        ):
             if p in SHIPPED and s in REPORT_SCENARIOS and (s, p) not in out:
                 counts.setdefault((s, p), {}).setdefault(o, 0)
                 counts[s, p][o] += 1
@@ -221,15 +223,14 @@ def shipped_targets() -> str:
         f"*From the results sets {', '.join(f'`{n}`' for n in used)} "
         "([results](results/index.md)), which ran the shipped files on seeds 0–99.*",
         "",
-        "| scenario | set | "
-        + " | ".join(f"`{p}` (`{runs[p]}`)" for p in SHIPPED)
-        + " |",
+        "| scenario | set | " + " | ".join(f"`{p}` (`{runs[p]}`)" for p in SHIPPED) + " |",
         "|---|---|" + "---|" * len(SHIPPED),
     ]
     for s in REPORT_SCENARIOS:
         texts = [cells[s, p][0].text() for p in SHIPPED]
         lines.append(f"| {s} | {_kind(s)} | " + " | ".join(texts) + " |")
     verdict = _verdict(cells)
+    study = report_targets()
     siblings = []
     for p, run in runs.items():
         arm, seed = run.split("-")
@@ -261,7 +262,7 @@ def shipped_targets() -> str:
 
 def _validation_text(run: str) -> str:
     success, collisions = validation(run)
-    return f"{success:.3f} / {collisions:.3g}"
+    return f"{success:.3f} / " + (f"{collisions:.3f}" if collisions else "0")
 
 
 def validation_table() -> str:
@@ -284,9 +285,7 @@ def validation_table() -> str:
     for arm in ("k0", "k2"):
         mine = [r for r in runs if r.startswith(arm + "-")]
         best = max(mine, key=lambda r: (validation(r)[0], -validation(r)[1], -_seed(r)))
-        ties = [
-            r for r in mine if validation(r) == validation(best) and r != best
-        ]
+        ties = [r for r in mine if validation(r) == validation(best) and r != best]
         picks.append(
             f"`{best}` ({_validation_text(best)}"
             + (f"; tied with {_list(ties)}, lower training seed" if ties else "")
@@ -314,22 +313,24 @@ def study_misses() -> str:
     ]
     for arm in ("k0", "k2"):
         lines.append(
-            f"| k2 = {arm[1]} | "
-            + " | ".join(str(missed[f"{arm}-seed{s}"]) for s in seeds)
-            + " |"
+            f"| k2 = {arm[1]} | " + " | ".join(str(missed[f"{arm}-seed{s}"]) for s in seeds) + " |"
         )
     clean = [r for r in runs if missed[r] == 0]
     shipped = shipped_runs()
     notes = []
-    for p, run in shipped.items():
-        ties = [r for r in runs if r != run and r[:2] == run[:2] and validation(r) == validation(run)]
+    for run in shipped.values():
+        ties = [
+            r for r in runs if r != run and r[:2] == run[:2] and validation(r) == validation(run)
+        ]
         if ties:
             notes.append(
                 f"the shipped `{run}` ties {_list(ties)} at {_validation_text(run)} on "
-                f"validation and misses {missed[run]} cells"
+                f"validation and misses {missed[run]} cell{'' if missed[run] == 1 else 's'}"
             )
         else:
-            notes.append(f"the shipped `{run}` misses {missed[run]} cells")
+            notes.append(
+                f"the shipped `{run}` misses {missed[run]} cell{'' if missed[run] == 1 else 's'}"
+            )
     return (
         "\n".join(lines)
         + f"\n\n{len(clean)} of the {len(runs)} runs meet every target ({_list(clean)}); "
@@ -385,7 +386,10 @@ def claim_table() -> str:
         text += (
             f"n < {full}: a training seed whose policy never reached the goal in a scenario "
             "has no mean there ("
-            + ", ".join(f"`{c.scenario}`: {full - c.n} such pairs" for c in short)
+            + ", ".join(
+                f"`{c.scenario}`: {full - c.n} such pair{'s' if full - c.n > 1 else ''}"
+                for c in short
+            )
             + "). In words:\n\n"
         )
     if lowers:
@@ -460,8 +464,6 @@ def wall_times() -> str:
     if unfinished:
         lines += ["", f"Unfinished: {', '.join(unfinished)}."]
     return "\n".join(lines)
-
-
 
 
 def summary() -> str:

@@ -639,6 +639,38 @@ def performance_goals_table(doc: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+PERFORMANCE_VS = DOCS / "results" / "performance" / "vs-fe28b0b.json"
+
+
+def performance_vs() -> str:
+    """Two checkouts timed in turn on one machine (``bench_commands.py --vs``)."""
+    doc = sets.read_json(PERFORMANCE_VS)
+    lines = [
+        f"Measured {doc['date']}, {doc['cores']} cores ({doc['cpu']}): "
+        f"A = `{doc['commits']['A']}`, B = `{doc['commits']['B']}`, run in turn: `{doc['command']}`; median (min–max).",
+        "",
+        "| what | runs each | A | B | A / B (medians) | load |",
+        "|---|--:|---|---|--:|---|",
+    ]
+    for row_name, label, figure, _, at_least in SPEED_GOALS:
+        row = doc["rows"].get(row_name)
+        if row is None:
+            continue
+        a = _figures(row, figure)
+        b = _figures({"runs": {"A": row["runs"]["B"]}}, figure)
+        unit = "×" if at_least else " s"
+
+        def spread(v: list[float], unit: str = unit) -> str:
+            return f"{float(np.median(v)):.2f}{unit} ({min(v):.2f}–{max(v):.2f})"
+
+        lines.append(
+            f"| {label} | {len(a)} | {spread(a)} | {spread(b)} "
+            f"| {float(np.median(a)) / float(np.median(b)):.3f} "
+            f"| {row['load_before']} → {row['load_after']} |"
+        )
+    return "\n".join(lines)
+
+
 BLOCKS: dict[str, Callable[[], str]] = {
     "results-sets": sets_index,
     "paper-table3": paper_table3_block,
@@ -663,6 +695,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "rl-usual-misses": rl_usual_misses,
     "oracle-cost": oracle_cost,
     "performance-goals": performance_goals,
+    "performance-vs-before": performance_vs,
 }
 
 

@@ -647,7 +647,8 @@ def performance_vs() -> str:
     doc = sets.read_json(PERFORMANCE_VS)
     lines = [
         f"Measured {doc['date']}, {doc['cores']} cores ({doc['cpu']}): "
-        f"A = `{doc['commits']['A']}`, B = `{doc['commits']['B']}`, run in turn: `{doc['command']}`; median (min–max).",
+        f"A = `{doc['commits']['A']}`, B = `{doc['commits']['B']}`, run in turn: "
+        f"`{doc['command']}`; median (min–max).",
         "",
         "| what | runs each | A | B | A / B (medians) | load |",
         "|---|--:|---|---|--:|---|",
@@ -669,6 +670,79 @@ def performance_vs() -> str:
             f"| {row['load_before']} → {row['load_after']} |"
         )
     return "\n".join(lines)
+
+
+STUDY43 = sets.ROOT / "tools" / "rl" / "study43"
+
+
+def _study43_runs() -> dict[str, Any]:
+    runs: dict[str, Any] = sets.read_json(STUDY43 / "runs.json")
+    return runs
+
+
+def rl43_validation() -> str:
+    """Every run's chosen checkpoint on the validation set (the study's selection data)."""
+    runs = _study43_runs()
+    seeds = sorted({int(name.split("seed")[1]) for name in runs})
+    lines = [
+        "| arm | " + " | ".join(f"seed {s}" for s in seeds) + " |",
+        "|---|" + "---|" * len(seeds),
+    ]
+    for k2 in ("0", "2"):
+        cells = []
+        for seed in seeds:
+            path = STUDY43 / "validation" / f"k{k2}-seed{seed}.json"
+            if not path.is_file():
+                cells.append("training" if f"k{k2}-seed{seed}" in runs else "–")
+                continue
+            best = sets.read_json(path)["best"]
+            cells.append(
+                f"{best['success_rate']:.3f} / {best['collision_rate']:.3f} "
+                f"({best['steps'] // 1000}k)"
+            )
+        lines.append(f"| k2 = {k2} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def _study43_report() -> tuple[Any, str]:
+    """The study's evaluation table (tools/rl/study43/report/seed*.csv.gz) and a line
+    saying which training seeds it holds."""
+    from tools.rl.study43 import report as report43
+
+    files = sorted((STUDY43 / "report").glob("seed*.csv.gz"), key=lambda p: int(p.name[4:-7]))
+    if not files:
+        raise MissingError(
+            "`tools/rl/study43/report/` (`PYTHONPATH=. python tools/rl/study43/evaluate.py`)"
+        )
+    seeds = [int(p.name[4:-7]) for p in files]
+    head = (
+        f"*From `tools/rl/study43/report/seed*.csv.gz`: training seeds "
+        f"{', '.join(map(str, seeds))} ({len(seeds)} of the 10 the study fixed), each "
+        "seed's four policies on the 14 report scenarios, evaluation seeds 0–99 "
+        "(`PYTHONPATH=. python tools/rl/study43/evaluate.py --seeds 1-10`).*"
+    )
+    return report43.load(*files), head
+
+
+def rl43_targets() -> str:
+    from tools.rl.study43 import report as report43
+
+    table, head = _study43_report()
+    return "\n".join(
+        [head, "", *report43.ship_table(table, STUDY43 / "validation"), "",
+         "Cells missed (of 14) per run:", "", *report43.missed_table(table)]
+    )  # fmt: skip
+
+
+def rl43_claim() -> str:
+    from tools.rl.study43 import report as report43
+
+    table, head = _study43_report()
+    return "\n".join(
+        [head, "", "**Chosen checkpoints (primary):**", "", *report43.claim(table, final=False),
+         "", "**Final checkpoints, 300,000 actions (sensitivity):**", "",
+         *report43.claim(table, final=True)]
+    )  # fmt: skip
 
 
 BLOCKS: dict[str, Callable[[], str]] = {
@@ -696,6 +770,9 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "oracle-cost": oracle_cost,
     "performance-goals": performance_goals,
     "performance-vs-before": performance_vs,
+    "rl43-validation": rl43_validation,
+    "rl43-targets": rl43_targets,
+    "rl43-claim": rl43_claim,
 }
 
 

@@ -704,6 +704,28 @@ def rl43_validation() -> str:
     return "\n".join(lines)
 
 
+def rl43_curves() -> str:
+    """Validation success and timeouts of every run at each checkpoint (learning curves)."""
+    paths = sorted(
+        (STUDY43 / "validation").glob("k*-seed*.json"),
+        key=lambda q: (q.name.split("-")[0], int(q.stem.split("seed")[1])),
+    )
+    docs = {q.stem: sets.read_json(q)["checkpoints"] for q in paths}
+    steps = sorted({c["steps"] for cps in docs.values() for c in cps})
+    lines = [
+        "| run | " + " | ".join(f"{s // 1000}k" for s in steps) + " |",
+        "|---|" + "--:|" * len(steps),
+    ]
+    for run, cps in docs.items():
+        at = {c["steps"]: c for c in cps}
+        cells = [
+            f"{at[s]['success_rate']:.2f} ({at[s]['timeout_rate']:.2f})" if s in at else "–"
+            for s in steps
+        ]
+        lines.append(f"| {run} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
 def _study43_report() -> tuple[Any, str]:
     """The study's evaluation table (tools/rl/study43/report/seed*.csv.gz) and a line
     saying which training seeds it holds."""
@@ -771,6 +793,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "performance-goals": performance_goals,
     "performance-vs-before": performance_vs,
     "rl43-validation": rl43_validation,
+    "rl43-curves": rl43_curves,
     "rl43-targets": rl43_targets,
     "rl43-claim": rl43_claim,
 }

@@ -526,3 +526,26 @@ def summary() -> str:
         "[history/rl.md](history/rl.md#the-answer-to-the-papers-question)."
     )
     return result + "\n" + claim
+
+
+REWARD_STATS = sets.ROOT / "docs" / "rl" / "reward_stats.json"
+
+
+def reward_stats() -> str:
+    """The size of the deviation term under random actions (tools/rl/reward_stats.py)."""
+    from srfm.rl import DEFAULT_K_DIV
+
+    if not REWARD_STATS.is_file():
+        return (
+            "*Not measured yet: `python tools/rl/reward_stats.py --json "
+            "docs/rl/reward_stats.json`.*"
+        )
+    doc = sets.read_json(REWARD_STATS)
+    return (
+        f"- **The size of r_div**: with random actions in the `random` scenario it is "
+        f"non-zero in {100 * doc['nonzero_share']:.0f} % of the steps, {doc['mean_m']:.4f} m "
+        f"on average, {doc['p99_m']:.3f} m at the 99th percentile ({doc['steps']:,} steps; "
+        f"`{doc['command']}`, commit `{doc['commit']}`, {doc['started'][:10]}), so "
+        f"k2 = {DEFAULT_K_DIV:g} makes a close pass cost up to about "
+        f"{DEFAULT_K_DIV * doc['p99_m']:.2f} per step, against k1 · r_dist ≤ 0.1."
+    )

@@ -564,6 +564,113 @@ def oracle_cost() -> str:
     return "\n".join(rows)
 
 
+PERFORMANCE_GOALS = DOCS / "results" / "performance" / "goals.json"
+# Issue 39's speed goals: (row of the measurement, label, the figure, the goal, at least?)
+SPEED_GOALS: tuple[tuple[str, str, str, float, bool], ...] = (
+    (
+        "full",
+        "`srfm benchmark` (seeds 0-99, 7 planners, 3,500 episodes, default logs), wall s",
+        "wall_s",
+        60.0,
+        False,
+    ),
+    (
+        "simulate",
+        "`srfm simulate --scenario crosswalk --seed 0 --planner dwa` (warm cache), wall s",
+        "wall_s",
+        1.0,
+        False,
+    ),
+    (
+        "shared-crowd",
+        "crowd step at N = 1,000, srfm / JuPedSim agent-steps per s",
+        "1000",
+        3.0,
+        True,
+    ),
+    (
+        "shared-crowd",
+        "crowd step at N = 10,000, srfm / JuPedSim agent-steps per s",
+        "10000",
+        3.5,
+        True,
+    ),
+)
+
+
+def _figures(row: dict[str, Any], figure: str) -> list[float]:
+    runs = row["runs"]["A"]
+    if figure.isdigit():
+        return [r[f"srfm_{figure}"] / r[f"jupedsim_{figure}"] for r in runs]
+    return [float(r[figure]) for r in runs]
+
+
+def performance_goals() -> str:
+    """Issue 39's speed goals beside the figures of the committed measurement."""
+    return performance_goals_table(sets.read_json(PERFORMANCE_GOALS))
+
+
+def performance_goals_table(doc: dict[str, Any]) -> str:
+    """The goal table of one ``bench_commands.py --json`` record (tree A's runs)."""
+    lines = [
+        f"Measured {doc['date']} on commit `{doc['commits']['A']}`, {doc['cores']} cores "
+        f"({doc['cpu']}): `{doc['command']}`; median (min–max) of the runs, the load "
+        "average (1/5/15 min) before and after each row.",
+        "",
+        "| what | runs | median (min–max) | goal | verdict | load |",
+        "|---|--:|---|---|---|---|",
+    ]
+    for row_name, label, figure, goal, at_least in SPEED_GOALS:
+        row = doc["rows"].get(row_name)
+        if row is None:
+            lines.append(
+                f"| {label} | 0 | not measured | {'≥' if at_least else '≤'} {goal:g} | – | – |"
+            )
+            continue
+        values = _figures(row, figure)
+        median = float(np.median(values))
+        met = median >= goal if at_least else median <= goal
+        unit = "×" if at_least else " s"
+        lines.append(
+            f"| {label} | {len(values)} | {median:.2f}{unit} ({min(values):.2f}–{max(values):.2f}) "
+            f"| {'≥' if at_least else '≤'} {goal:g}{unit} | {'**met**' if met else 'not met'} "
+            f"| {row['load_before']} → {row['load_after']} |"
+        )
+    return "\n".join(lines)
+
+
+PERFORMANCE_VS = DOCS / "results" / "performance" / "vs-fe28b0b.json"
+
+
+def performance_vs() -> str:
+    """Two checkouts timed in turn on one machine (``bench_commands.py --vs``)."""
+    doc = sets.read_json(PERFORMANCE_VS)
+    lines = [
+        f"Measured {doc['date']}, {doc['cores']} cores ({doc['cpu']}): "
+        f"A = `{doc['commits']['A']}`, B = `{doc['commits']['B']}`, run in turn: `{doc['command']}`; median (min–max).",
+        "",
+        "| what | runs each | A | B | A / B (medians) | load |",
+        "|---|--:|---|---|--:|---|",
+    ]
+    for row_name, label, figure, _, at_least in SPEED_GOALS:
+        row = doc["rows"].get(row_name)
+        if row is None:
+            continue
+        a = _figures(row, figure)
+        b = _figures({"runs": {"A": row["runs"]["B"]}}, figure)
+        unit = "×" if at_least else " s"
+
+        def spread(v: list[float], unit: str = unit) -> str:
+            return f"{float(np.median(v)):.2f}{unit} ({min(v):.2f}–{max(v):.2f})"
+
+        lines.append(
+            f"| {label} | {len(a)} | {spread(a)} | {spread(b)} "
+            f"| {float(np.median(a)) / float(np.median(b)):.3f} "
+            f"| {row['load_before']} → {row['load_after']} |"
+        )
+    return "\n".join(lines)
+
+
 BLOCKS: dict[str, Callable[[], str]] = {
     "results-sets": sets_index,
     "paper-table3": paper_table3_block,
@@ -587,6 +694,8 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "discriminative-tables": discriminative_tables,
     "rl-usual-misses": rl_usual_misses,
     "oracle-cost": oracle_cost,
+    "performance-goals": performance_goals,
+    "performance-vs-before": performance_vs,
 }
 
 

@@ -38,7 +38,7 @@ from srfm.metrics.tables import (
 from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
-from tools.results import sets
+from tools.results import fitting_pages, sets
 
 DOCS = sets.ROOT / "docs"
 BEGIN = re.compile(r"<!-- generated: ([a-z0-9-]+) -->\n")
@@ -587,6 +587,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "discriminative-tables": discriminative_tables,
     "rl-usual-misses": rl_usual_misses,
     "oracle-cost": oracle_cost,
+    **fitting_pages.BLOCKS,
 }
 
 

@@ -48,6 +48,7 @@ from srfm.models import SRFMParams
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO))
 from tools.results.record import run_record, start  # noqa: E402
+
 LABELS = {
     "constant_velocity": "CV",
     "sfm": "SFM, robot ignored",

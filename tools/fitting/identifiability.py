@@ -16,6 +16,7 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import Any
 
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO))
@@ -25,9 +26,7 @@ from srfm.fitting import WindowConfig, build_windows, fit_params  # noqa: E402
 from tests.datasets._synthetic import simulate_scene  # noqa: E402
 from tools.results.record import run_record, start  # noqa: E402
 
-TRUE = srfm.SRFMParams(
-    a_ped=2.0, b_ped=0.5, lambda_ped=0.4, tau=0.6, a_robot=6.0, b_robot=0.8
-)
+TRUE = srfm.SRFMParams(a_ped=2.0, b_ped=0.5, lambda_ped=0.4, tau=0.6, a_robot=6.0, b_robot=0.8)
 FIELDS = ("a_ped", "b_ped", "lambda_ped", "tau", "a_robot", "b_robot")
 CASES = ((0.0, 1 / 15), (0.0, 0.4), (0.01, 0.4), (0.02, 0.4), (0.05, 0.4))
 """(position noise sigma in m, velocity span in s) of each row."""
@@ -44,11 +43,9 @@ def fit_row(noise_m: float, span_s: float) -> dict[str, float]:
     return {f: float(getattr(p, f)) for f in FIELDS}
 
 
-def table_lines(doc: dict[str, object]) -> list[str]:
+def table_lines(doc: dict[str, Any]) -> list[str]:
     """The Markdown table of a saved run."""
-    true = doc["true"]
-    rows = doc["rows"]
-    assert isinstance(true, dict) and isinstance(rows, list)
+    true, rows = doc["true"], doc["rows"]
     lines = [
         "| σ (m) | velocity span (s) | A_p | B_p (m) | λ | τ (s) | A_r | B_r (m) |",
         "|---|---|---|---|---|---|---|---|",
@@ -83,7 +80,7 @@ def main() -> None:
     for noise, span in CASES:
         rows.append({"noise_m": noise, "velocity_span_s": span, "params": fit_row(noise, span)})
         print(rows[-1], file=sys.stderr, flush=True)
-    doc: dict[str, object] = {
+    doc: dict[str, Any] = {
         "true": {f: float(getattr(TRUE, f)) for f in FIELDS},
         "start": "ferrer2013",
         "rows": rows,

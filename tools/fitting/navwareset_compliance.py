@@ -181,6 +181,8 @@ def episodes_lines(records: list[dict[str, Any]]) -> list[str]:
             for x in records
             if scenario in ("all", x["scenario"]) and robot in ("all", x["robot"])
         ]
+        if not sel:
+            continue
         c = np.array([x["frechet_m"] for x in sel if x["compliant"]])
         n = np.array([x["frechet_m"] for x in sel if not x["compliant"]])
         cc = sum(x["outcome"] == "collision" for x in sel if x["compliant"])

@@ -601,6 +601,8 @@ def render(name: str, page: Path) -> str:
         return BLOCKS[name]().strip()
     except MissingError as exc:
         return f"*Not measured yet: no committed results set {exc}.*"
+    except fitting_pages.MissingDataError as exc:
+        return f"*Not measured yet: no committed {exc}.*"
 
 
 def rewrite(text: str, page: Path) -> tuple[str, list[str]]:

@@ -293,6 +293,38 @@ def flows_table() -> str:
     )
 
 
+def nws2025_issue15_table() -> str:
+    """The paper's benchmark with navwareset2025 as issue 15 fitted it (docs/fitting.md):
+    success / collision rate / mean Fréchet deviation per planner and scenario."""
+    name = "paper_nws2025_issue15"
+    _need(name)
+    req = sets.manifest(name)["request"]
+    t = sets.table(name)
+    cols = {c: t[c].to_pylist() for c in ("scenario", "planner", "outcome", "frechet_m")}
+    cells: dict[tuple[str, str], list[tuple[str, float | None]]] = {}
+    for s, p, o, v in zip(*cols.values(), strict=True):
+        cells.setdefault((s, p), []).append((o, v))
+    lines = [
+        provenance(name),
+        "",
+        f"Success / robot collision rate / mean Fréchet deviation (m) over seeds "
+        f"{req['seeds'][0]}–{req['seeds'][-1]} (n = {len(req['seeds'])} per cell):",
+        "",
+        "| planner | " + " | ".join(req["scenarios"]) + " |",
+        "|---|" + "---|" * len(req["scenarios"]),
+    ]
+    for p in sorted(req["planners"]):
+        row = []
+        for s in req["scenarios"]:
+            eps = cells[s, p]
+            goal = sum(o == "goal_reached" for o, _ in eps) / len(eps)
+            hit = sum(o == "collision" for o, _ in eps) / len(eps)
+            dev = summarize(np.array([np.nan if v is None else v for _, v in eps])).mean
+            row.append(f"{goal:.2f} / {hit:.2f} / {dev:.3f}")
+        lines.append(f"| {p} | " + " | ".join(row) + " |")
+    return "\n".join(lines)
+
+
 def _preset_block(a: str, b: str) -> str:
     _need(a, b)
     ma, scen, planners, _ = compare_presets.means_of_rows(_csv_rows(a), frozenset(SEVEN), a)
@@ -577,6 +609,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "francis-full": francis_full,
     "navwareset-references": navwareset_references,
     "flows-table": flows_table,
+    "nws2025-issue15": nws2025_issue15_table,
     "presets-paper": presets_paper,
     "presets-francis": presets_francis,
     "robustness-paper": robustness_paper,

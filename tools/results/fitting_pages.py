@@ -33,7 +33,7 @@ from tools.fitting import (
 ROOT = Path(__file__).resolve().parents[2]
 DOCS = ROOT / "docs"
 MINUS = "\u2212"
-WORDS = {n: w for n, w in enumerate("zero one two three four five six seven eight nine".split())}
+WORDS = ("zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine")
 
 
 class MissingDataError(Exception):

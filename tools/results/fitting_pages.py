@@ -76,7 +76,9 @@ def prose(text: str) -> str:
     out = []
     for para in text.split("\n"):
         item = para.startswith("- ")
-        glued = re.sub(r"(\d) (%|m\b|s\b|m/s)", "\\1\u00a0\\2", para)  # a number and its unit
+        # a number and its unit, and "x = y", stay on one line
+        glued = re.sub(r"(\d) (%|mm\b|m\b|s\b|m/s|Hz\b)", "\\1\u00a0\\2", para)
+        glued = glued.replace(" = ", "\u00a0=\u00a0")
         out.append(
             textwrap.fill(
                 glued,

@@ -31,6 +31,7 @@ comma-separated). Printed, in Markdown:
 from __future__ import annotations
 
 import csv
+import gzip
 import math
 import re
 import sys
@@ -53,11 +54,14 @@ Table = dict[tuple[str, str], list[dict[str, str]]]
 
 
 def load(*folders: Path) -> Table:
-    """Every episode of the folders' episodes.csv, by (scenario, planner)."""
+    """Every episode of the folders' episodes.csv (or of gzip-compressed CSV files of the
+    same columns, ``*.csv.gz``), by (scenario, planner)."""
     table: Table = defaultdict(list)
     seen: dict[tuple[str, str, str], Path] = {}
     for folder in folders:
-        with (folder / "episodes.csv").open() as fh:
+        gz = folder.name.endswith(".csv.gz")
+        path = folder if gz else folder / "episodes.csv"
+        with (gzip.open if gz else open)(path, "rt", encoding="utf-8", newline="") as fh:
             for row in csv.DictReader(fh):
                 key = (row["scenario"], row["planner"], row["seed"])
                 if key in seen:

@@ -122,7 +122,8 @@ def test_the_floor_of_a_scenario_whose_people_all_enter_later() -> None:
 
     scenario = attrs.evolve(load_scenario("corridor_flow"), horizon_steps=240)
     enter = episode_setup(scenario, 5).ped_enter_step
-    assert enter is not None and not np.any(enter == 0)
+    assert enter is not None
+    assert not np.any(enter == 0)
     assert np.all(np.diff(enter) >= 0)  # entry order: the first ones enter first
     n_first = first_present(enter, len(enter))
     assert n_first == np.count_nonzero(enter == enter.min()) >= 1

@@ -38,7 +38,7 @@ from srfm.metrics.tables import (
 from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
-from tools.results import sets
+from tools.results import fitting_pages, sets
 
 DOCS = sets.ROOT / "docs"
 BEGIN = re.compile(r"<!-- generated: ([a-z0-9-]+) -->\n")
@@ -291,6 +291,55 @@ def flows_table() -> str:
         + "\n\n"
         + _outcome_sentence("flows")
     )
+
+
+def nws2025_issue15_table() -> str:
+    """The paper's benchmark with navwareset2025 as issue 15 fitted it (docs/fitting.md):
+    success / collision rate / mean Fréchet deviation per planner and scenario."""
+    name = "paper_nws2025_issue15"
+    _need(name)
+    req = sets.manifest(name)["request"]
+    t = sets.table(name)
+    cols = {c: t[c].to_pylist() for c in ("scenario", "planner", "outcome", "frechet_m")}
+    cells: dict[tuple[str, str], list[tuple[str, float | None]]] = {}
+    for s, p, o, v in zip(*cols.values(), strict=True):
+        cells.setdefault((s, p), []).append((o, v))
+    lines = [
+        provenance(name),
+        "",
+        f"Success / robot collision rate / mean Fréchet deviation (m) over seeds "
+        f"{req['seeds'][0]}–{req['seeds'][-1]} (n = {len(req['seeds'])} per cell):",
+        "",
+        "| planner | " + " | ".join(req["scenarios"]) + " |",
+        "|---|" + "---|" * len(req["scenarios"]),
+    ]
+    for p in sorted(req["planners"]):
+        row = []
+        for s in req["scenarios"]:
+            eps = cells[s, p]
+            goal = sum(o == "goal_reached" for o, _ in eps) / len(eps)
+            hit = sum(o == "collision" for o, _ in eps) / len(eps)
+            dev = summarize(np.array([np.nan if v is None else v for _, v in eps])).mean
+            row.append(f"{goal:.2f} / {hit:.2f} / {dev:.3f}")
+        lines.append(f"| {p} | " + " | ".join(row) + " |")
+    hits = {
+        sc: sum(o == "collision" for o, _ in cells[sc, "straight"]) / len(req["seeds"])
+        for sc in req["scenarios"]
+    }
+    often = [h for h in hits.values() if h >= 0.5]
+    means = {
+        k: summarize(np.array([np.nan if v is None else v for _, v in eps])).mean
+        for k, eps in cells.items()
+    }
+    circle = max(m for (sc, _), m in means.items() if sc == "circle")
+    rest = max(m for (sc, _), m in means.items() if sc != "circle")
+    lines += [
+        "",
+        f"`straight` collides in {100 * min(often):.0f}–{100 * max(often):.0f} % of the "
+        f"episodes of {len(often)} scenarios; the mean deviation of any planner is at most "
+        f"{circle:.2f} m in `circle` and {rest:.2f} m elsewhere.",
+    ]
+    return "\n".join(lines)
 
 
 def _preset_block(a: str, b: str) -> str:
@@ -647,7 +696,8 @@ def performance_vs() -> str:
     doc = sets.read_json(PERFORMANCE_VS)
     lines = [
         f"Measured {doc['date']}, {doc['cores']} cores ({doc['cpu']}): "
-        f"A = `{doc['commits']['A']}`, B = `{doc['commits']['B']}`, run in turn: `{doc['command']}`; median (min–max).",
+        f"A = `{doc['commits']['A']}`, B = `{doc['commits']['B']}`, run in turn: "
+        f"`{doc['command']}`; median (min–max).",
         "",
         "| what | runs each | A | B | A / B (medians) | load |",
         "|---|--:|---|---|--:|---|",
@@ -671,6 +721,101 @@ def performance_vs() -> str:
     return "\n".join(lines)
 
 
+STUDY43 = sets.ROOT / "tools" / "rl" / "study43"
+
+
+def _study43_runs() -> dict[str, Any]:
+    runs: dict[str, Any] = sets.read_json(STUDY43 / "runs.json")
+    return runs
+
+
+def rl43_validation() -> str:
+    """Every run's chosen checkpoint on the validation set (the study's selection data)."""
+    runs = _study43_runs()
+    seeds = sorted({int(name.split("seed")[1]) for name in runs})
+    lines = [
+        "| arm | " + " | ".join(f"seed {s}" for s in seeds) + " |",
+        "|---|" + "---|" * len(seeds),
+    ]
+    for k2 in ("0", "2"):
+        cells = []
+        for seed in seeds:
+            path = STUDY43 / "validation" / f"k{k2}-seed{seed}.json"
+            if not path.is_file():
+                cells.append("training" if f"k{k2}-seed{seed}" in runs else "–")
+                continue
+            best = sets.read_json(path)["best"]
+            cells.append(
+                f"{best['success_rate']:.3f} / {best['collision_rate']:.3f} "
+                f"({best['steps'] // 1000}k)"
+            )
+        lines.append(f"| k2 = {k2} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def rl43_curves() -> str:
+    """Validation success and timeouts of every run at each checkpoint (learning curves)."""
+    paths = sorted(
+        (STUDY43 / "validation").glob("k*-seed*.json"),
+        key=lambda q: (q.name.split("-")[0], int(q.stem.split("seed")[1])),
+    )
+    docs = {q.stem: sets.read_json(q)["checkpoints"] for q in paths}
+    steps = sorted({c["steps"] for cps in docs.values() for c in cps})
+    lines = [
+        "| run | " + " | ".join(f"{s // 1000}k" for s in steps) + " |",
+        "|---|" + "--:|" * len(steps),
+    ]
+    for run, cps in docs.items():
+        at = {c["steps"]: c for c in cps}
+        cells = [
+            f"{at[s]['success_rate']:.2f} ({at[s]['timeout_rate']:.2f})" if s in at else "–"
+            for s in steps
+        ]
+        lines.append(f"| {run} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def _study43_report() -> tuple[Any, str]:
+    """The study's evaluation table (tools/rl/study43/report/seed*.csv.gz) and a line
+    saying which training seeds it holds."""
+    from tools.rl.study43 import report as report43
+
+    files = sorted((STUDY43 / "report").glob("seed*.csv.gz"), key=lambda p: int(p.name[4:-7]))
+    if not files:
+        raise MissingError(
+            "`tools/rl/study43/report/` (`PYTHONPATH=. python tools/rl/study43/evaluate.py`)"
+        )
+    seeds = [int(p.name[4:-7]) for p in files]
+    head = (
+        f"*From `tools/rl/study43/report/seed*.csv.gz`: training seeds "
+        f"{', '.join(map(str, seeds))} ({len(seeds)} of the 10 the study fixed), each "
+        "seed's four policies on the 14 report scenarios, evaluation seeds 0–99 "
+        "(`PYTHONPATH=. python tools/rl/study43/evaluate.py --seeds 1-10`).*"
+    )
+    return report43.load(*files), head
+
+
+def rl43_targets() -> str:
+    from tools.rl.study43 import report as report43
+
+    table, head = _study43_report()
+    return "\n".join(
+        [head, "", *report43.ship_table(table, STUDY43 / "validation"), "",
+         "Cells missed (of 14) per run:", "", *report43.missed_table(table)]
+    )  # fmt: skip
+
+
+def rl43_claim() -> str:
+    from tools.rl.study43 import report as report43
+
+    table, head = _study43_report()
+    return "\n".join(
+        [head, "", "**Chosen checkpoints (primary):**", "", *report43.claim(table, final=False),
+         "", "**Final checkpoints, 300,000 actions (sensitivity):**", "",
+         *report43.claim(table, final=True)]
+    )  # fmt: skip
+
+
 BLOCKS: dict[str, Callable[[], str]] = {
     "results-sets": sets_index,
     "paper-table3": paper_table3_block,
@@ -684,6 +829,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "francis-full": francis_full,
     "navwareset-references": navwareset_references,
     "flows-table": flows_table,
+    "nws2025-issue15": nws2025_issue15_table,
     "presets-paper": presets_paper,
     "presets-francis": presets_francis,
     "robustness-paper": robustness_paper,
@@ -696,6 +842,11 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "oracle-cost": oracle_cost,
     "performance-goals": performance_goals,
     "performance-vs-before": performance_vs,
+    "rl43-validation": rl43_validation,
+    "rl43-curves": rl43_curves,
+    "rl43-targets": rl43_targets,
+    "rl43-claim": rl43_claim,
+    **fitting_pages.BLOCKS,
 }
 
 
@@ -709,6 +860,8 @@ def render(name: str, page: Path) -> str:
         return BLOCKS[name]().strip()
     except MissingError as exc:
         return f"*Not measured yet: no committed results set {exc}.*"
+    except fitting_pages.MissingDataError as exc:
+        return f"*Not measured yet: no committed {exc}.*"
 
 
 def rewrite(text: str, page: Path) -> tuple[str, list[str]]:

@@ -39,8 +39,8 @@ from srfm.metrics.tables import (
 from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
+from tools.results import fitting_pages, rl_study, sets
 from tools.results import pages as data_pages
-from tools.results import rl_study, sets
 
 DOCS = sets.ROOT / "docs"
 BEGIN = re.compile(r"<!-- generated: ([a-z0-9-]+) -->\n")
@@ -293,6 +293,55 @@ def flows_table() -> str:
         + "\n\n"
         + _outcome_sentence("flows")
     )
+
+
+def nws2025_issue15_table() -> str:
+    """The paper's benchmark with navwareset2025 as issue 15 fitted it (docs/fitting.md):
+    success / collision rate / mean Fréchet deviation per planner and scenario."""
+    name = "paper_nws2025_issue15"
+    _need(name)
+    req = sets.manifest(name)["request"]
+    t = sets.table(name)
+    cols = {c: t[c].to_pylist() for c in ("scenario", "planner", "outcome", "frechet_m")}
+    cells: dict[tuple[str, str], list[tuple[str, float | None]]] = {}
+    for s, p, o, v in zip(*cols.values(), strict=True):
+        cells.setdefault((s, p), []).append((o, v))
+    lines = [
+        provenance(name),
+        "",
+        f"Success / robot collision rate / mean Fréchet deviation (m) over seeds "
+        f"{req['seeds'][0]}–{req['seeds'][-1]} (n = {len(req['seeds'])} per cell):",
+        "",
+        "| planner | " + " | ".join(req["scenarios"]) + " |",
+        "|---|" + "---|" * len(req["scenarios"]),
+    ]
+    for p in sorted(req["planners"]):
+        row = []
+        for s in req["scenarios"]:
+            eps = cells[s, p]
+            goal = sum(o == "goal_reached" for o, _ in eps) / len(eps)
+            hit = sum(o == "collision" for o, _ in eps) / len(eps)
+            dev = summarize(np.array([np.nan if v is None else v for _, v in eps])).mean
+            row.append(f"{goal:.2f} / {hit:.2f} / {dev:.3f}")
+        lines.append(f"| {p} | " + " | ".join(row) + " |")
+    hits = {
+        sc: sum(o == "collision" for o, _ in cells[sc, "straight"]) / len(req["seeds"])
+        for sc in req["scenarios"]
+    }
+    often = [h for h in hits.values() if h >= 0.5]
+    means = {
+        k: summarize(np.array([np.nan if v is None else v for _, v in eps])).mean
+        for k, eps in cells.items()
+    }
+    circle = max(m for (sc, _), m in means.items() if sc == "circle")
+    rest = max(m for (sc, _), m in means.items() if sc != "circle")
+    lines += [
+        "",
+        f"`straight` collides in {100 * min(often):.0f}–{100 * max(often):.0f} % of the "
+        f"episodes of {len(often)} scenarios; the mean deviation of any planner is at most "
+        f"{circle:.2f} m in `circle` and {rest:.2f} m elsewhere.",
+    ]
+    return "\n".join(lines)
 
 
 def _preset_block(a: str, b: str) -> str:
@@ -796,6 +845,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "francis-full": francis_full,
     "navwareset-references": navwareset_references,
     "flows-table": flows_table,
+    "nws2025-issue15": nws2025_issue15_table,
     "presets-paper": presets_paper,
     "presets-francis": presets_francis,
     "robustness-paper": robustness_paper,
@@ -830,6 +880,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "rl43-curves": rl43_curves,
     "rl43-targets": rl43_targets,
     "rl43-claim": rl43_claim,
+    **fitting_pages.BLOCKS,
 }
 
 
@@ -845,6 +896,8 @@ def render(name: str, page: Path) -> str:
         return f"*Not measured yet: no committed results set {exc}.*"
     except data_pages.MissingDataError as exc:
         return f"*Not measured yet: no committed data {exc}.*"
+    except fitting_pages.MissingDataError as exc:
+        return f"*Not measured yet: no committed {exc}.*"
 
 
 def rewrite(text: str, page: Path) -> tuple[str, list[str]]:

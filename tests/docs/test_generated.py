@@ -13,6 +13,7 @@ import pytest
 
 from srfm.benchmark import BenchmarkRequest, draw_params, run_benchmark
 from srfm.metrics.tables import benchmark_table, to_markdown
+from srfm.models.params import SRFMParams, response_model_name
 from tests.benchmark.test_runner import SHORT
 from tests.conftest import write_scenario
 from tools.results import generate, sets
@@ -111,7 +112,8 @@ def test_a_packed_set_gives_back_the_benchmarks_tables(tmp_path: Path) -> None:
         seeds=req["seeds"],
         reference=req["reference"],
     )
-    assert to_markdown(table) == (out / "table.md").read_text(encoding="utf-8")
+    model = response_model_name(SRFMParams(**manifest["params"]))
+    assert to_markdown(table, model=model) == (out / "table.md").read_text(encoding="utf-8")
     # the draws: the benchmark's rankings.json, probabilities and means, bit for bit
     ranked = sets.rank_table_of(dest)
     doc = json.loads((out / "rankings.json").read_text(encoding="utf-8"))

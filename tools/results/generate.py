@@ -16,6 +16,7 @@ measured, its wall time, its command, planners, parameters and policies.
 from __future__ import annotations
 
 import argparse
+import math
 import re
 import sys
 from collections.abc import Callable
@@ -38,7 +39,8 @@ from srfm.metrics.tables import (
 from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
-from tools.results import fitting_pages, sets
+from tools.results import fitting_pages, rl_study, sets
+from tools.results import pages as data_pages
 
 DOCS = sets.ROOT / "docs"
 BEGIN = re.compile(r"<!-- generated: ([a-z0-9-]+) -->\n")
@@ -597,20 +599,34 @@ def oracle_cost() -> str:
         "goal, seeds 0–99 |",
         "|---|---|--:|--:|",
     ]
+    notes = []
     for suite, file, name in (
         ("paper", "oracle_cost.json", "paper"),
         ("francis", "oracle_cost_francis.json", "francis"),
     ):
         doc = sets.read_json(DOCS / "discrimination" / file)
+        if "scenarios" not in doc:  # written before the file kept its provenance
+            doc = {"scenarios": doc}
+            notes.append(
+                f"`docs/discrimination/{file}`: no provenance recorded (measured "
+                "2026-11-27 while two RL trainings held both cores)"
+            )
+        else:
+            loads = doc["load_average"] or [math.nan]
+            notes.append(
+                f"`{doc['command']}`: commit `{doc['commit']}`, started "
+                f"{doc['started'][:16].replace('T', ' ')} UTC, {doc['cpus']} CPUs, 1-min load "
+                f"{min(loads):.1f}–{max(loads):.1f}"
+            )
         cells = sets.frechet(name) if sets.exists(name) else {}
-        for scenario, entry in doc.items():
+        for scenario, entry in doc["scenarios"].items():
             by_seed = cells.get((scenario, "oracle"), {})
             reached = sum(o == "goal_reached" for _, o in by_seed.values())
             goal = f"{100 * reached / len(by_seed):.0f} %" if by_seed else "–"
             rows.append(
                 f"| {suite} | {scenario} | {entry['mean_s']:.2f} ({entry['max_s']:.2f}) | {goal} |"
             )
-    return "\n".join(rows)
+    return "*Measured by " + "; ".join(notes) + ".*\n\n" + "\n".join(rows)
 
 
 PERFORMANCE_GOALS = DOCS / "results" / "performance" / "goals.json"
@@ -839,6 +855,24 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "selection-table": selection_table,
     "discriminative-tables": discriminative_tables,
     "rl-usual-misses": rl_usual_misses,
+    "rl-summary": rl_study.summary,
+    "rl-validation": rl_study.validation_table,
+    "rl-shipped-targets": rl_study.shipped_targets,
+    "rl-study-misses": rl_study.study_misses,
+    "rl-claim": rl_study.claim_table,
+    "rl-claim-ttc": rl_study.claim_ttc,
+    "rl-wall-times": rl_study.wall_times,
+    "rl-reward-stats": rl_study.reward_stats,
+    "planner-outcomes-unicycle": data_pages.outcomes_unicycle,
+    "planner-outcomes-holonomic": data_pages.outcomes_holonomic,
+    "planner-outcomes-summary": data_pages.outcomes_summary,
+    "planner-outcomes-variants": data_pages.outcome_variants,
+    "planner-outcomes-stress": data_pages.outcome_stress,
+    "convergence-tables": data_pages.convergence_tables,
+    "convergence-verdict": data_pages.convergence_verdict,
+    "attribution-tables": data_pages.attribution_tables,
+    "attribution-findings": data_pages.attribution_findings,
+    "scenario-checks": data_pages.scenario_checks,
     "oracle-cost": oracle_cost,
     "performance-goals": performance_goals,
     "performance-vs-before": performance_vs,
@@ -860,6 +894,8 @@ def render(name: str, page: Path) -> str:
         return BLOCKS[name]().strip()
     except MissingError as exc:
         return f"*Not measured yet: no committed results set {exc}.*"
+    except data_pages.MissingDataError as exc:
+        return f"*Not measured yet: no committed data {exc}.*"
     except fitting_pages.MissingDataError as exc:
         return f"*Not measured yet: no committed {exc}.*"
 

@@ -4,6 +4,7 @@ whose answer is known."""
 
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
@@ -95,3 +96,34 @@ def test_the_episodes_table_is_welchs_test_per_cell() -> None:
     every = lines[-1]
     assert every.startswith("| all | all | 6 / 6 |")
     assert every.endswith("| 0 / 1 |")
+
+
+def test_a_claim_whose_pattern_no_longer_holds_stops_the_generator(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    real = fp._json
+    doc = copy.deepcopy(real(fp.COMPLIANCE))
+    row = next(
+        r for r in doc["rows"] if (r["scenario"], r["robot"]) == ("frontal_approach", "jackal")
+    )
+    row["deviation_m"]["welch_p"] = 0.5  # no longer a significant difference
+    monkeypatch.setattr(fp, "_json", lambda rel: doc if rel == fp.COMPLIANCE else real(rel))
+    with pytest.raises(SystemExit, match="compliance pattern changed"):
+        fp.fitting_compliance_claims()
+    params = copy.deepcopy(real(fp.RESPONSE))
+    for r in params["parameters"]:
+        if r["set"] == "hsr" and r["field"] == "ss_a":
+            r["status"] = "identified"
+    monkeypatch.setattr(fp, "_json", lambda rel: params if rel == fp.RESPONSE else real(rel))
+    with pytest.raises(SystemExit, match="identified parameters"):
+        fp.response_identified()
+
+
+def test_the_lowest_bin_ignores_thin_bins_and_bins_past_the_limit() -> None:
+    curve = {
+        "centre": [0.125, 0.375, 0.625, 0.875],
+        "mean": [-0.9, -0.2, -0.5, None],
+        "n": [10, 100, 100, 100],
+    }
+    assert fp._lowest_bin(curve, 0.5) == -0.2
+    assert fp._lowest_bin(curve, 1.0) == -0.5

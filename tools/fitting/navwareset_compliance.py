@@ -17,6 +17,7 @@ import argparse
 import json
 import math
 import os
+import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -30,6 +31,9 @@ from srfm.datasets.navwareset import SCENARIOS, condition_of, drop_supersets, re
 from srfm.fitting import replay_encounter
 
 REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO))
+from tools.results.record import run_record, start  # noqa: E402
+
 MEASURES = ("deviation_m", "ade_factual_m", "min_distance_m", "detour", "slowdown")
 
 
@@ -56,6 +60,7 @@ def main() -> None:
     root = Path(os.environ.get("SRFM_DATA_DIR", REPO.parent / "shared" / "data"))
     data = Path(args.data) if args.data else root / "navwareset_quant"
     t0 = time.perf_counter()
+    began = start()
     params = load_params_option(args.params)
     scenes, _ = drop_supersets(read_navwareset(data))
     if args.episodes:
@@ -129,6 +134,7 @@ def main() -> None:
                     "time_s": round(elapsed, 1),
                     "rows": rows,
                     "encounters": records,
+                    "run": run_record(*began),
                 },
                 separators=(",", ":"),
                 default=float,

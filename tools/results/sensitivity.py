@@ -33,6 +33,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from srfm.metrics.stats import ALPHA, compare, wilson
 from srfm.sweep.report import load_sweep, mean_ci
+from tools.results import fitting_pages as fp
 from tools.results.fitting_pages import DOCS, MissingDataError, prose
 
 EPISODES: Final = DOCS / "sensitivity" / "episodes.csv.gz"
@@ -335,6 +336,34 @@ def sensitivity_policy_claims() -> str:
     return prose(" ".join(lines))
 
 
+def _cells_first() -> tuple[int, dict[str, int], int]:
+    """Over the sweep report's cells with a robot force (rankings.csv, the mean over
+    scenarios): the number of cells, how often each planner ranks first, and in how
+    many cells both policies (``td3-*``) rank ahead of every other planner."""
+    ranks = fp._rankings()
+    cells = [(a, b) for (scope, a, b) in ranks if scope == "all" and a > 0]
+    first = dict.fromkeys(planners(), 0)
+    ahead = 0
+    for a, b in cells:
+        cell = ranks["all", a, b]
+        order = sorted(cell, key=lambda p: cell[p][1])
+        first[order[0]] += 1
+        policies = [p for p in order if p.startswith("td3-")]
+        ahead += order[: len(policies)] == policies
+    return len(cells), first, ahead
+
+
+def sensitivity_order_claims() -> str:
+    """What the table of rankings says, counted from it."""
+    n, first, ahead = _cells_first()
+    leaders = sorted((p for p in first if first[p]), key=lambda p: -first[p])
+    counts = ", ".join(f"`{p}` in {first[p]}" for p in leaders)
+    return prose(
+        f"Of the {n} cells with a robot force, the mean over scenarios ranks first {counts}; "
+        f"both policies rank ahead of both classical planners in {ahead} of the {n}."
+    )
+
+
 BLOCKS: dict[str, Callable[[], str]] = {
     "sensitivity-run": sensitivity_run,
     "sensitivity-by-a": sensitivity_by_a,
@@ -343,6 +372,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "sensitivity-success": sensitivity_success,
     "sensitivity-pairs": sensitivity_pairs,
     "sensitivity-policy-claims": sensitivity_policy_claims,
+    "sensitivity-order-claims": sensitivity_order_claims,
 }
 
 

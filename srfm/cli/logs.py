@@ -45,6 +45,7 @@ def score(paths: tuple[Path, ...], out: Path | None, force: bool) -> None:
     from srfm.logs import score_logs, write_score_reports
     from srfm.logs.score import check_report_folder
     from srfm.metrics import TABLE_COLUMNS, benchmark_table, to_markdown
+    from srfm.models.params import response_model_name
 
     if out is not None:
         check_report_folder(out)
@@ -78,7 +79,7 @@ def score(paths: tuple[Path, ...], out: Path | None, force: bool) -> None:
             reference=result.reference,
             columns=TABLE_COLUMNS,
         )
-        click.echo(to_markdown(table), nl=False)
+        click.echo(to_markdown(table, model=response_model_name(result.params)), nl=False)
     if out is not None:
         claim_output_folder(out, kind="score", force=force)
         with folder_lock(out):

@@ -39,7 +39,7 @@ from srfm.metrics.tables import (
     to_markdown,
     to_markdown_extended,
 )
-from srfm.models.params import SRFMParams
+from srfm.models.params import SRFMParams, response_model_name
 
 __all__ = [
     "CORRECTION_OF",
@@ -280,14 +280,15 @@ def render_tables(
         "attribution": attribution_doc,
         "suite": suite_dict(stats),
     }
+    model = response_model_name(params)
     texts = {
         "episodes.csv": _episodes_csv(results),
         "pedestrians.csv": _pedestrians_csv(results),
-        "table.md": to_markdown(table),
-        "table.tex": to_latex(table),
-        "outcomes.md": to_markdown(outcomes),
-        "table_extended.md": to_markdown_extended(extended, blocks),
-        "table_extended.tex": to_latex_extended(extended, blocks),
+        "table.md": to_markdown(table, model=model),
+        "table.tex": to_latex(table, model=model),
+        "outcomes.md": to_markdown(outcomes, model=model),
+        "table_extended.md": to_markdown_extended(extended, blocks, model=model),
+        "table_extended.tex": to_latex_extended(extended, blocks, model=model),
         "suite.md": suite_markdown(stats, len(seeds)),
         "summary.json": json.dumps(summary, indent=1) + "\n",
     }

@@ -480,10 +480,11 @@ def _arrow(name: str) -> str:
     return {"lower": " ↓", "higher": " ↑", "": ""}[_INFO[base_metric(name)].better]
 
 
-def legend(table: BenchmarkTable, *, markdown: bool = True) -> str:
+def legend(table: BenchmarkTable, *, markdown: bool = True, model: str | None = None) -> str:
     """The rules of ``table`` in one paragraph: what a cell is, n, undefined values,
     conditioning on success, bolding and the significance marks with their correction
-    (printed under every table)."""
+    (printed under every table); with ``model``, the response model of the pedestrians
+    the table was computed under (:func:`srfm.models.params.response_model_name`)."""
     s = table.n_seeds
     undefined = "`undefined`" if markdown else "'undefined'"
     text = (
@@ -522,12 +523,14 @@ def legend(table: BenchmarkTable, *, markdown: bool = True) -> str:
             f"t-test, {PAIRED_MARK} paired t-test over the shared seeds; on "
             f"{table.reference}'s own row, significant against every other planner."
         )
+    if model is not None:
+        text += f" Response model of the pedestrians: {model}."
     return text
 
 
-def to_markdown(table: BenchmarkTable) -> str:
+def to_markdown(table: BenchmarkTable, *, model: str | None = None) -> str:
     """The table as GitHub Markdown, with each row's outcome shares and its rules
-    (:func:`legend`) underneath."""
+    (:func:`legend`, naming the response model ``model`` when given) underneath."""
     headers = ["Scenario", "Planner"]
     headers += [f"{h}{_arrow(n)}".replace("|", "\\|") for n, h in table.columns]
     scored = bool(table.references)
@@ -545,7 +548,7 @@ def to_markdown(table: BenchmarkTable) -> str:
                 texts.append(score_text(table.references[scenario], planner))
             shares = outcome_shares(table.outcomes[(scenario, planner)])
             lines.append("| " + " | ".join([scenario, planner, *texts, shares]) + " |")
-    text = "\n".join(lines) + "\n\n" + legend(table) + "\n"
+    text = "\n".join(lines) + "\n\n" + legend(table, model=model) + "\n"
     if scored:
         text += "\n" + references_markdown(table)
     return text
@@ -649,7 +652,10 @@ class ExtraBlock:
 
 
 def to_markdown_extended(
-    table: BenchmarkTable, extra: Mapping[str, ExtraBlock] | None = None
+    table: BenchmarkTable,
+    extra: Mapping[str, ExtraBlock] | None = None,
+    *,
+    model: str | None = None,
 ) -> str:
     """Every column of ``table`` as rows, a column per planner, one block per scenario,
     grouped as :data:`~srfm.metrics.episode.METRIC_GROUPS`, under a row of the
@@ -659,7 +665,7 @@ def to_markdown_extended(
     lines = [
         "# Every metric, per scenario",
         "",
-        "Definitions, units and sources: docs/metrics.md. " + legend(table),
+        "Definitions, units and sources: docs/metrics.md. " + legend(table, model=model),
         "",
     ]
     for scenario in table.scenarios:
@@ -710,8 +716,9 @@ def _tex_comment(text: str) -> str:
     return "% " + text.replace("\\*", "*")
 
 
-def to_latex(table: BenchmarkTable) -> str:
-    """The table as a LaTeX ``tabular`` (needs ``\\usepackage{multirow}``)."""
+def to_latex(table: BenchmarkTable, *, model: str | None = None) -> str:
+    """The table as a LaTeX ``tabular`` (needs ``\\usepackage{multirow}``), its legend
+    (naming the response model ``model`` when given) as a comment."""
     heads = [
         f"\\textbf{{{_tex_escape(h)}}} {_TEX_ARROWS[_INFO[base_metric(n)].better]}".rstrip()
         for n, h in table.columns
@@ -721,7 +728,7 @@ def to_latex(table: BenchmarkTable) -> str:
         heads.append("\\textbf{Norm. score} $\\uparrow$")
     heads.append("\\textbf{Outcomes}")
     lines = [
-        _tex_comment(legend(table, markdown=False)),
+        _tex_comment(legend(table, markdown=False, model=model)),
         "\\begin{tabular}{ll" + "c" * (len(table.columns) + scored) + "l}",
         "\\hline",
         " & \\textbf{Planner} & " + " & ".join(heads) + " \\\\",
@@ -746,12 +753,17 @@ def to_latex(table: BenchmarkTable) -> str:
     return "\n".join(lines) + "\n"
 
 
-def to_latex_extended(table: BenchmarkTable, extra: Mapping[str, ExtraBlock] | None = None) -> str:
+def to_latex_extended(
+    table: BenchmarkTable,
+    extra: Mapping[str, ExtraBlock] | None = None,
+    *,
+    model: str | None = None,
+) -> str:
     """The extended table as LaTeX: one ``tabular`` per scenario, a row per metric
     (``extra``: as :func:`to_markdown_extended`, its note as a comment)."""
     names = [n for n, _ in table.columns]
     cols = len(table.planners)
-    lines = [_tex_comment(legend(table, markdown=False))]
+    lines = [_tex_comment(legend(table, markdown=False, model=model))]
     for scenario in table.scenarios:
         shares = [
             _tex_escape(outcome_shares(table.outcomes[(scenario, p)])) for p in table.planners

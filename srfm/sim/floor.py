@@ -63,11 +63,21 @@ class NudgedTwins:
 
 def nudged_pedestrian(seed: int, n_start: int) -> int:
     """The pedestrian nudged in episode ``seed``: ``seed mod n_start``, among the
-    ``n_start`` pedestrians there at sample 0, so that the seeds of a scenario nudge
-    each of them in turn."""
+    ``n_start`` pedestrians there first (at sample 0, or, in a scenario whose people
+    all enter later, at the first sample anyone enters), so that the seeds of a scenario
+    nudge each of them in turn."""
     if n_start < 1:
-        raise SimulationError("the noise floor needs a pedestrian there at sample 0")
+        raise SimulationError("the noise floor needs a pedestrian in the scenario")
     return seed % n_start
+
+
+def first_present(enter_step: NDArray[np.int64] | None, n: int) -> int:
+    """How many pedestrians are there first: everyone when nobody enters later, else
+    those of the earliest entry sample (the engine keeps pedestrians in entry order, so
+    they are the first ones)."""
+    if enter_step is None or len(enter_step) == 0:
+        return n
+    return int(np.count_nonzero(enter_step == enter_step.min()))
 
 
 def nudged_twins(
@@ -88,15 +98,17 @@ def nudged_twins(
     the nudged copy is stepped, with the same bits.
 
     Raises:
-        SimulationError: a scenario with nobody there at sample 0, or a nudge that is
-            not a finite number > 0.
+        SimulationError: a scenario without pedestrians, or a nudge that is not a
+            finite number > 0.
     """
     seed = check_seed(seed, SimulationError)
     if not (isinstance(nudge_m, float) and np.isfinite(nudge_m) and nudge_m > 0.0):
         raise SimulationError(f"nudge_m must be a finite number > 0, got {nudge_m!r}")
     setup = episode_setup(scenario, seed)
     engine = EpisodeEngine(setup, params, robot_felt=False, counterfactual=reference is None)
-    who = nudged_pedestrian(seed, engine.n_present)
+    # A pedestrian who enters later waits at its start in the crowd's arrays (outside
+    # the first n_present the kernels see), so its start is moved the same way.
+    who = nudged_pedestrian(seed, first_present(setup.ped_enter_step, engine.factual.n))
     engine.factual.pos[who, 0] += nudge_m
     steps = scenario.horizon_steps
     n = engine.factual.n

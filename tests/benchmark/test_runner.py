@@ -420,3 +420,38 @@ def test_kernels_are_compiled_in_the_parent_before_forking(
     assert _dwa_kernels.dwa_unicycle.signatures  # the planners
     assert _orca_kernels.orca_command.signatures
     assert list(tmp_path.iterdir()) == []
+
+
+def test_every_table_names_the_response_model(
+    reference_run: Path, short_scenario: Path, tmp_path: Path
+) -> None:
+    """Issue 40: the legend of table.md (and of the other tables) names the response
+    model the table was computed under, the preset's name or "custom parameters"."""
+    from srfm.models.params import PRESETS
+
+    names = ("table.md", "outcomes.md", "table_extended.md", "table.tex", "table_extended.tex")
+    for name in names:
+        text = (reference_run / name).read_text(encoding="utf-8")
+        assert "Response model of the pedestrians: agrawal2024." in text, name
+    out = tmp_path / "ttc"
+    run_benchmark(
+        _request(short_scenario, range(2), params=PRESETS["navwareset2026_ttc"]),
+        out,
+        jobs=1,
+        figures=False,
+    )
+    for name in names:
+        text = (out / name).read_text(encoding="utf-8")
+        assert "Response model of the pedestrians: navwareset2026_ttc." in text, name
+        assert "agrawal2024" not in text, name
+    custom = tmp_path / "custom"
+    run_benchmark(
+        _request(short_scenario, range(2), params=SRFMParams().replace(a_robot=1.0)),
+        custom,
+        jobs=1,
+        figures=False,
+    )
+    legend = (custom / "table.md").read_text(encoding="utf-8")
+    assert "Response model of the pedestrians: custom parameters (exponential robot force)." in (
+        legend
+    )

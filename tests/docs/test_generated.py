@@ -13,6 +13,7 @@ import pytest
 
 from srfm.benchmark import BenchmarkRequest, draw_params, run_benchmark
 from srfm.metrics.tables import benchmark_table, to_markdown
+from srfm.models.params import SRFMParams, response_model_name
 from tests.benchmark.test_runner import SHORT
 from tests.conftest import write_scenario
 from tools.results import generate, sets
@@ -111,7 +112,8 @@ def test_a_packed_set_gives_back_the_benchmarks_tables(tmp_path: Path) -> None:
         seeds=req["seeds"],
         reference=req["reference"],
     )
-    assert to_markdown(table) == (out / "table.md").read_text(encoding="utf-8")
+    model = response_model_name(SRFMParams(**manifest["params"]))
+    assert to_markdown(table, model=model) == (out / "table.md").read_text(encoding="utf-8")
     # the draws: the benchmark's rankings.json, probabilities and means, bit for bit
     ranked = sets.rank_table_of(dest)
     doc = json.loads((out / "rankings.json").read_text(encoding="utf-8"))
@@ -134,3 +136,34 @@ def test_a_packed_set_gives_back_the_benchmarks_tables(tmp_path: Path) -> None:
             jobs=1,
             dest=tmp_path / "again",
         )
+
+
+def test_the_speed_goal_table_gives_each_goal_its_verdict() -> None:
+    def runs(**figures: float) -> list[dict[str, float | None]]:
+        return [dict(figures)] * 3
+
+    doc = {
+        "date": "2026-12-05 12:00 UTC",
+        "commits": {"A": "abc1234"},
+        "cores": 2,
+        "cpu": "a CPU",
+        "command": "python tools/bench/bench_commands.py --json x",
+        "rows": {
+            "full": {"load_before": "0.1", "load_after": "2.0", "runs": {"A": runs(wall_s=61.0)}},
+            "simulate": {"load_before": "0", "load_after": "0", "runs": {"A": runs(wall_s=0.5)}},
+            "shared-crowd": {
+                "load_before": "0",
+                "load_after": "0",
+                "runs": {
+                    "A": runs(srfm_1000=3.1, jupedsim_1000=1.0, srfm_10000=3.4, jupedsim_10000=1.0)
+                },
+            },
+        },
+    }
+    lines = generate.performance_goals_table(doc).splitlines()
+    verdicts = [
+        line.split("|")[5].strip() for line in lines if line.startswith("| `") or "crowd" in line
+    ]
+    assert verdicts == ["not met", "**met**", "**met**", "not met"]
+    del doc["rows"]["full"]  # type: ignore[attr-defined]
+    assert "not measured" in generate.performance_goals_table(doc)

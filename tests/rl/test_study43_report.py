@@ -172,3 +172,27 @@ def test_validation_check_reads_the_issue_30_report_and_scene_outcomes(tmp_path:
             )  # fmt: skip
         out.writerow({"planner": "dwa", "robot_success": 1, "robot_collision": 0})
     assert validation_check.scene_outcomes(tmp_path) == {"k2-seed3": (1, 1, 3)}
+
+
+def test_the_committed_columns_give_the_same_tables(tmp_path: Path) -> None:
+    from tools.rl.study43 import evaluate
+
+    _write(tmp_path)
+    packed = tmp_path / "seed1.csv.gz"
+    evaluate.write_columns(tmp_path / "episodes.csv", packed)
+    first = packed.read_bytes()
+    evaluate.write_columns(tmp_path / "episodes.csv", packed)
+    assert packed.read_bytes() == first  # the same episodes give the same bytes
+    from_folder, from_file = report.load(tmp_path), report.load(packed)
+    assert report.claim(from_file, final=False) == report.claim(from_folder, final=False)
+    assert report.missed_table(from_file) == report.missed_table(from_folder)
+    with pytest.raises(ValueError, match="in both"):
+        report.load(packed, tmp_path)
+    assert evaluate.planners(3) == [
+        "tools.rl.study43.planners:k0_seed3",
+        "tools.rl.study43.planners:k2_seed3",
+        "tools.rl.study43.planners:k0_seed3_final",
+        "tools.rl.study43.planners:k2_seed3_final",
+    ]
+    names = [report.planner_name(k, 3, final) for final in (False, True) for k in ("0", "2")]
+    assert names == evaluate.planners(3)

@@ -112,3 +112,28 @@ def test_the_floor_from_an_episodes_counterfactual_crowd_is_the_same(name: str) 
     assert both.nudged == shared.nudged
     with pytest.raises(SimulationError, match="reference must be the crowd's"):
         nudged_twins(scenario, 3, params, reference=record.counterfactual_pos[:-1])
+
+
+def test_the_floor_of_a_scenario_whose_people_all_enter_later() -> None:
+    """corridor_flow has nobody at sample 0: the first pedestrians to enter are nudged
+    (at their starts, where they wait until they enter), and the benchmark runs."""
+    from srfm.sim.episode import episode_setup
+    from srfm.sim.floor import first_present
+
+    scenario = attrs.evolve(load_scenario("corridor_flow"), horizon_steps=240)
+    enter = episode_setup(scenario, 5).ped_enter_step
+    assert enter is not None
+    assert not np.any(enter == 0)
+    assert np.all(np.diff(enter) >= 0)  # entry order: the first ones enter first
+    n_first = first_present(enter, len(enter))
+    assert n_first == np.count_nonzero(enter == enter.min()) >= 1
+    twins = nudged_twins(scenario, 5)
+    assert twins.nudged == 5 % n_first
+    assert enter[twins.nudged] == enter.min()
+    moved = twins.nudged_pos[0] - twins.reference_pos[0]
+    assert moved[twins.nudged, 0] == pytest.approx(NUDGE_M)
+    k = int(enter.min()) + 1  # once entered, the nudged start has moved the walk
+    assert twins.nudged_pos[k, twins.nudged, 0] != twins.reference_pos[k, twins.nudged, 0]
+    assert first_present(None, 7) == 7
+    with pytest.raises(SimulationError, match="needs a pedestrian"):
+        nudged_pedestrian(0, 0)

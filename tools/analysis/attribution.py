@@ -78,28 +78,33 @@ def _iv(x: dict[str, Any] | None, digits: int = 2) -> str:
     return f"{x['estimate']:.{digits}f} [{x['low']:.{digits}f}, {x['high']:.{digits}f}]"
 
 
-def tables(path: Path) -> None:
+def table_lines(path: Path) -> list[str]:
+    """The tables of docs/metrics.md from the committed file alone."""
+    out: list[str] = []
     doc = json.loads(path.read_text(encoding="utf-8"))
     planners = doc["planners"]
-    print("Noise floor and attribution per scenario:\n")
-    print(
+    _emit(out, "Noise floor and attribution per scenario:\n")
+    _emit(
+        out,
         "| scenario | floor (m), mean ± SD over seeds | floor max (m) | planners' mean "
-        "deviation (m) | floor / deviation | measures | pairs below the floor's spread |"
+        "deviation (m) | floor / deviation | measures | pairs below the floor's spread |",
     )
-    print("|---|--:|--:|--:|--:|---|--:|")
+    _emit(out, "|---|--:|--:|--:|--:|---|--:|")
     for s, e in doc["scenarios"].items():
         f = e["floor"]
         pairs = len(planners) * (len(planners) - 1) // 2
-        print(
+        _emit(
+            out,
             f"| {s} | {f['mean']:.4f} ± {f['std']:.4f} | {max(f['values']):.4f} | "
             f"{f['deviation']:.3f} | {100 * f['share']:.2f} % | {f['verdict']} | "
-            f"{len(e['not_attributable'])} of {pairs} |"
+            f"{len(e['not_attributable'])} of {pairs} |",
         )
-    print(
-        "\nDirect / knock-on deviation (m, mean over seeds) and pedestrians who felt the robot:\n"
+    _emit(
+        out,
+        "\nDirect / knock-on deviation (m, mean over seeds) and pedestrians who felt the robot:\n",
     )
-    print("| scenario | " + " | ".join(planners) + " |")
-    print("|---|" + "|".join(["--:"] * len(planners)) + "|")
+    _emit(out, "| scenario | " + " | ".join(planners) + " |")
+    _emit(out, "|---|" + "|".join(["--:"] * len(planners)) + "|")
     for s, e in doc["scenarios"].items():
         cells = []
         for p in planners:
@@ -108,10 +113,13 @@ def tables(path: Path) -> None:
                 f"{x['frechet_direct_m']['mean']:.3f} / {x['frechet_knock_on_m']['mean']:.3f} "
                 f"({x['pedestrians_felt']['mean']:.1f})"
             )
-        print(f"| {s} | " + " | ".join(cells) + " |")
-    print("\nNormalised scores (k = seeds where planner, straight and oracle reached the goal):\n")
-    print("| scenario | headroom (m) | " + " | ".join(planners) + " |")
-    print("|---|--:|" + "|".join(["--:"] * len(planners)) + "|")
+        _emit(out, f"| {s} | " + " | ".join(cells) + " |")
+    _emit(
+        out,
+        "\nNormalised scores (k = seeds where planner, straight and oracle reached the goal):\n",
+    )
+    _emit(out, "| scenario | headroom (m) | " + " | ".join(planners) + " |")
+    _emit(out, "|---|--:|" + "|".join(["--:"] * len(planners)) + "|")
     for s, e in doc["scenarios"].items():
         if not e["scores"]:
             continue
@@ -121,23 +129,39 @@ def tables(path: Path) -> None:
             x = e["scores"][p]
             k = f"k={x['n']}"
             cells.append("undefined" if x["estimate"] is None else f"{_iv(x)} {k}")
-        print(f"| {s} | {room} | " + " | ".join(cells) + " |")
+        _emit(out, f"| {s} | {room} | " + " | ".join(cells) + " |")
     suite = doc["suite"]
-    print("\nSuite (every scenario and seed): IQMs with stratified bootstrap 95 % intervals:\n")
-    print("| planner | IQM deviation (m) | IQM norm. score | scenarios of the score |")
-    print("|---|--:|--:|---|")
+    _emit(
+        out, "\nSuite (every scenario and seed): IQMs with stratified bootstrap 95 % intervals:\n"
+    )
+    _emit(out, "| planner | IQM deviation (m) | IQM norm. score | scenarios of the score |")
+    _emit(out, "|---|--:|--:|---|")
     for p in planners:
         named = ", ".join(doc["score_scenarios"].get(p, [])) or "none"
-        print(
+        _emit(
+            out,
             f"| {p} | {_iv(suite['deviation_iqm'][p], 3)} | "
-            f"{_iv(suite['score_iqm'].get(p))} | {named} |"
+            f"{_iv(suite['score_iqm'].get(p))} | {named} |",
         )
-    print("\nP(row < column), the probability that the row's planner deviates a person less:\n")
-    print("| | " + " | ".join(planners) + " |")
-    print("|---|" + "|".join(["--:"] * len(planners)) + "|")
+    _emit(
+        out, "\nP(row < column), the probability that the row's planner deviates a person less:\n"
+    )
+    _emit(out, "| | " + " | ".join(planners) + " |")
+    _emit(out, "|---|" + "|".join(["--:"] * len(planners)) + "|")
     for a in planners:
         cells = ["–" if a == b else _iv(suite["improvement"][a][b]) for b in planners]
-        print(f"| {a} | " + " | ".join(cells) + " |")
+        _emit(out, f"| {a} | " + " | ".join(cells) + " |")
+    return out
+
+
+def _emit(out: list[str], *texts: str) -> None:
+    """Append ``texts`` as lines (a leading or trailing newline: an empty line)."""
+    for text in texts:
+        out.extend(text.split("\n"))
+
+
+def tables(path: Path) -> None:
+    print("\n".join(table_lines(path)))
 
 
 def main() -> int:

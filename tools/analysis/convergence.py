@@ -32,6 +32,7 @@ import math
 import sys
 from collections import defaultdict
 from pathlib import Path
+from typing import Any
 
 SUBSTEPS = (1, 2, 4)
 THRESHOLD = 0.05
@@ -84,71 +85,135 @@ def _pct(x: float) -> str:
     return "–" if math.isnan(x) else f"{100.0 * x:+.1f} %"
 
 
-def table(path: Path) -> None:
-    """Print the two Markdown tables and the verdict."""
+def _pair_stats(
+    cells: dict[tuple[str, str], list[list[float]]], s: str, planners: list[str]
+) -> dict[str, Any]:
+    """A scenario's pairwise differences: how many are big, change > 5 %, the worst
+    relative and absolute changes, the systematic ones and the sign flips."""
+    n = len(cells[(s, planners[0])][0])
+    means = {p: [_mean(x) for x in cells[(s, p)]] for p in planners}
+    big = over = systematic = 0
+    worst_rel = 0.0
+    worst_abs = 0.0
+    flips = []
+    for a, b in itertools.combinations(planners, 2):
+        d = [means[a][k] - means[b][k] for k in range(3)]
+        worst_abs = max(worst_abs, abs(d[0] - d[2]))
+        if d[0] * d[2] < 0.0:
+            flips.append(f"{a}–{b}")
+        if abs(d[2]) >= SMALL_M:
+            big += 1
+            rel = abs(_rel(d[0], d[2]))
+            worst_rel = max(worst_rel, rel)
+            over += rel > THRESHOLD
+            if rel > THRESHOLD:
+                ea, eb = cells[(s, a)], cells[(s, b)]
+                change = [(ea[0][i] - eb[0][i]) - (ea[2][i] - eb[2][i]) for i in range(n)]
+                mu = _mean(change)
+                sd = math.sqrt(sum((c - mu) ** 2 for c in change) / (n - 1))
+                systematic += abs(mu) > 2.0 * sd / math.sqrt(n)
+    return {
+        "big": big,
+        "over": over,
+        "systematic": systematic,
+        "worst_rel": worst_rel,
+        "worst_abs": worst_abs,
+        "flips": flips,
+    }
+
+
+def table_lines(path: Path) -> list[str]:
+    """The two Markdown tables and the verdict of each scenario."""
     cells = _read(path)
     scenarios = list(dict.fromkeys(s for s, _ in cells))
     planners = list(dict.fromkeys(p for _, p in cells))
     n = len(cells[(scenarios[0], planners[0])][0])
-    print(f"Mean deviation (m), {n} seeds, and its relative change from dt to dt/2, dt/4:\n")
-    print("| scenario | planner | dt | dt/2 | dt/4 | dt vs dt/2 | dt vs dt/4 |")
-    print("|---|---|--:|--:|--:|--:|--:|")
+    out = [f"Mean deviation (m), {n} seeds, and its relative change from dt to dt/2, dt/4:", ""]
+    out += ["| scenario | planner | dt | dt/2 | dt/4 | dt vs dt/2 | dt vs dt/4 |"]
+    out += ["|---|---|--:|--:|--:|--:|--:|"]
     worst_mean: dict[str, float] = {}
     for s in scenarios:
         for p in planners:
             m = [_mean(x) for x in cells[(s, p)]]
             r2, r4 = _rel(m[0], m[1]), _rel(m[0], m[2])
             worst_mean[s] = max(worst_mean.get(s, 0.0), abs(r4))
-            print(f"| {s} | {p} | {m[0]:.3f} | {m[1]:.3f} | {m[2]:.3f} | {_pct(r2)} | {_pct(r4)} |")
-    print(
-        "\nPairwise differences of mean deviation (row planner − column planner), per "
+            out.append(
+                f"| {s} | {p} | {m[0]:.3f} | {m[1]:.3f} | {m[2]:.3f} | {_pct(r2)} | {_pct(r4)} |"
+            )
+    out += [
+        "",
+        "Pairwise differences of mean deviation (row planner − column planner), per "
         f"scenario: pairs, how many of those with |difference at dt/4| ≥ {SMALL_M} m "
         "change by more than 5 % from dt to dt/4, the largest such change, the largest "
         "absolute change (m), how many of the > 5 % changes exceed twice their standard "
         "error over the seeds (a systematic change, not the seeds' noise), and pairs "
-        "whose sign flips:\n"
-    )
-    print(
+        "whose sign flips:",
+        "",
         "| scenario | pairs | ≥ 0.01 m | > 5 % | largest relative | largest absolute (m) "
-        "| > 5 % and > 2 SE | sign flips dt→dt/4 |"
-    )
-    print("|---|--:|--:|--:|--:|--:|--:|---|")
+        "| > 5 % and > 2 SE | sign flips dt→dt/4 |",
+        "|---|--:|--:|--:|--:|--:|--:|---|",
+    ]
     verdict = {}
+    pairs = len(planners) * (len(planners) - 1) // 2
     for s in scenarios:
-        means = {p: [_mean(x) for x in cells[(s, p)]] for p in planners}
-        big = over = systematic = 0
-        worst_rel = 0.0
-        worst_abs = 0.0
-        flips = []
-        for a, b in itertools.combinations(planners, 2):
-            d = [means[a][k] - means[b][k] for k in range(3)]
-            worst_abs = max(worst_abs, abs(d[0] - d[2]))
-            if d[0] * d[2] < 0.0:
-                flips.append(f"{a}–{b}")
-            if abs(d[2]) >= SMALL_M:
-                big += 1
-                rel = abs(_rel(d[0], d[2]))
-                worst_rel = max(worst_rel, rel)
-                over += rel > THRESHOLD
-                if rel > THRESHOLD:
-                    ea, eb = cells[(s, a)], cells[(s, b)]
-                    change = [(ea[0][i] - eb[0][i]) - (ea[2][i] - eb[2][i]) for i in range(n)]
-                    mu = _mean(change)
-                    sd = math.sqrt(sum((c - mu) ** 2 for c in change) / (n - 1))
-                    systematic += abs(mu) > 2.0 * sd / math.sqrt(n)
-        pairs = len(planners) * (len(planners) - 1) // 2
-        print(
-            f"| {s} | {pairs} | {big} | {over} | {_pct(worst_rel)} | {worst_abs:.3f} | "
-            f"{systematic} | {', '.join(flips) or 'none'} |"
+        st = _pair_stats(cells, s, planners)
+        out.append(
+            f"| {s} | {pairs} | {st['big']} | {st['over']} | {_pct(st['worst_rel'])} | "
+            f"{st['worst_abs']:.3f} | {st['systematic']} | {', '.join(st['flips']) or 'none'} |"
         )
-        verdict[s] = worst_mean[s] <= THRESHOLD and over == 0
-    print()
+        verdict[s] = worst_mean[s] <= THRESHOLD and st["over"] == 0
+    out.append("")
     for s in scenarios:
         state = "converged" if verdict[s] else "NOT converged"
-        print(
+        out.append(
             f"- {s}: {state} at dt (largest change of a mean deviation dt vs dt/4: "
             f"{_pct(worst_mean[s])})"
         )
+    return out
+
+
+def table(path: Path) -> None:
+    """Print the two Markdown tables and the verdict."""
+    print("\n".join(table_lines(path)))
+
+
+def summary(path: Path) -> dict[str, Any]:
+    """The figures the verdict of docs/metrics.md quotes: over the (scenario, planner)
+    means, the largest |change| dt vs dt/4 overall and per scenario (with its planner and
+    mean deviation) and every scenario's changes; over the pairs, the scenarios with a
+    change above 5 %, the largest relative and absolute changes, the systematic ones and
+    each scenario's sign flips."""
+    cells = _read(path)
+    scenarios = list(dict.fromkeys(s for s, _ in cells))
+    planners = list(dict.fromkeys(p for _, p in cells))
+    changes: dict[str, list[float]] = {}
+    worst_planner: dict[str, str] = {}
+    worst_value: dict[str, float] = {}
+    for s in scenarios:
+        changes[s] = []
+        for p in planners:
+            m = [_mean(x) for x in cells[(s, p)]]
+            change = abs(_rel(m[0], m[2]))
+            if not changes[s] or change > max(changes[s]):
+                worst_planner[s], worst_value[s] = p, m[0]
+            changes[s].append(change)
+    stats = {s: _pair_stats(cells, s, planners) for s in scenarios}
+    rel_scenario = max(scenarios, key=lambda s: stats[s]["worst_rel"])
+    return {
+        "n_means": len(scenarios) * len(planners),
+        "pairs": len(planners) * (len(planners) - 1) // 2,
+        "worst_mean": max(max(c) for c in changes.values()),
+        "worst_mean_by_scenario": {s: max(c) for s, c in changes.items()},
+        "worst_mean_planner": worst_planner,
+        "worst_mean_value": worst_value,
+        "mean_changes": changes,
+        "over": [s for s in scenarios if stats[s]["over"]],
+        "worst_rel": stats[rel_scenario]["worst_rel"],
+        "worst_rel_scenario": rel_scenario,
+        "worst_abs": max(st["worst_abs"] for st in stats.values()),
+        "systematic": sum(st["systematic"] for st in stats.values()),
+        "flips": {s: st["flips"] for s, st in stats.items()},
+    }
 
 
 def main() -> None:

@@ -314,13 +314,37 @@ def cmd_report(args: argparse.Namespace) -> None:
 
 
 def cmd_cost(args: argparse.Namespace) -> None:
+    """The oracle's CPU time per episode (``time.process_time``, one process, after a
+    warm-up episode) over a suite's scenarios, written with the command, the commit, the
+    time and the load to ``--json`` (resumable: the scenarios measured stay)."""
+    import os
+    import subprocess
+
     from srfm.scenarios import load_scenario
     from srfm.sim.episode import run_episode
 
     lo, hi = (int(x) for x in args.seeds.split("-"))
-    out: dict[str, Any] = {}
+    root = Path(__file__).resolve().parents[2]
+    commit = subprocess.run(
+        ["git", "-C", str(root), "rev-parse", "--short", "HEAD"],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout.strip()
+    doc: dict[str, Any] = {
+        "command": f"python tools/analysis/discrimination.py cost --suite {args.suite} "
+        f"--seeds {args.seeds}" + (f" --json {args.json}" if args.json else ""),
+        "commit": commit,
+        "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+        "cpus": os.cpu_count(),
+        "load_average": [],
+        "scenarios": {},
+    }
     if args.json and args.json.exists():  # resume: the scenarios already measured stay
-        out = json.loads(args.json.read_text(encoding="utf-8"))
+        old = json.loads(args.json.read_text(encoding="utf-8"))
+        if "scenarios" in old:
+            doc = old
+    out: dict[str, Any] = doc["scenarios"]
     for name in SUITES[args.suite]:
         if name not in out:
             scenario = load_scenario(name)
@@ -337,8 +361,9 @@ def cmd_cost(args: argparse.Namespace) -> None:
                 "seeds": [lo, hi],
                 "goals": goals,
             }
+            doc["load_average"].append(round(os.getloadavg()[0], 2))
             if args.json:
-                args.json.write_text(json.dumps(out, indent=1) + "\n", encoding="utf-8")
+                args.json.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
         row = out[name]
         print(f"| {name} | {row['mean_s']:.2f} | {row['max_s']:.2f} |", flush=True)
 

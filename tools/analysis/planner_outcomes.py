@@ -15,6 +15,12 @@ Usage::
     .venv/bin/python tools/analysis/planner_outcomes.py                       # 100 seeds, 2 workers
     .venv/bin/python tools/analysis/planner_outcomes.py --seeds 10 --planners vo \\
         --set vo.detection_range_m=1.4 --kinematics holonomic
+
+``--out DIR`` also writes the episodes as data, ``DIR/episodes.parquet`` (one row per
+episode: the fields of :class:`Result`) and ``DIR/manifest.json`` (the command, the
+commit, when it ran, its wall time and workers, the options), from which
+``tools/results/generate.py`` writes the tables of docs/planners.md
+(:func:`markdown_table`, :func:`read`).
 """
 
 from __future__ import annotations
@@ -26,12 +32,13 @@ os.environ["NUMBA_NUM_THREADS"] = "1"  # before numba is imported, here and in w
 import argparse
 import ast
 import collections
+import json
 import multiprocessing
 import statistics
 import subprocess
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
@@ -140,35 +147,67 @@ def _pct(n: int, total: int) -> str:
     return f"{100.0 * n / total:.0f}"
 
 
-def print_tables(results: list[Result], scenarios: list[str], planners: list[str]) -> None:
-    """One Markdown table per scenario."""
+def markdown_table(results: list[Result], scenarios: list[str], planners: list[str]) -> list[str]:
+    """One Markdown table, a row per (scenario, planner): the shares of the episodes
+    that reached the goal, collided, left the world or timed out (%), the mean robot
+    speed, the mean time to the goal over the successful episodes and the mean closest
+    approach."""
     by_key: dict[tuple[str, str], list[Result]] = collections.defaultdict(list)
     for r in results:
         by_key[(r.scenario, r.planner)].append(r)
+    lines = [
+        "| scenario | planner | success % | collision % | out of bounds % | timeout % "
+        "| mean speed (m/s) | time to goal (s) | closest approach (m) |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
+    ]
     for scenario in scenarios:
-        print(f"\n**{scenario}**\n")
-        print(
-            "| planner | success % | collision % | out of bounds % | timeout % "
-            "| mean speed (m/s) | time to goal (s) | closest approach (m) |"
-        )
-        print("|---|---:|---:|---:|---:|---:|---:|---:|")
         for planner in planners:
             rows = by_key[(scenario, planner)]
+            if not rows:
+                raise SystemExit(f"no episodes of {planner} in {scenario}")
             n = len(rows)
             count = collections.Counter(r.outcome for r in rows)
             ttg = [r.time_to_goal_s for r in rows if r.outcome == "goal_reached"]
             ttg_s = f"{statistics.fmean(ttg):.2f}" if ttg else "–"
-            print(
-                f"| {planner} | {_pct(count['goal_reached'], n)} | {_pct(count['collision'], n)}"
-                f" | {_pct(count['out_of_bounds'], n)} | {_pct(count['timeout'], n)}"
-                f" | {statistics.fmean(r.speed_mps for r in rows):.3f} | {ttg_s}"
-                f" | {statistics.fmean(r.min_distance_m for r in rows):.2f} |"
+            lines.append(
+                f"| {scenario} | {planner} | {_pct(count['goal_reached'], n)} | "
+                f"{_pct(count['collision'], n)} | {_pct(count['out_of_bounds'], n)} | "
+                f"{_pct(count['timeout'], n)} | "
+                f"{statistics.fmean(r.speed_mps for r in rows):.3f} | {ttg_s} | "
+                f"{statistics.fmean(r.min_distance_m for r in rows):.2f} |"
             )
+    return lines
+
+
+def print_tables(results: list[Result], scenarios: list[str], planners: list[str]) -> None:
+    """The table, and every episode that did not reach the goal."""
+    print("\n" + "\n".join(markdown_table(results, scenarios, planners)))
     bad = [r for r in results if r.outcome != "goal_reached"]
     if bad:
         print("\nEpisodes that did not reach the goal:\n")
         for r in sorted(bad, key=lambda r: (r.planner, r.scenario, r.seed)):
             print(f"- {r.planner} / {r.scenario} / seed {r.seed}: {r.outcome} at step {r.end_step}")
+
+
+def write(out: Path, results: list[Result], manifest: dict[str, Any]) -> None:
+    """``out/episodes.parquet`` (one row per episode, in task order) and
+    ``out/manifest.json``."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    out.mkdir(parents=True, exist_ok=True)
+    columns = {f.name: [getattr(r, f.name) for r in results] for f in fields(Result)}
+    pq.write_table(pa.table(columns), out / "episodes.parquet", compression="zstd")
+    (out / "manifest.json").write_text(json.dumps(manifest, indent=1) + "\n", encoding="utf-8")
+
+
+def read(folder: Path) -> tuple[list[Result], dict[str, Any]]:
+    """The episodes and the manifest :func:`write` wrote."""
+    import pyarrow.parquet as pq
+
+    table = pq.read_table(folder / "episodes.parquet").to_pylist()
+    manifest = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))
+    return [Result(**row) for row in table], manifest
 
 
 def parse_args(argv: list[str] | None) -> argparse.Namespace:
@@ -201,6 +240,9 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
         help="override an SRFM parameter of the agrawal2024 preset, e.g. a_robot=0 "
         "(pedestrians that ignore the robot; repeatable)",
     )
+    parser.add_argument(
+        "--out", type=Path, help="also write the episodes and a manifest into this folder"
+    )
     return parser.parse_args(argv)
 
 
@@ -225,6 +267,7 @@ def main(argv: list[str] | None = None) -> int:
         for p in args.planners
         for seed in range(args.first_seed, args.first_seed + args.seeds)
     ]
+    started = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
     t0 = time.perf_counter()
     if args.jobs > 1:
         with multiprocessing.get_context("spawn").Pool(args.jobs) as pool:
@@ -239,6 +282,27 @@ def main(argv: list[str] | None = None) -> int:
         f"{len(tasks)} episodes in {wall:.1f} s with {args.jobs} worker(s)"
     )
     print_tables(results, scenarios, args.planners)
+    if args.out is not None:
+        write(
+            args.out,
+            results,
+            {
+                "command": "python tools/analysis/planner_outcomes.py "
+                + " ".join(sys.argv[1:] if argv is None else argv),
+                "commit": _commit(),
+                "started": started,
+                "wall_s": wall,
+                "jobs": args.jobs,
+                "load_average": list(os.getloadavg()),
+                "scenarios": scenarios,
+                "planners": list(args.planners),
+                "seeds": [args.first_seed, args.first_seed + args.seeds - 1],
+                "kinematics": args.kinematics or "as in the scenario",
+                "overrides": args.set,
+                "model": args.model,
+            },
+        )
+        print(f"-> {args.out}")
     return 0
 
 

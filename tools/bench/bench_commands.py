@@ -17,6 +17,10 @@ Rows (``--rows``, default all but ``full`` and ``crowd``):
 - ``crowd``: ``tools/bench/bench_crowd_step.py`` at N = 1000 against JuPedSim by both
   protocols (its own and, ``--side-by-side``, the side-by-side one; needs the ``bench``
   extra), its own tables;
+- ``shared-crowd``: the project's judging script ``../shared/tools/crowd_side_by_side.py
+  --sizes 1000 10000`` (srfm's crowd step against JuPedSim's, one process, side by side),
+  ``--runs`` times from ``--tree``; the ratio per run and size (needs the ``bench`` extra
+  and the shared folder beside the checkout, or ``--shared``);
 - ``stages``: where the quick benchmark's time goes, in this process (``--tree`` only):
   CPU ms per episode by planner and stage (set-up and simulation, metrics, MCAP, Rerun,
   the figure episode) over the 5 scenarios × seeds 0-2 after one untimed episode each,
@@ -28,11 +32,17 @@ a before/after comparison under the same load. Each checkout keeps its own numba
 (``__pycache__`` beside its sources), so the warm rows are warm for both once a first,
 untimed run of each row has filled it (``--warmup``, default 1).
 
+``--json PATH`` also writes every run's figures (wall, CPU, simulation phase, MCAP bytes,
+the crowd ratios), the date, the commits, the CPU model and the loads to PATH: the data
+that docs/performance.md's goal table is generated from (``make docs-tables``).
+
 Usage::
 
     .venv/bin/python tools/bench/bench_commands.py
     .venv/bin/python tools/bench/bench_commands.py --vs /tmp/before --runs 3
     .venv/bin/python tools/bench/bench_commands.py --rows full --runs 1
+    .venv/bin/python tools/bench/bench_commands.py --rows simulate full shared-crowd \\
+        --json docs/results/performance/goals.json
 """
 
 from __future__ import annotations
@@ -74,6 +84,7 @@ ROWS: dict[str, tuple[str, list[str]]] = {
     "full": ("srfm benchmark (seeds 0-99, 7 planners)", ["benchmark", "--out", "{out}"]),
 }
 DEFAULT_ROWS = ("help", "simulate", "quick-bare", "quick", "cold")
+SHARED_RATIO = re.compile(r"N=(\d+): srfm ([0-9,]+) +jupedsim ([0-9,]+) agent-steps/s +ratio")
 SIMULATED = re.compile(r"simulated (\d+) of (\d+) episodes in ([0-9.]+) s")
 
 
@@ -121,6 +132,42 @@ def run_once(tree: Path, row: str, scratch: Path) -> Run:
         files = [p for p in (out / "logs").rglob("*.mcap") if "_counterfactual" not in p.parts]
         mcap = sum(p.stat().st_size for p in files) / max(1, len(files))
     return Run(wall, cpu, sim, mcap)
+
+
+def _cpu_model() -> str:
+    """The CPU's model name (``/proc/cpuinfo``), or the platform's processor string."""
+    cpuinfo = Path("/proc/cpuinfo")
+    if cpuinfo.is_file():
+        for line in cpuinfo.read_text(encoding="utf-8").splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    import platform
+
+    return platform.processor() or "unknown"
+
+
+def shared_crowd(tree: Path, shared: Path) -> dict[int, tuple[float, float]]:
+    """One run of the shared judging script from ``tree``: agent-steps/s of srfm and
+    JuPedSim at N = 1000 and 10,000 (the script prints both; the ratio is theirs)."""
+    script = shared / "tools" / "crowd_side_by_side.py"
+    if not script.is_file():
+        sys.exit(f"{script}: not found (the shared folder beside the checkout, or --shared)")
+    proc = subprocess.run(
+        [sys.executable, str(script), "--sizes", "1000", "10000"],
+        env=dict(os.environ, PYTHONPATH=str(tree)),
+        cwd=tree,
+        capture_output=True,
+        text=True,
+    )
+    if proc.returncode != 0:
+        sys.exit(f"{script} failed ({proc.returncode}):\n{proc.stderr[-2000:]}")
+    found = {
+        int(m.group(1)): (float(m.group(2).replace(",", "")), float(m.group(3).replace(",", "")))
+        for m in SHARED_RATIO.finditer(proc.stdout)
+    }
+    if set(found) != {1000, 10000}:
+        sys.exit(f"{script}: no rates for N = 1000 and 10000 in its output:\n{proc.stdout}")
+    return found
 
 
 def _spread(values: Sequence[float]) -> str:
@@ -227,12 +274,28 @@ def main() -> None:
     parser.add_argument("--tree", type=Path, default=ROOT, help="the checkout to time")
     parser.add_argument("--vs", type=Path, default=None, help="a second checkout, alternated")
     parser.add_argument("--crowd-seconds", type=float, default=2.0)
+    parser.add_argument("--json", type=Path, default=None, help="also write the figures here")
+    parser.add_argument(
+        "--shared", type=Path, default=ROOT.parent / "shared", help="the shared folder"
+    )
     args = parser.parse_args()
-    unknown = set(args.rows) - set(ROWS) - {"crowd", "stages"}
+    unknown = set(args.rows) - set(ROWS) - {"crowd", "stages", "shared-crowd"}
     if unknown:
-        parser.error(f"unknown rows {sorted(unknown)}; known: {[*ROWS, 'crowd']}")
+        parser.error(
+            f"unknown rows {sorted(unknown)}; known: {[*ROWS, 'crowd', 'shared-crowd', 'stages']}"
+        )
     trees = [args.tree.resolve(), *([args.vs.resolve()] if args.vs else [])]
-    print(f"date: {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC, cores {os.cpu_count()}")
+    started = datetime.datetime.now(datetime.UTC)
+    record: dict[str, object] = {
+        "date": f"{started:%Y-%m-%d %H:%M} UTC",
+        "cpu": _cpu_model(),
+        "cores": os.cpu_count(),
+        "commits": {"AB"[k]: srfm_commit(tree) for k, tree in enumerate(trees)},
+        "command": "python tools/bench/bench_commands.py " + " ".join(sys.argv[1:]),
+        "rows": {},
+    }
+    rows_out: dict[str, object] = record["rows"]  # type: ignore[assignment]
+    print(f"date: {started:%Y-%m-%d %H:%M} UTC, cores {os.cpu_count()}, CPU {record['cpu']}")
     for k, tree in enumerate(trees):
         print(f"tree {'AB'[k]}: {tree} (commit {srfm_commit(tree)})")
     print("figures: median (min–max) of the runs, seconds; CPU = the command and its workers")
@@ -242,7 +305,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="srfm-bench-commands-") as tmp:
         scratch = Path(tmp)
         for row in args.rows:
-            if row in ("crowd", "stages"):
+            if row in ("crowd", "stages", "shared-crowd"):
                 continue
             load_before = _load()
             if row != "cold":
@@ -254,6 +317,18 @@ def main() -> None:
                 for tree in trees:
                     runs[tree].append(run_once(tree, row, scratch))
             load_after = _load()
+            rows_out[row] = {
+                "label": ROWS[row][0],
+                "load_before": load_before,
+                "load_after": load_after,
+                "runs": {
+                    "AB"[k]: [
+                        {"wall_s": r.wall, "cpu_s": r.cpu, "sim_s": r.sim, "mcap_bytes": r.mcap}
+                        for r in runs[tree]
+                    ]
+                    for k, tree in enumerate(trees)
+                },
+            }
             for k, tree in enumerate(trees):
                 rs = runs[tree]
                 sims = [r.sim for r in rs if r.sim is not None]
@@ -309,7 +384,35 @@ def main() -> None:
                 cwd=tree,
                 check=True,
             )
+    if "shared-crowd" in args.rows:
+        load_before = _load()
+        print(f"\ncrowd step, the shared script (--sizes 1000 10000), load {load_before}:")
+        crowd: dict[str, list[dict[str, float]]] = {"AB"[k]: [] for k in range(len(trees))}
+        for _ in range(args.runs):
+            for k, tree in enumerate(trees):
+                rates = shared_crowd(tree, args.shared.resolve())
+                crowd["AB"[k]].append(
+                    {
+                        f"{kind}_{n}": rates[n][j]
+                        for n in rates
+                        for j, kind in enumerate(("srfm", "jupedsim"))
+                    }
+                )
+                ratios = ", ".join(f"N={n}: {rates[n][0] / rates[n][1]:.2f}x" for n in rates)
+                print(f"  tree {'AB'[k]}: {ratios}", flush=True)
+        rows_out["shared-crowd"] = {
+            "label": "crowd step against JuPedSim (../shared/tools/crowd_side_by_side.py)",
+            "load_before": load_before,
+            "load_after": _load(),
+            "runs": crowd,
+        }
     print(f"load average at end: {_load()}")
+    if args.json is not None:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        tmp = args.json.with_suffix(".tmp")
+        tmp.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n", encoding="utf-8")
+        tmp.replace(args.json)
+        print(f"wrote {args.json}")
 
 
 if __name__ == "__main__":

@@ -47,6 +47,27 @@ def summary(windows: Any, params: SRFMParams, mode: Any) -> dict[str, float]:
     }
 
 
+def table_text(payload: dict[str, Any]) -> str:
+    """The Markdown table of a saved diagnostic (``cap_diagnostic.json``)."""
+    n, rows = payload["n"], payload["rows"]
+    lines = [
+        f"In-sample, all encounter windows (n = {n['windows']} windows / {n['tracks']} tracks; "
+        "parameters of navwareset2026_ttc but the cap and k; nothing fitted or held out):",
+        "",
+        "| model | k (m²) | cap (m/s²) | ADE (m) | FDE (m) | \\|pass-distance error\\| (m) "
+        "| pass bias (m) | \\|path-offset error\\| (m) |",
+        "|---|--:|--:|--:|--:|--:|--:|--:|",
+    ]
+    for r in rows:
+        k = f"{r['ttc_k']:g}" if "ttc_k" in r else "–"
+        cap = f"{r['cap']:g}" if "cap" in r else "–"
+        lines.append(
+            f"| {r['model']} | {k} | {cap} | {r['ade_m']:.3f} | {r['fde_m']:.3f} "
+            f"| {r['abs_pass_m']:.3f} | {r['pass_bias_m']:+.3f} | {r['abs_offset_m']:.3f} |"
+        )
+    return "\n".join(lines) + "\n"
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
@@ -69,22 +90,7 @@ def main() -> None:
         "scenes": len({s.source.get("navwareset_scene", s.scene) for s in scenes}),
     }
     payload = {"windows": "encounter, lead 3 s, 4.8 s, goal heading", "n": n, "rows": rows}
-    lines = [
-        f"In-sample, all encounter windows (n = {n['windows']} windows / {n['tracks']} tracks; "
-        "parameters of navwareset2026_ttc but the cap and k; nothing fitted or held out):",
-        "",
-        "| model | k (m²) | cap (m/s²) | ADE (m) | FDE (m) | \\|pass-distance error\\| (m) "
-        "| pass bias (m) | \\|path-offset error\\| (m) |",
-        "|---|--:|--:|--:|--:|--:|--:|--:|",
-    ]
-    for r in rows:
-        k = f"{r['ttc_k']:g}" if "ttc_k" in r else "–"
-        cap = f"{r['cap']:g}" if "cap" in r else "–"
-        lines.append(
-            f"| {r['model']} | {k} | {cap} | {r['ade_m']:.3f} | {r['fde_m']:.3f} "
-            f"| {r['abs_pass_m']:.3f} | {r['pass_bias_m']:+.3f} | {r['abs_offset_m']:.3f} |"
-        )
-    text = "\n".join(lines) + "\n"
+    text = table_text(payload)
     print(text)
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "cap_diagnostic.json").write_text(

@@ -46,6 +46,9 @@ from srfm.fitting import (
 from srfm.models import SRFMParams
 
 REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO))
+from tools.results.record import run_record, start  # noqa: E402
+
 LABELS = {
     "constant_velocity": "CV",
     "sfm": "SFM, robot ignored",
@@ -164,16 +167,18 @@ def table2(
     return {"rows": rows, "scene_level": scene_test, "errors": err}
 
 
-def print_tables(payload: dict[str, Any]) -> None:
-    """The markdown tables of docs/fitting.md, from the results payload."""
+def table2_lines(payload: dict[str, Any], cells: frozenset[str] | None = None) -> list[str]:
+    """Table 2 on held-out scenes (every cell, or those named in ``cells``)."""
     labels = [LABELS[m] for m in (*TABLE2_MODES, "srfm_agrawal")]
-    print(
+    lines = [
         "| cell | windows | n (scenes/tracks) | "
         + " | ".join(labels)
-        + " | SRFM − robot as ped.: mean, median (mm), p | SRFM − SFM robot ignored |"
-    )
-    print("|" + "---|" * (4 + len(labels) + 1))
+        + " | SRFM − robot as ped.: mean, median (mm), p | SRFM − SFM robot ignored |",
+        "|" + "---|" * (4 + len(labels) + 1),
+    ]
     for row in payload["table2"]:
+        if cells is not None and row["cell"] not in cells:
+            continue
         parts = [
             row["cell"].replace("_", " "),
             row["windows"],
@@ -190,40 +195,66 @@ def print_tables(payload: dict[str, Any]) -> None:
                 if math.isnan(t["p"])
                 else f"{mean:+.2f}, {t['median_diff'] * 1e3:+.2f}, p = {t['p']:.2g}"
             )
-        print("| " + " | ".join(parts) + " |")
-    print()
-    print("Scene level (mean ADE of each scene's interaction windows, Wilcoxon over scenes):")
-    print()
-    print("| SRFM against | scenes | other (m) | SRFM (m) | median difference (mm) | p |")
-    print("|---|---|---|---|---|---|")
+        lines.append("| " + " | ".join(parts) + " |")
+    return lines
+
+
+def scene_level_lines(payload: dict[str, Any]) -> list[str]:
+    """The scene-level test: each scene's mean ADE over its interaction windows."""
+    lines = [
+        "| SRFM against | scenes | other (m) | SRFM (m) | median difference (mm) | p |",
+        "|---|---|---|---|---|---|",
+    ]
     for other, t in payload["scene_level"].items():
-        print(
+        lines.append(
             f"| {LABELS[other]} | {t['n']} | {t['mean_a']:.4f} | {t['mean_b']:.4f} "
             f"| {t['median_diff'] * 1e3:+.2f} | {t['p']:.2g} |"
         )
-    print()
-    print(
+    return lines
+
+
+def conditions_lines(payload: dict[str, Any]) -> list[str]:
+    """The robot part per condition with its bootstrap sd and interval."""
+    lines = [
         "| condition | scenes | interaction windows | A_r (m/s²) | B_r (m) | λ_r "
-        "| bootstrap resamples |"
-    )
-    print("|---|---|---|---|---|---|---|")
+        "| bootstrap resamples |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for name in CONDITIONS:
         c = payload["per_condition"][name]
         cols = []
         for f in ROBOT_FIELDS:
             sd, lo, hi = c["bootstrap_sd_ci95"][f]
             cols.append(f"{c['params'][f]:.3g} (sd {sd:.2g}; {lo:.3g}–{hi:.3g})")
-        print(
+        lines.append(
             f"| {name} | {c['scenes']} | {c['interaction_windows']} | "
             + " | ".join(cols)
             + f" | {c['bootstrap_n']} |"
         )
-    print()
+    return lines
+
+
+def folds_lines(payload: dict[str, Any]) -> list[str]:
+    """Min / median / max of the held-out fits' robot parameters."""
     folds = np.array([[v[f] for f in ROBOT_FIELDS] for v in payload["cross_validation"].values()])
-    print(f"Cross-validation: {folds.shape[0]} folds; min / median / max of the held-out fits:")
+    lines = [f"The {folds.shape[0]} leave-one-scene-out fits (min / median / max):"]
     for i, f in enumerate(ROBOT_FIELDS):
         lo, med, hi = np.percentile(folds[:, i], [0, 50, 100])
-        print(f"- {f}: {lo:.3g} / {med:.3g} / {hi:.3g}")
+        lines.append(f"- {f}: {lo:.3g} / {med:.3g} / {hi:.3g}")
+    return lines
+
+
+def print_tables(payload: dict[str, Any]) -> None:
+    """The markdown tables of docs/fitting.md, from the results payload."""
+    print("\n".join(table2_lines(payload)))
+    print()
+    print("Scene level (mean ADE of each scene's interaction windows, Wilcoxon over scenes):")
+    print()
+    print("\n".join(scene_level_lines(payload)))
+    print()
+    print("\n".join(conditions_lines(payload)))
+    print()
+    print("\n".join(folds_lines(payload)))
     print()
     print("wall times (s):", payload["wall_times"])
 
@@ -361,6 +392,7 @@ def main() -> None:
     if args.pedestrian is None:
         ap.error("--pedestrian is required (unless --tables-from)")
     t_start = time.perf_counter()
+    began = start()
     ped = load_params_option(args.pedestrian)
     scenes, dropped = drop_supersets(read_navwareset(data))
     log(f"{len(scenes)} recordings (dropped {dropped})")
@@ -416,6 +448,7 @@ def main() -> None:
         },
         "seed": args.seed,
         "wall_times": timing,
+        "run": run_record(*began),
     }
     payload = json.loads(json.dumps(payload, default=float))
     print_tables(payload)

@@ -17,6 +17,7 @@ import argparse
 import json
 import math
 import os
+import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -30,6 +31,9 @@ from srfm.datasets.navwareset import SCENARIOS, condition_of, drop_supersets, re
 from srfm.fitting import replay_encounter
 
 REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO))
+from tools.results.record import run_record, start  # noqa: E402
+
 MEASURES = ("deviation_m", "ade_factual_m", "min_distance_m", "detour", "slowdown")
 
 
@@ -56,6 +60,7 @@ def main() -> None:
     root = Path(os.environ.get("SRFM_DATA_DIR", REPO.parent / "shared" / "data"))
     data = Path(args.data) if args.data else root / "navwareset_quant"
     t0 = time.perf_counter()
+    began = start()
     params = load_params_option(args.params)
     scenes, _ = drop_supersets(read_navwareset(data))
     if args.episodes:
@@ -118,11 +123,33 @@ def main() -> None:
         rows.append(row)
     print(f"params {args.params}: {len(records)} encounters ({skipped} skipped) in {elapsed:.1f} s")
     print()
-    print(
+    print("\n".join(replay_lines(rows)))
+    if args.out:
+        args.out.write_text(
+            json.dumps(
+                {
+                    "params": args.params,
+                    "n": len(records),
+                    "skipped": skipped,
+                    "time_s": round(elapsed, 1),
+                    "rows": rows,
+                    "encounters": records,
+                    "run": run_record(*began),
+                },
+                separators=(",", ":"),
+                default=float,
+            )
+            + "\n"
+        )
+
+
+def replay_lines(rows: list[dict[str, Any]]) -> list[str]:
+    """The table of the replayed encounters: compliant against non-compliant per cell."""
+    lines = [
         "| scenario | robot | n C / NC | deviation C / NC (m), p | closest pass C / NC (m), p "
-        "| detour C / NC, p | slow-down C / NC, p | ADE factual C / NC (m) |"
-    )
-    print("|---|---|---|---|---|---|---|---|")
+        "| detour C / NC, p | slow-down C / NC, p | ADE factual C / NC (m) |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for row in rows:
         parts = [
             row["scenario"].replace("_", " "),
@@ -141,23 +168,36 @@ def main() -> None:
             )
         v = row["ade_factual_m"]
         parts.append(f"{v['compliant']:.2f} / {v['non_compliant']:.2f}")
-        print("| " + " | ".join(parts) + " |")
-    if args.out:
-        args.out.write_text(
-            json.dumps(
-                {
-                    "params": args.params,
-                    "n": len(records),
-                    "skipped": skipped,
-                    "time_s": round(elapsed, 1),
-                    "rows": rows,
-                    "encounters": records,
-                },
-                separators=(",", ":"),
-                default=float,
-            )
-            + "\n"
+        lines.append("| " + " | ".join(parts) + " |")
+    return lines
+
+
+def episodes_lines(records: list[dict[str, Any]]) -> list[str]:
+    """The table of the benchmark's twin episodes, one per recording: compliant against
+    non-compliant per scenario and robot (Welch's t-test over recordings)."""
+    lines = [
+        "| scenario | robot | recordings C / NC | deviation C / NC (m), Welch p "
+        "| collisions C / NC |",
+        "|---|---|---|---|---|",
+    ]
+    cells = [(sc, r) for sc in SCENARIOS for r in ("hsr", "jackal")] + [("all", "all")]
+    for scenario, robot in cells:
+        sel = [
+            x
+            for x in records
+            if scenario in ("all", x["scenario"]) and robot in ("all", x["robot"])
+        ]
+        if not sel:
+            continue
+        c = np.array([x["frechet_m"] for x in sel if x["compliant"]])
+        n = np.array([x["frechet_m"] for x in sel if not x["compliant"]])
+        cc = sum(x["outcome"] == "collision" for x in sel if x["compliant"])
+        nc = sum(x["outcome"] == "collision" for x in sel if not x["compliant"])
+        lines.append(
+            f"| {scenario.replace('_', ' ')} | {robot} | {c.size} / {n.size} "
+            f"| {np.nanmean(c):.3f} / {np.nanmean(n):.3f}, p = {welch(c, n):.2g} | {cc} / {nc} |"
         )
+    return lines
 
 
 def episodes(scenes: list[Any], params: Any, args: argparse.Namespace) -> None:
@@ -196,29 +236,7 @@ def episodes(scenes: list[Any], params: Any, args: argparse.Namespace) -> None:
     elapsed = time.perf_counter() - t0
     print(f"params {args.params}: {len(records)} twin episodes in {elapsed:.1f} s")
     print()
-    print(
-        "| scenario | robot | recordings C / NC | deviation C / NC (m), Welch p "
-        "| collisions C / NC |"
-    )
-    print("|---|---|---|---|---|")
-    cells = [(sc, r) for sc in SCENARIOS for r in ("hsr", "jackal")] + [("all", "all")]
-    rows = []
-    for scenario, robot in cells:
-        sel = [
-            x
-            for x in records
-            if scenario in ("all", x["scenario"]) and robot in ("all", x["robot"])
-        ]
-        c = np.array([x["frechet_m"] for x in sel if x["compliant"]])
-        n = np.array([x["frechet_m"] for x in sel if not x["compliant"]])
-        cc = sum(x["outcome"] == "collision" for x in sel if x["compliant"])
-        nc = sum(x["outcome"] == "collision" for x in sel if not x["compliant"])
-        p = welch(c, n)
-        rows.append({"scenario": scenario, "robot": robot, "p": p})
-        print(
-            f"| {scenario.replace('_', ' ')} | {robot} | {c.size} / {n.size} "
-            f"| {np.nanmean(c):.3f} / {np.nanmean(n):.3f}, p = {p:.2g} | {cc} / {nc} |"
-        )
+    print("\n".join(episodes_lines(records)))
     if args.out:
         args.out.write_text(
             json.dumps(

@@ -16,6 +16,7 @@ measured, its wall time, its command, planners, parameters and policies.
 from __future__ import annotations
 
 import argparse
+import math
 import re
 import sys
 from collections.abc import Callable
@@ -38,7 +39,8 @@ from srfm.metrics.tables import (
 from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
-from tools.results import sets
+from tools.results import fitting_pages, rl_study, sets
+from tools.results import pages as data_pages
 
 DOCS = sets.ROOT / "docs"
 BEGIN = re.compile(r"<!-- generated: ([a-z0-9-]+) -->\n")
@@ -291,6 +293,55 @@ def flows_table() -> str:
         + "\n\n"
         + _outcome_sentence("flows")
     )
+
+
+def nws2025_issue15_table() -> str:
+    """The paper's benchmark with navwareset2025 as issue 15 fitted it (docs/fitting.md):
+    success / collision rate / mean Fréchet deviation per planner and scenario."""
+    name = "paper_nws2025_issue15"
+    _need(name)
+    req = sets.manifest(name)["request"]
+    t = sets.table(name)
+    cols = {c: t[c].to_pylist() for c in ("scenario", "planner", "outcome", "frechet_m")}
+    cells: dict[tuple[str, str], list[tuple[str, float | None]]] = {}
+    for s, p, o, v in zip(*cols.values(), strict=True):
+        cells.setdefault((s, p), []).append((o, v))
+    lines = [
+        provenance(name),
+        "",
+        f"Success / robot collision rate / mean Fréchet deviation (m) over seeds "
+        f"{req['seeds'][0]}–{req['seeds'][-1]} (n = {len(req['seeds'])} per cell):",
+        "",
+        "| planner | " + " | ".join(req["scenarios"]) + " |",
+        "|---|" + "---|" * len(req["scenarios"]),
+    ]
+    for p in sorted(req["planners"]):
+        row = []
+        for s in req["scenarios"]:
+            eps = cells[s, p]
+            goal = sum(o == "goal_reached" for o, _ in eps) / len(eps)
+            hit = sum(o == "collision" for o, _ in eps) / len(eps)
+            dev = summarize(np.array([np.nan if v is None else v for _, v in eps])).mean
+            row.append(f"{goal:.2f} / {hit:.2f} / {dev:.3f}")
+        lines.append(f"| {p} | " + " | ".join(row) + " |")
+    hits = {
+        sc: sum(o == "collision" for o, _ in cells[sc, "straight"]) / len(req["seeds"])
+        for sc in req["scenarios"]
+    }
+    often = [h for h in hits.values() if h >= 0.5]
+    means = {
+        k: summarize(np.array([np.nan if v is None else v for _, v in eps])).mean
+        for k, eps in cells.items()
+    }
+    circle = max(m for (sc, _), m in means.items() if sc == "circle")
+    rest = max(m for (sc, _), m in means.items() if sc != "circle")
+    lines += [
+        "",
+        f"`straight` collides in {100 * min(often):.0f}–{100 * max(often):.0f} % of the "
+        f"episodes of {len(often)} scenarios; the mean deviation of any planner is at most "
+        f"{circle:.2f} m in `circle` and {rest:.2f} m elsewhere.",
+    ]
+    return "\n".join(lines)
 
 
 def _preset_block(a: str, b: str) -> str:
@@ -548,20 +599,237 @@ def oracle_cost() -> str:
         "goal, seeds 0–99 |",
         "|---|---|--:|--:|",
     ]
+    notes = []
     for suite, file, name in (
         ("paper", "oracle_cost.json", "paper"),
         ("francis", "oracle_cost_francis.json", "francis"),
     ):
         doc = sets.read_json(DOCS / "discrimination" / file)
+        if "scenarios" not in doc:  # written before the file kept its provenance
+            doc = {"scenarios": doc}
+            notes.append(
+                f"`docs/discrimination/{file}`: no provenance recorded (measured "
+                "2026-11-27 while two RL trainings held both cores)"
+            )
+        else:
+            loads = doc["load_average"] or [math.nan]
+            notes.append(
+                f"`{doc['command']}`: commit `{doc['commit']}`, started "
+                f"{doc['started'][:16].replace('T', ' ')} UTC, {doc['cpus']} CPUs, 1-min load "
+                f"{min(loads):.1f}–{max(loads):.1f}"
+            )
         cells = sets.frechet(name) if sets.exists(name) else {}
-        for scenario, entry in doc.items():
+        for scenario, entry in doc["scenarios"].items():
             by_seed = cells.get((scenario, "oracle"), {})
             reached = sum(o == "goal_reached" for _, o in by_seed.values())
             goal = f"{100 * reached / len(by_seed):.0f} %" if by_seed else "–"
             rows.append(
                 f"| {suite} | {scenario} | {entry['mean_s']:.2f} ({entry['max_s']:.2f}) | {goal} |"
             )
-    return "\n".join(rows)
+    return "*Measured by " + "; ".join(notes) + ".*\n\n" + "\n".join(rows)
+
+
+PERFORMANCE_GOALS = DOCS / "results" / "performance" / "goals.json"
+# Issue 39's speed goals: (row of the measurement, label, the figure, the goal, at least?)
+SPEED_GOALS: tuple[tuple[str, str, str, float, bool], ...] = (
+    (
+        "full",
+        "`srfm benchmark` (seeds 0-99, 7 planners, 3,500 episodes, default logs), wall s",
+        "wall_s",
+        60.0,
+        False,
+    ),
+    (
+        "simulate",
+        "`srfm simulate --scenario crosswalk --seed 0 --planner dwa` (warm cache), wall s",
+        "wall_s",
+        1.0,
+        False,
+    ),
+    (
+        "shared-crowd",
+        "crowd step at N = 1,000, srfm / JuPedSim agent-steps per s",
+        "1000",
+        3.0,
+        True,
+    ),
+    (
+        "shared-crowd",
+        "crowd step at N = 10,000, srfm / JuPedSim agent-steps per s",
+        "10000",
+        3.5,
+        True,
+    ),
+)
+
+
+def _figures(row: dict[str, Any], figure: str) -> list[float]:
+    runs = row["runs"]["A"]
+    if figure.isdigit():
+        return [r[f"srfm_{figure}"] / r[f"jupedsim_{figure}"] for r in runs]
+    return [float(r[figure]) for r in runs]
+
+
+def performance_goals() -> str:
+    """Issue 39's speed goals beside the figures of the committed measurement."""
+    return performance_goals_table(sets.read_json(PERFORMANCE_GOALS))
+
+
+def performance_goals_table(doc: dict[str, Any]) -> str:
+    """The goal table of one ``bench_commands.py --json`` record (tree A's runs)."""
+    lines = [
+        f"Measured {doc['date']} on commit `{doc['commits']['A']}`, {doc['cores']} cores "
+        f"({doc['cpu']}): `{doc['command']}`; median (min–max) of the runs, the load "
+        "average (1/5/15 min) before and after each row.",
+        "",
+        "| what | runs | median (min–max) | goal | verdict | load |",
+        "|---|--:|---|---|---|---|",
+    ]
+    for row_name, label, figure, goal, at_least in SPEED_GOALS:
+        row = doc["rows"].get(row_name)
+        if row is None:
+            lines.append(
+                f"| {label} | 0 | not measured | {'≥' if at_least else '≤'} {goal:g} | – | – |"
+            )
+            continue
+        values = _figures(row, figure)
+        median = float(np.median(values))
+        met = median >= goal if at_least else median <= goal
+        unit = "×" if at_least else " s"
+        lines.append(
+            f"| {label} | {len(values)} | {median:.2f}{unit} ({min(values):.2f}–{max(values):.2f}) "
+            f"| {'≥' if at_least else '≤'} {goal:g}{unit} | {'**met**' if met else 'not met'} "
+            f"| {row['load_before']} → {row['load_after']} |"
+        )
+    return "\n".join(lines)
+
+
+PERFORMANCE_VS = DOCS / "results" / "performance" / "vs-fe28b0b.json"
+
+
+def performance_vs() -> str:
+    """Two checkouts timed in turn on one machine (``bench_commands.py --vs``)."""
+    doc = sets.read_json(PERFORMANCE_VS)
+    lines = [
+        f"Measured {doc['date']}, {doc['cores']} cores ({doc['cpu']}): "
+        f"A = `{doc['commits']['A']}`, B = `{doc['commits']['B']}`, run in turn: "
+        f"`{doc['command']}`; median (min–max).",
+        "",
+        "| what | runs each | A | B | A / B (medians) | load |",
+        "|---|--:|---|---|--:|---|",
+    ]
+    for row_name, label, figure, _, at_least in SPEED_GOALS:
+        row = doc["rows"].get(row_name)
+        if row is None:
+            continue
+        a = _figures(row, figure)
+        b = _figures({"runs": {"A": row["runs"]["B"]}}, figure)
+        unit = "×" if at_least else " s"
+
+        def spread(v: list[float], unit: str = unit) -> str:
+            return f"{float(np.median(v)):.2f}{unit} ({min(v):.2f}–{max(v):.2f})"
+
+        lines.append(
+            f"| {label} | {len(a)} | {spread(a)} | {spread(b)} "
+            f"| {float(np.median(a)) / float(np.median(b)):.3f} "
+            f"| {row['load_before']} → {row['load_after']} |"
+        )
+    return "\n".join(lines)
+
+
+STUDY43 = sets.ROOT / "tools" / "rl" / "study43"
+
+
+def _study43_runs() -> dict[str, Any]:
+    runs: dict[str, Any] = sets.read_json(STUDY43 / "runs.json")
+    return runs
+
+
+def rl43_validation() -> str:
+    """Every run's chosen checkpoint on the validation set (the study's selection data)."""
+    runs = _study43_runs()
+    seeds = sorted({int(name.split("seed")[1]) for name in runs})
+    lines = [
+        "| arm | " + " | ".join(f"seed {s}" for s in seeds) + " |",
+        "|---|" + "---|" * len(seeds),
+    ]
+    for k2 in ("0", "2"):
+        cells = []
+        for seed in seeds:
+            path = STUDY43 / "validation" / f"k{k2}-seed{seed}.json"
+            if not path.is_file():
+                cells.append("training" if f"k{k2}-seed{seed}" in runs else "–")
+                continue
+            best = sets.read_json(path)["best"]
+            cells.append(
+                f"{best['success_rate']:.3f} / {best['collision_rate']:.3f} "
+                f"({best['steps'] // 1000}k)"
+            )
+        lines.append(f"| k2 = {k2} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def rl43_curves() -> str:
+    """Validation success and timeouts of every run at each checkpoint (learning curves)."""
+    paths = sorted(
+        (STUDY43 / "validation").glob("k*-seed*.json"),
+        key=lambda q: (q.name.split("-")[0], int(q.stem.split("seed")[1])),
+    )
+    docs = {q.stem: sets.read_json(q)["checkpoints"] for q in paths}
+    steps = sorted({c["steps"] for cps in docs.values() for c in cps})
+    lines = [
+        "| run | " + " | ".join(f"{s // 1000}k" for s in steps) + " |",
+        "|---|" + "--:|" * len(steps),
+    ]
+    for run, cps in docs.items():
+        at = {c["steps"]: c for c in cps}
+        cells = [
+            f"{at[s]['success_rate']:.2f} ({at[s]['timeout_rate']:.2f})" if s in at else "–"
+            for s in steps
+        ]
+        lines.append(f"| {run} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def _study43_report() -> tuple[Any, str]:
+    """The study's evaluation table (tools/rl/study43/report/seed*.csv.gz) and a line
+    saying which training seeds it holds."""
+    from tools.rl.study43 import report as report43
+
+    files = sorted((STUDY43 / "report").glob("seed*.csv.gz"), key=lambda p: int(p.name[4:-7]))
+    if not files:
+        raise MissingError(
+            "`tools/rl/study43/report/` (`PYTHONPATH=. python tools/rl/study43/evaluate.py`)"
+        )
+    seeds = [int(p.name[4:-7]) for p in files]
+    head = (
+        f"*From `tools/rl/study43/report/seed*.csv.gz`: training seeds "
+        f"{', '.join(map(str, seeds))} ({len(seeds)} of the 10 the study fixed), each "
+        "seed's four policies on the 14 report scenarios, evaluation seeds 0–99 "
+        "(`PYTHONPATH=. python tools/rl/study43/evaluate.py --seeds 1-10`).*"
+    )
+    return report43.load(*files), head
+
+
+def rl43_targets() -> str:
+    from tools.rl.study43 import report as report43
+
+    table, head = _study43_report()
+    return "\n".join(
+        [head, "", *report43.ship_table(table, STUDY43 / "validation"), "",
+         "Cells missed (of 14) per run:", "", *report43.missed_table(table)]
+    )  # fmt: skip
+
+
+def rl43_claim() -> str:
+    from tools.rl.study43 import report as report43
+
+    table, head = _study43_report()
+    return "\n".join(
+        [head, "", "**Chosen checkpoints (primary):**", "", *report43.claim(table, final=False),
+         "", "**Final checkpoints, 300,000 actions (sensitivity):**", "",
+         *report43.claim(table, final=True)]
+    )  # fmt: skip
 
 
 BLOCKS: dict[str, Callable[[], str]] = {
@@ -577,6 +845,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "francis-full": francis_full,
     "navwareset-references": navwareset_references,
     "flows-table": flows_table,
+    "nws2025-issue15": nws2025_issue15_table,
     "presets-paper": presets_paper,
     "presets-francis": presets_francis,
     "robustness-paper": robustness_paper,
@@ -586,7 +855,32 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "selection-table": selection_table,
     "discriminative-tables": discriminative_tables,
     "rl-usual-misses": rl_usual_misses,
+    "rl-summary": rl_study.summary,
+    "rl-validation": rl_study.validation_table,
+    "rl-shipped-targets": rl_study.shipped_targets,
+    "rl-study-misses": rl_study.study_misses,
+    "rl-claim": rl_study.claim_table,
+    "rl-claim-ttc": rl_study.claim_ttc,
+    "rl-wall-times": rl_study.wall_times,
+    "rl-reward-stats": rl_study.reward_stats,
+    "planner-outcomes-unicycle": data_pages.outcomes_unicycle,
+    "planner-outcomes-holonomic": data_pages.outcomes_holonomic,
+    "planner-outcomes-summary": data_pages.outcomes_summary,
+    "planner-outcomes-variants": data_pages.outcome_variants,
+    "planner-outcomes-stress": data_pages.outcome_stress,
+    "convergence-tables": data_pages.convergence_tables,
+    "convergence-verdict": data_pages.convergence_verdict,
+    "attribution-tables": data_pages.attribution_tables,
+    "attribution-findings": data_pages.attribution_findings,
+    "scenario-checks": data_pages.scenario_checks,
     "oracle-cost": oracle_cost,
+    "performance-goals": performance_goals,
+    "performance-vs-before": performance_vs,
+    "rl43-validation": rl43_validation,
+    "rl43-curves": rl43_curves,
+    "rl43-targets": rl43_targets,
+    "rl43-claim": rl43_claim,
+    **fitting_pages.BLOCKS,
 }
 
 
@@ -600,6 +894,10 @@ def render(name: str, page: Path) -> str:
         return BLOCKS[name]().strip()
     except MissingError as exc:
         return f"*Not measured yet: no committed results set {exc}.*"
+    except data_pages.MissingDataError as exc:
+        return f"*Not measured yet: no committed data {exc}.*"
+    except fitting_pages.MissingDataError as exc:
+        return f"*Not measured yet: no committed {exc}.*"
 
 
 def rewrite(text: str, page: Path) -> tuple[str, list[str]]:

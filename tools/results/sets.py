@@ -112,6 +112,12 @@ SETS: dict[str, ResultsSet] = {
             "the navwareset2025 side of the orderings under every response model (paper suite)",
         ),
         _set(
+            "paper_nws2025_issue15",
+            "--suite paper --params docs/fitting_navwareset2025_issue15.toml --seeds 0-99",
+            "frechet",
+            "the paper's benchmark with navwareset2025 as issue 15 fitted it (docs/fitting.md)",
+        ),
+        _set(
             "francis_nws2025",
             "--suite francis --params navwareset2025 --seeds 0-99",
             "frechet",

@@ -5,14 +5,23 @@ goals (>= 95 %), never stand in a wall, nobody overlaps at the start, and a clas
 planner (DWA, else the first of VO, ORCA, social-force that passes) reaches the robot
 goal in >= 90 % of the seeds. Prints a Markdown table; exits 1 when a check fails.
 
-    nice .venv/bin/python tools/scenarios/check_scenarios.py [--seeds 20] [NAME ...]
+    nice .venv/bin/python tools/scenarios/check_scenarios.py [--seeds 20] [NAME ...] \\
+        [--json docs/scenarios/checks.json]
+
+``--json`` also writes every scenario's row with the command, the commit, when it ran
+and its wall time: the data of the table in docs/scenarios.md
+(``tools/results/generate.py``).
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import os
+import subprocess
 import sys
 import time
+from pathlib import Path
 
 from srfm.scenarios import FLOW_SCENARIOS, FRANCIS_SCENARIOS, NAVWARESET_SCENARIOS
 from srfm.sim.checks import check_scenario
@@ -24,7 +33,10 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--seeds", type=int, default=20)
     parser.add_argument("names", nargs="*")
+    parser.add_argument("--json", type=Path, help="also write the rows and provenance here")
     args = parser.parse_args()
+    rows: dict[str, dict[str, object]] = {}
+    started = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
     names = args.names or [*FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS, *FLOW_SCENARIOS]
     seeds = range(args.seeds)
     failed = []
@@ -44,6 +56,16 @@ def main() -> int:
         )
         if not ok:
             failed.append(name)
+        rows[name] = {
+            "ped_arrived": check.ped_arrived,
+            "ped_total": check.ped_total,
+            "in_wall_samples": check.in_wall_samples,
+            "overlapping_starts": check.overlapping_starts,
+            "robot_goals": check.robot_goals,
+            "seeds": check.seeds,
+            "planner": check.planner,
+            "ok": ok,
+        }
         print(
             f"| {name} | {check.ped_arrived}/{check.ped_total} | {check.in_wall_samples} | "
             f"{check.overlapping_starts} | {check.robot_goals}/{check.seeds} ({check.planner})"
@@ -51,7 +73,27 @@ def main() -> int:
             + " |",
             flush=True,
         )
-    print(f"\n{len(names)} scenarios x {args.seeds} seeds in {time.perf_counter() - start:.0f} s")
+    wall = time.perf_counter() - start
+    print(f"\n{len(names)} scenarios x {args.seeds} seeds in {wall:.0f} s")
+    if args.json is not None:
+        root = Path(__file__).resolve().parents[2]
+        commit = subprocess.run(
+            ["git", "-C", str(root), "rev-parse", "--short", "HEAD"],
+            check=True,
+            capture_output=True,
+            text=True,
+        ).stdout.strip()
+        doc = {
+            "command": "python tools/scenarios/check_scenarios.py " + " ".join(sys.argv[1:]),
+            "commit": commit,
+            "started": started,
+            "wall_s": wall,
+            "cpus": os.cpu_count(),
+            "load_average": round(os.getloadavg()[0], 2),
+            "scenarios": rows,
+        }
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
     if failed:
         print(f"failed: {', '.join(failed)}", file=sys.stderr)
         return 1

@@ -1,14 +1,14 @@
 """The issue-43 study's report: the targets (part 3) and the paper's claim tested as
 written down before training (docs/rl.md, "The issue-43 study").
 
-    SC=$(python tools/rl/study_report.py --scenarios)
-    P=tools.rl.study43.planners
-    PYTHONPATH=. srfm benchmark -s $SC \\
-        -p $P:k0_seed1,$P:k2_seed1,$P:k0_seed1_final,$P:k2_seed1_final \\
-        --seeds 0-99 --no-logs --no-figures --out runs/report43/seed1      # ... seed10
-    python tools/rl/study43/report.py runs/report43/seed* > tools/rl/study43/report.md
+    PYTHONPATH=. python tools/rl/study43/evaluate.py --seeds 1-10    # the benchmarks
+    python tools/rl/study43/report.py tools/rl/study43/report/seed*.csv.gz \\
+        > tools/rl/study43/report.md
 
-Several results folders are read as one table (an episode found twice is an error).
+``evaluate.py`` runs, per training seed, ``srfm benchmark`` of its four policies (both
+arms' chosen and final checkpoints) on the 14 report scenarios, seeds 0-99, and commits
+the columns read here as ``tools/rl/study43/report/seed<s>.csv.gz``. Several such files
+(or benchmark folders) are read as one table (an episode found twice is an error).
 Printed, in Markdown:
 
 1. **Shipping rule**: per arm, the run the rule picks (the chosen checkpoint's

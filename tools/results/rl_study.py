@@ -1,0 +1,551 @@
+"""The generated blocks of docs/rl.md on issue 30's walls-aware study and the shipped
+policies, from committed data only (``tools/results/generate.py``):
+
+- the shipped policies against the targets: the results sets of docs/results/ (the
+  paper, Francis, NavWareSet and flows suites run the shipped policies on seeds 0-99);
+- every study run against the targets and the claim over training seeds:
+  ``tools/rl/study/report.md`` and ``report_ttc.md``, the output of
+  ``tools/rl/study_report.py`` on the runs' benchmark folders (the folders themselves
+  are not committed);
+- the runs' checkpoint validation: ``tools/rl/study/validation/<run>.json``
+  (``tools/rl/validate_checkpoints.py``), their wall times ``tools/rl/study/runs.json``
+  (``tools/rl/study.py``);
+- which run each shipped policy is: the SHA-256 of its weights in
+  ``srfm/policies/td3_*.json`` against the study's exported policies.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from tools.results import sets
+from tools.rl.study_report import MARGIN_M, REPORT_SCENARIOS, misses_target
+
+STUDY = sets.ROOT / "tools" / "rl" / "study"
+REPORT = STUDY / "report.md"
+REPORT_TTC = STUDY / "report_ttc.md"
+SHIPPED = {"td3-base": "td3_base", "td3-srfm": "td3_srfm"}
+"""The shipped TD3 planners and their policy files' stems in srfm/policies/."""
+SETS_OF_REPORT = ("paper", "francis", "navwareset", "flows")
+"""The results sets that hold the report's scenarios for the shipped policies."""
+_HEAD = re.compile(r"k2=(\d+) seed (\d+)")
+PAPER_RANGE_M = (0.04, 0.09)
+"""The deviation differences the paper reports between its two policies (m)."""
+
+
+@dataclass(frozen=True)
+class Cell:
+    """A policy's shares in one scenario over seeds 0-99 and whether they miss."""
+
+    goal: float
+    collision: float
+    out_of_bounds: float
+    miss: bool
+
+    def text(self) -> str:
+        mark = " ✗" if self.miss else ""
+        return f"{self.goal:.2f} / {self.collision:.2f} / {self.out_of_bounds:.2f}{mark}"
+
+
+@dataclass(frozen=True)
+class Claim:
+    """One scenario's row of the study's claim table."""
+
+    scenario: str
+    n: int
+    mean: float
+    ci95: str
+    p: float
+    p_holm: float
+    ci90: str
+    answer: str
+
+
+def run_name(head: str) -> str:
+    """``k2=0 seed 4`` (a report column) -> ``k0-seed4`` (a run)."""
+    match = _HEAD.fullmatch(head.strip())
+    if match is None:
+        raise SystemExit(f"{REPORT}: unexpected column {head!r}")
+    return f"k{match[1]}-seed{match[2]}"
+
+
+def _section(path: Path, title: str) -> list[list[str]]:
+    """The cells of every table row under the heading ``## title`` (header first)."""
+    lines = path.read_text(encoding="utf-8").splitlines()
+    start = lines.index(f"## {title}")
+    rows = []
+    for line in lines[start + 1 :]:
+        if line.startswith("## "):
+            break
+        if line.startswith("|") and not line.startswith("|---"):
+            rows.append([c.strip() for c in line.strip().strip("|").split("|")])
+    return rows
+
+
+def report_targets(path: Path = REPORT) -> dict[tuple[str, str], Cell]:
+    """(scenario, run) -> the run's cell in the report's table of targets (a run with
+    no episodes of a scenario has none)."""
+    rows = _section(path, "Targets (seeds 0-99)")
+    runs = [run_name(h) for h in rows[0][1:]]
+    out = {}
+    for row in rows[1:]:
+        for run, text in zip(runs, row[1:], strict=True):
+            if text == "–":
+                continue
+            shares = [float(x) for x in text.replace("✗", "").split("/")]
+            out[row[0], run] = Cell(*shares, miss="✗" in text)  # type: ignore[arg-type]
+    return out
+
+
+def runs_of(cells: dict[tuple[str, str], Cell]) -> list[str]:
+    """The runs, k2 = 0 first, by training seed."""
+    return sorted({r for _, r in cells}, key=lambda r: (r.split("-")[0], _seed(r)))
+
+
+def _seed(run: str) -> int:
+    return int(run.rsplit("seed", 1)[1])
+
+
+def report_claim(path: Path = REPORT) -> list[Claim]:
+    """The report's claim over training seeds, one row per scenario."""
+    rows = _section(path, "The claim over training seeds")
+    out = []
+    for r in rows[1:]:
+        num = [math.nan if x == "–" else float(x) for x in (r[2], r[4], r[5])]
+        out.append(Claim(r[0], int(r[1]), num[0], r[3], num[1], num[2], r[6], r[7]))
+    return out
+
+
+def validation(run: str) -> tuple[float, float]:
+    """Success and collision rates of a run's chosen checkpoint on the validation set."""
+    best = sets.read_json(STUDY / "validation" / f"{run}.json")["best"]
+    return float(best["success_rate"]), float(best["collision_rate"])
+
+
+def shipped_runs() -> dict[str, str]:
+    """Shipped planner -> the study run whose exported weights it ships."""
+    by_sha = {
+        sets.read_json(p)["weights_sha256"]: p.stem
+        for p in sorted((STUDY / "policies").glob("*.json"))
+    }
+    out = {}
+    for planner, stem in SHIPPED.items():
+        sha = sets.read_json(sets.ROOT / "srfm" / "policies" / f"{stem}.json")["weights_sha256"]
+        if sha not in by_sha:
+            raise SystemExit(f"srfm/policies/{stem}.npz is none of the study's policies")
+        out[planner] = by_sha[sha]
+    return out
+
+
+def shipped_cells() -> dict[tuple[str, str], tuple[Cell, dict[str, int], str]]:
+    """(scenario, planner) -> the shipped policy's cell, its outcome counts and the
+    results set, for every scenario of the report, from the committed results sets."""
+    out = {}
+    for name in SETS_OF_REPORT:
+        if not sets.exists(name):
+            continue
+        t = sets.table(name)
+        counts: dict[tuple[str, str], dict[str, int]] = {}
+        for s, p, o in zip(
+            *(t[c].to_pylist() for c in ("scenario", "planner", "outcome")), strict=True
+        ):
+            if p in SHIPPED and s in REPORT_SCENARIOS and (s, p) not in out:
+                counts.setdefault((s, p), {}).setdefault(o, 0)
+                counts[s, p][o] += 1
+        for (s, p), c in counts.items():
+            n = sum(c.values())
+            goal, col = c.get("goal_reached", 0) / n, c.get("collision", 0) / n
+            cell = Cell(goal, col, c.get("out_of_bounds", 0) / n, misses_target(s, goal, col))
+            out[s, p] = (cell, c, name)
+    return out
+
+
+def _list(names: list[str]) -> str:
+    quoted = [f"`{n}`" for n in names]
+    if len(quoted) <= 1:
+        return "".join(quoted)
+    return ", ".join(quoted[:-1]) + " and " + quoted[-1]
+
+
+def _kind(scenario: str) -> str:
+    from srfm.scenarios import EVALUATION_SCENARIOS
+    from srfm.scenarios.training import LIBRARY_HELDOUT
+
+    if scenario in EVALUATION_SCENARIOS:
+        return "paper"
+    return "held out" if scenario in LIBRARY_HELDOUT else "training"
+
+
+def _misses(planner: str, cells: dict[tuple[str, str], tuple[Cell, dict[str, int], str]]) -> str:
+    """What a shipped policy misses, in words ("" when nothing)."""
+    collides, waits, other = [], [], []
+    for s in REPORT_SCENARIOS:
+        cell, counts, _ = cells[s, planner]
+        if not cell.miss:
+            continue
+        n = sum(counts.values())
+        if cell.collision > 0 and cell.out_of_bounds == 0:
+            collides.append(f"{100 * cell.collision:.0f} % of `{s}`")
+        elif counts.get("timeout", 0) == n - counts.get("goal_reached", 0):
+            waits.append(f"`{s}` in {counts.get('timeout', 0)} of {n} episodes (no collision)")
+        else:
+            other.append(f"`{s}` ({cell.text()})")
+    said = []
+    if collides:
+        said.append("collides in " + " and ".join(collides))
+    if waits:
+        said.append("waits until the horizon in " + " and ".join(waits))
+    if other:
+        said.append("misses " + " and ".join(other))
+    return f"`{planner}` " + "; ".join(said) if said else ""
+
+
+def _verdict(cells: dict[tuple[str, str], tuple[Cell, dict[str, int], str]]) -> str:
+    parts = [m for p in SHIPPED if (m := _misses(p, cells))]
+    if not parts:
+        return "**The targets are met** by both."
+    return "**The targets are not met.** " + "; ".join(parts) + "."
+
+
+def shipped_targets() -> str:
+    """The shipped pair against the targets, and what they miss."""
+    runs = shipped_runs()
+    cells = shipped_cells()
+    missing = [s for s in REPORT_SCENARIOS for p in SHIPPED if (s, p) not in cells]
+    if missing:
+        return f"*Not measured yet: no committed results set with {', '.join(missing)}.*"
+    used = sorted({cells[s, p][2] for s in REPORT_SCENARIOS for p in SHIPPED})
+    lines = [
+        f"*From the results sets {', '.join(f'`{n}`' for n in used)} "
+        "([results](results/index.md)), which ran the shipped files on seeds 0–99.*",
+        "",
+        "| scenario | set | " + " | ".join(f"`{p}` (`{runs[p]}`)" for p in SHIPPED) + " |",
+        "|---|---|" + "---|" * len(SHIPPED),
+    ]
+    for s in REPORT_SCENARIOS:
+        texts = [cells[s, p][0].text() for p in SHIPPED]
+        lines.append(f"| {s} | {_kind(s)} | " + " | ".join(texts) + " |")
+    verdict = _verdict(cells)
+    study = report_targets()
+    siblings = []
+    for p, run in runs.items():
+        arm, seed = run.split("-")
+        sibling = f"{'k2' if arm == 'k0' else 'k0'}-{seed}"
+        theirs = [s for s in REPORT_SCENARIOS if (s, sibling) in study and study[s, sibling].miss]
+        siblings.append(
+            f"`{sibling}` (the sibling of `{runs[p]}`) "
+            + (f"misses {_list(theirs)}" if theirs else "meets every target")
+        )
+    chosen = [validation(r)[0] for r in runs_of(study)]
+    lines += [
+        "",
+        verdict
+        + " Their siblings of the same training seed, in the study's report: "
+        + "; ".join(siblings)
+        + f". The validation set does not predict these cells: every run's chosen "
+        f"checkpoint succeeds in {100 * min(chosen):.0f}–{100 * max(chosen):.0f} % of it.",
+    ]
+    consistent = [
+        s
+        for s in REPORT_SCENARIOS
+        for p in SHIPPED
+        if (s, runs[p]) in study and study[s, runs[p]].text() != cells[s, p][0].text()
+    ]
+    if consistent:
+        lines += ["", f"*The study's report disagrees with the sets in {', '.join(consistent)}.*"]
+    return "\n".join(lines)
+
+
+def _validation_text(run: str) -> str:
+    success, collisions = validation(run)
+    return f"{success:.3f} / " + (f"{collisions:.3f}" if collisions else "0")
+
+
+def validation_table() -> str:
+    """Each run's chosen checkpoint on the validation set, and the shipping rule over
+    every finished run."""
+    runs = runs_of(report_targets())
+    shipped = shipped_runs()
+    seeds = sorted({_seed(r) for r in runs})
+    lines = [
+        "| training seed | " + " | ".join(str(s) for s in seeds) + " |",
+        "|---|" + "---|" * len(seeds),
+    ]
+    for arm in ("k0", "k2"):
+        cells = []
+        for s in seeds:
+            text = _validation_text(f"{arm}-seed{s}")
+            cells.append(f"**{text}**" if f"{arm}-seed{s}" in shipped.values() else text)
+        lines.append(f"| k2 = {arm[1]} | " + " | ".join(cells) + " |")
+    picks = []
+    for arm in ("k0", "k2"):
+        mine = [r for r in runs if r.startswith(arm + "-")]
+        best = max(mine, key=lambda r: (validation(r)[0], -validation(r)[1], -_seed(r)))
+        ties = [r for r in mine if validation(r) == validation(best) and r != best]
+        picks.append(
+            f"`{best}` ({_validation_text(best)}"
+            + (f"; tied with {_list(ties)}, lower training seed" if ties else "")
+            + ")"
+        )
+    same = set(shipped.values()) == {p.split(" ")[0].strip("`") for p in picks}
+    return (
+        "\n".join(lines)
+        + "\n\nBold: the shipped runs. Applied to all "
+        + f"{len(seeds)} training seeds, the rule picks "
+        + " and ".join(picks)
+        + (": the runs shipped." if same else ": not the runs shipped.")
+    )
+
+
+def study_misses() -> str:
+    """Cells missed by each run, and the runs that meet every target."""
+    cells = report_targets()
+    runs = runs_of(cells)
+    seeds = sorted({_seed(r) for r in runs})
+    missed = {r: sum(c.miss for (_, q), c in cells.items() if q == r) for r in runs}
+    lines = [
+        "| training seed | " + " | ".join(str(s) for s in seeds) + " |",
+        "|---|" + "---|" * len(seeds),
+    ]
+    for arm in ("k0", "k2"):
+        lines.append(
+            f"| k2 = {arm[1]} | " + " | ".join(str(missed[f"{arm}-seed{s}"]) for s in seeds) + " |"
+        )
+    clean = [r for r in runs if missed[r] == 0]
+    shipped = shipped_runs()
+    notes = []
+    for run in shipped.values():
+        ties = [
+            r for r in runs if r != run and r[:2] == run[:2] and validation(r) == validation(run)
+        ]
+        if ties:
+            notes.append(
+                f"the shipped `{run}` ties {_list(ties)} at {_validation_text(run)} on "
+                f"validation and misses {missed[run]} cell{'' if missed[run] == 1 else 's'}"
+            )
+        else:
+            notes.append(
+                f"the shipped `{run}` misses {missed[run]} cell{'' if missed[run] == 1 else 's'}"
+            )
+    return (
+        "\n".join(lines)
+        + f"\n\n{len(clean)} of the {len(runs)} runs meet every target ({_list(clean)}); "
+        "the recipe does not make a policy that generalises from every training seed, and "
+        "the validation set does not tell which seeds do (" + "; ".join(notes) + ")."
+    )
+
+
+def _fmt_answer(c: Claim) -> str:
+    answer = c.answer
+    match = re.search(r"about (\d+) seeds", answer)
+    if match:
+        answer = answer.replace(match[0], f"about {int(match[1]):,} seeds")
+    return f"**{answer}**" if answer.startswith("equivalent") else answer
+
+
+def _minus(text: str) -> str:
+    """Negative numbers with the minus sign (the report writes a hyphen)."""
+    return re.sub(r"-(?=\d)", "−", text)
+
+
+def claim_table() -> str:
+    """The paper's claim over training seeds (the study's report), and what it says."""
+    from srfm.scenarios import EVALUATION_SCENARIOS
+
+    rows = report_claim()
+    lines = [
+        "| scenario | n seeds | Δ Fréchet (m) | 95 % CI | p (Holm) | 90 % CI | answer |",
+        "|---|---:|---:|---|---:|---|---|",
+    ]
+    for c in rows:
+        cells = [f"{c.mean:+.3f}", c.ci95, f"{c.p_holm:g}", c.ci90]
+        lines.append(
+            f"| {c.scenario} | {c.n} | "
+            + " | ".join(_minus(x) for x in cells)
+            + f" | {_fmt_answer(c)} |"
+        )
+    full = max(c.n for c in rows)
+    short = [c for c in rows if c.n < full]
+    equivalent = [c.scenario for c in rows if c.answer.startswith("equivalent")]
+    lowers = [c for c in rows if "lowers" in c.answer]
+    raw = min(rows, key=lambda c: c.p)
+    near = [
+        c
+        for c in rows
+        if c.scenario in EVALUATION_SCENARIOS
+        and c.answer.startswith("inconclusive")
+        and round(c.mean, 3) <= -MARGIN_M
+    ]
+    need = [int(m[1]) for c in near if (m := re.search(r"about (\d+) seeds", c.answer))]
+    text = "\n".join(lines) + "\n\n"
+    if short:
+        text += (
+            f"n < {full}: a training seed whose policy never reached the goal in a scenario "
+            "has no mean there ("
+            + ", ".join(
+                f"`{c.scenario}`: {full - c.n} such pair{'s' if full - c.n > 1 else ''}"
+                for c in short
+            )
+            + "). In words:\n\n"
+        )
+    if lowers:
+        text += (
+            f"- **The penalty lowers deviation in {_list([c.scenario for c in lowers])}** "
+            "(Holm-adjusted p below 0.05).\n"
+        )
+    else:
+        text += (
+            "- **No scenario shows that the penalty lowers deviation** (no Holm-adjusted p "
+            f"below 0.05; the smallest raw p is {raw.p:g}, `{raw.scenario}`).\n"
+        )
+    if equivalent:
+        text += (
+            f"- **In {_list(equivalent)} the two arms are equivalent within ±{MARGIN_M} m**: "
+            "there the penalty makes no difference of the size the paper reports "
+            f"({PAPER_RANGE_M[0]}–{PAPER_RANGE_M[1]} m).\n"
+        )
+    text += '- **Elsewhere the answer is "inconclusive".**'
+    if near and need:
+        low, high = min(c.mean for c in near), max(c.mean for c in near)
+        text += _minus(
+            f" In {_list([c.scenario for c in near])} the point estimates ({low:.3f} to "
+            f"{high:.3f} m) are at least the equivalence margin in size, but their 95 % "
+            f"intervals include 0 and the paper's gaps alike; {min(need)}–{max(need)} "
+            "training seeds per arm would settle them."
+        )
+    text += (
+        " In the walled held-out scenarios the seed-to-seed spread (a seed that swerves "
+        "into a corner or not) is far larger than any effect of the penalty."
+    )
+    return text
+
+
+def claim_ttc() -> str:
+    """The claim under navwareset2026_ttc (report_ttc.md), in one paragraph."""
+    rows = [c for c in report_claim(REPORT_TTC) if c.n > 0]
+    parts = []
+    for c in rows:
+        if c.answer.startswith("equivalent"):
+            parts.append(f"`{c.scenario}` **equivalent** ({c.mean:+.3f} m, 90 % CI {c.ci90})")
+        else:
+            need = re.search(r"about (\d+) seeds", c.answer)
+            n = f"n = {c.n}, " if c.n < max(r.n for r in rows) else ""
+            parts.append(
+                f"`{c.scenario}` {c.mean:+.3f} m ({n}95 % CI {c.ci95}, inconclusive"
+                + (f": about {int(need[1]):,} seeds" if need else "")
+                + ")"
+            )
+    return _minus("; ".join(parts)) + (
+        f"; Holm-adjusted p ≥ {min(c.p_holm for c in rows):g} everywhere."
+    )
+
+
+def wall_times() -> str:
+    """Each run's training wall time (runs.json) and the load noted beside it."""
+    runs: dict[str, Any] = sets.read_json(STUDY / "runs.json")
+    notes: dict[str, str] = sets.read_json(STUDY / "load_notes.json")["load_average"]
+    seeds = sorted({_seed(r) for r in runs})
+    lines = [
+        "| training seed | " + " | ".join(str(s) for s in seeds) + " |",
+        "|---|" + "---|" * len(seeds),
+    ]
+    for arm in ("k0", "k2"):
+        lines.append(
+            f"| k2 = {arm[1]} (s) | "
+            + " | ".join(f"{runs[f'{arm}-seed{s}']['wall_time_s']:,.0f}" for s in seeds)
+            + " |"
+        )
+    lines.append("| load average | " + " | ".join(notes[str(s)] for s in seeds) + " |")
+    unfinished = [r for r, v in runs.items() if not v["finished"]]
+    if unfinished:
+        lines += ["", f"Unfinished: {', '.join(unfinished)}."]
+    return "\n".join(lines)
+
+
+def summary() -> str:
+    """The two bullets of the page's summary: the shipped pair against the targets and
+    the answer to the paper's claim."""
+    cells = shipped_cells()
+    if any((s, p) not in cells for s in REPORT_SCENARIOS for p in SHIPPED):
+        return "*Not measured yet: the results sets lack scenarios of the report.*"
+    parts = [m for p in SHIPPED if (m := _misses(p, cells))]
+    study = report_targets()
+    runs = runs_of(study)
+    clean = [r for r in runs if not any(study[s, r].miss for s in REPORT_SCENARIOS)]
+    claims = report_claim()
+    equivalent = [c.scenario for c in claims if c.answer.startswith("equivalent")]
+    lowers = [c.scenario for c in claims if "lowers" in c.answer]
+    n_seeds = max(c.n for c in claims)
+    from srfm.scenarios import EVALUATION_SCENARIOS
+
+    near = [
+        c
+        for c in claims
+        if c.scenario in EVALUATION_SCENARIOS
+        and c.answer.startswith("inconclusive")
+        and round(c.mean, 3) <= -MARGIN_M
+    ]
+    result = (
+        f"- **The result** (seeds 0–99, {len(REPORT_SCENARIOS)} scenarios: the paper's five, "
+        "the library's eight held-out ones and `corridor_flow`): the targets (≥ 95 % goal, "
+        "≤ 2 % collisions; ≤ 5 % collisions in `corridor_flow`) are "
+        + (
+            "**not met** by the shipped pair: " + "; ".join(parts)
+            if parts
+            else "**met** by the shipped pair"
+        )
+        + f". {len(clean)} of the study's {len(runs)} runs meet every target; the "
+        "validation set used for choosing cannot tell which "
+        "([The shipped policies](#the-shipped-policies))."
+    )
+    claim = (
+        "- **The paper's claim** (does the deviation penalty lower deviation at equal "
+        f"success?), with {n_seeds} training seeds per arm: "
+        + (f"**equivalent within ±{MARGIN_M} m in {_list(equivalent)}**, " if equivalent else "")
+        + f"inconclusive in the other {len(claims) - len(equivalent) - len(lowers)} scenarios"
+        + (
+            _minus(
+                f" (in {_list([c.scenario for c in near])} the estimates, "
+                f"{min(c.mean for c in near):.3f} to {max(c.mean for c in near):.3f} m, "
+                "are as large as the margin but their intervals include 0)"
+            )
+            if near
+            else ""
+        )
+        + (
+            f", lowered significantly in {_list(lowers)}"
+            if lowers
+            else ", lowered significantly nowhere"
+        )
+        + " ([State of the walls-aware study](#state-of-the-walls-aware-study)). The earlier "
+        "answer from 3 + 3 seeds is in "
+        "[history/rl.md](history/rl.md#the-answer-to-the-papers-question)."
+    )
+    return result + "\n" + claim
+
+
+REWARD_STATS = sets.ROOT / "docs" / "rl" / "reward_stats.json"
+
+
+def reward_stats() -> str:
+    """The size of the deviation term under random actions (tools/rl/reward_stats.py)."""
+    from srfm.rl import DEFAULT_K_DIV
+
+    if not REWARD_STATS.is_file():
+        return (
+            "*Not measured yet: `python tools/rl/reward_stats.py --json "
+            "docs/rl/reward_stats.json`.*"
+        )
+    doc = sets.read_json(REWARD_STATS)
+    return (
+        f"- **The size of r_div**: with random actions in the `random` scenario it is "
+        f"non-zero in {100 * doc['nonzero_share']:.0f} % of the steps, {doc['mean_m']:.4f} m "
+        f"on average, {doc['p99_m']:.3f} m at the 99th percentile ({doc['steps']:,} steps; "
+        f"`{doc['command']}`, commit `{doc['commit']}`, {doc['started'][:10]}), so "
+        f"k2 = {DEFAULT_K_DIV:g} makes a close pass cost up to about "
+        f"{DEFAULT_K_DIV * doc['p99_m']:.2f} per step, against k1 · r_dist ≤ 0.1."
+    )

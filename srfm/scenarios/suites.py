@@ -28,17 +28,19 @@ from srfm.scenarios import (
 __all__ = ["DEFAULT_SUITE", "DISCRIMINATIVE_SCENARIOS", "SUITES", "SUITE_DESCRIPTIONS"]
 
 DISCRIMINATIVE_SCENARIOS: Final = (
+    "crosswalk",
     "robot_overtaking",
     "intersection",
     "intersection_open",
-    "blind_corner",
     "narrow_hallway",
     "perpendicular_traffic",
     "navwareset_blind_corner",
     "navwareset_perpendicular_crossing",
 )
-"""The scenarios the selection of docs/discrimination/selection.json chose, in the
-library's order (rerun the selection and copy its ``suite`` here)."""
+"""The scenarios the selection rule chose on the committed results set
+``docs/results/selection`` (seeds 1000-1099, the shipped entries, 2026-12-05), in its
+order (``python tools/results/run.py selection``, then copy the rule's choice here;
+docs/results/discriminative.md)."""
 
 SUITES: Final[dict[str, tuple[str, ...]]] = {
     "paper": EVALUATION_SCENARIOS,

@@ -34,11 +34,15 @@ def selection() -> dict[str, Any]:
 
 
 def test_suite_is_the_selection(selection: dict[str, Any]) -> None:
-    assert SUITES["discriminative"] == tuple(selection["suite"])
-    assert 0 < len(selection["suite"]) <= discrimination.MAX_SUITE
+    # the recorded selection of 2026-11-27 chose the suite until the results set
+    # `selection` (the shipped entries) was committed; then the rule on that set does
+    # (test_the_rule_on_the_committed_selection_data_gives_the_suite)
+    suite = SUITES["discriminative"]
+    if not sets.exists("selection"):
+        assert suite == tuple(selection["suite"])
+    assert 0 < len(suite) <= discrimination.MAX_SUITE
     # in the library's order
-    order = [s for s in SUITES["all"] if s in selection["suite"]]
-    assert list(selection["suite"]) == order
+    assert list(suite) == [s for s in SUITES["all"] if s in suite]
 
 
 def test_selection_used_the_rule_as_written(selection: dict[str, Any]) -> None:

@@ -811,6 +811,66 @@ def _study43_report() -> tuple[Any, str]:
     return report43.load(*files), head
 
 
+def rl43_summary() -> str:
+    """The study's outcome in sentences, from the same data as its tables."""
+    from tools.results import rl_study
+    from tools.rl.study43 import report as report43
+
+    table, _ = _study43_report()
+    found = report43.arms(table)
+    misses = {
+        (k2, final): {s: report43.missed(table, name) for s, name in runs.items()}
+        for (k2, final), runs in found.items()
+    }
+    picks = {k2: report43.validation_choice(STUDY43 / "validation", k2) for k2 in ("0", "2")}
+    shipped = rl_study.shipped_cells()
+    shipped_miss = {
+        planner: sum(cell.miss for (_, p), (cell, _, _) in shipped.items() if p == planner)
+        for planner in rl_study.SHIPPED
+    }
+    every = [m for runs in misses.values() for m in runs.values() if m is not None]
+    perfect = sum(m == 0 for m in every)
+    text = []
+    for k2, planner in (("0", "td3-base"), ("2", "td3-srfm")):
+        pick = picks[k2]
+        if pick is None:
+            continue
+        own = misses.get((k2, False), {}).get(pick[0])
+        text.append(
+            f"k2 = {k2}: the rule picks `k{k2}-seed{pick[0]}`, which misses {own} of the 14 "
+            f"cells; the shipped `{planner}` (issue 30) misses {shipped_miss[planner]}"
+        )
+    rows = [
+        line.split(" | ")
+        for line in report43.claim(table, final=False)
+        if line.startswith("| ") and not line.startswith("| scenario")
+    ]
+
+    def count(column: int) -> str:
+        answers = [row[column] for row in rows]
+        kinds = {
+            "lower with the penalty": sum(x.startswith("lower") for x in answers),
+            "higher with the penalty": sum(x.startswith("higher") for x in answers),
+            "equivalent": sum(x.startswith("equivalent") for x in answers),
+            "untestable (no training seed with a goal in both arms)": sum(
+                x.startswith("too few") for x in answers
+            ),
+        }
+        rest = len(answers) - sum(kinds.values())
+        return ", ".join(
+            [f"{k} in {v}" for k, v in kinds.items() if v]
+            + ([f"inconclusive in {rest}"] if rest else [])
+        )
+
+    return (
+        "; ".join(text)
+        + f". Of the {len(every)} policies (10 training seeds × 2 arms × chosen and final "
+        f"checkpoints), {perfect} meet every target; the fewest cells missed is "
+        f"{min(every)}. The claim on the chosen checkpoints, over the {len(rows)} "
+        f"scenarios: deviation {count(7)}; success (co-primary) {count(13)}."
+    )
+
+
 def rl43_targets() -> str:
     from tools.rl.study43 import report as report43
 
@@ -878,6 +938,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "performance-vs-before": performance_vs,
     "rl43-validation": rl43_validation,
     "rl43-curves": rl43_curves,
+    "rl43-summary": rl43_summary,
     "rl43-targets": rl43_targets,
     "rl43-claim": rl43_claim,
     **fitting_pages.BLOCKS,

@@ -15,8 +15,8 @@ capped at ``EXP_ARG_MAX`` (e^60 ≈ 1e26), far beyond any force that changes a s
 speed cap clips it), so that extreme but valid inputs (tiny B, deep overlap with a
 large pillar) give huge finite forces instead of inf and NaN.
 
-Serial and threaded variants share one per-agent body (:func:`_agent_total`); they
-differ only in the loop over the agents (``range`` or ``prange``), so their results
+Serial and threaded variants share one body over the agents (:func:`_agent_forces`); they
+differ only in the loop over the agents (one range, or ``prange``), so their results
 are identical. Each variant is its own top-level function (numba's on-disk cache does
 not tell apart variants made by a factory from one Python function).
 
@@ -65,94 +65,111 @@ def _heading(vx: float, vy: float, dvx: float, dvy: float) -> tuple[float, float
 
 @njit(cache=True, inline="always")
 def _agent_forces(
-    i: int, crowd: CrowdArrays, context: ForceContext, ped: np.ndarray
+    lo: int, hi: int, crowd: CrowdArrays, context: ForceContext, ped: np.ndarray, total: np.ndarray
 ) -> tuple[float, float, float, float, float, float, float, float]:
-    """The four force components on agent i: goal, pedestrians, robot, obstacles (x, y each).
+    """The four force components on each agent i in [lo, hi): goal, pedestrians, robot,
+    obstacles (x, y each); their sum, the step's force, into ``total[i − lo]``; returns
+    the components of agent hi − 1 (zeros when lo = hi).
 
     ``context.cut`` = (pedestrian cut-off, obstacle cut-off) in m, ``inf`` for none.
     With ``inf`` every other pedestrian pushes, summed in index order (the exact
     kernel); with a finite pedestrian cut-off the pedestrian force is ``ped[i]``, from
     :func:`cell_pair_forces`. Obstacles beyond the obstacle cut-off are skipped.
+
+    A loop over a range of agents rather than one call per agent, so that a crowd step
+    binds the arrays once: numba counts a reference for every array an inlined
+    function receives or takes out of a tuple, an atomic increment and decrement per
+    array and call that its pruning pass cannot remove across this body's branches, and
+    called once per agent these cost eight times the forces themselves at N = 1000 with
+    the cut-off (docs/performance.md, "Crowd step").
     """
     pos = crowd.pos
+    vel = crowd.vel
+    goal = crowd.goal
     radius = crowd.radius
+    v0 = crowd.v0
     params = context.params
     robot = context.robot
+    robot_on = context.robot_on
     cut = context.cut
     segments = context.obstacles.segments
     circles = context.obstacles.circles
-    px = pos[i, 0]
-    py = pos[i, 1]
-    vx = crowd.vel[i, 0]
-    vy = crowd.vel[i, 1]
-    ri = radius[i]
-    dvx, dvy = desired_velocity(px, py, crowd.goal[i, 0], crowd.goal[i, 1], crowd.v0[i])
-    hx, hy, has_h = _heading(vx, vy, dvx, dvy)
-
     tau = params.tau
-    gfx = (dvx - vx) / tau
-    gfy = (dvy - vy) / tau
-
-    # Pedestrian repulsion, summed over j in index order (deterministic).
     a_p = params.a_ped
     b_p = params.b_ped
     lam_p = params.lambda_ped
-    pfx = 0.0
-    pfy = 0.0
-    ped_cut = cut[0]
-    if a_p != 0.0 and ped_cut == np.inf:
-        for j in range(pos.shape[0]):
-            if j == i:
-                continue
-            fx, fy = disc_repulsion(
-                px, py, pos[j, 0], pos[j, 1], ri + radius[j], a_p, b_p, hx, hy, has_h, lam_p
-            )
-            pfx += fx
-            pfy += fy
-    elif a_p != 0.0:
-        # With a cut-off the pedestrian forces were summed pair by pair beforehand
-        # (cell_pair_forces).
-        pfx = ped[i, 0]
-        pfy = ped[i, 1]
-
-    # Robot repulsion in the parameter set's form (absent in the counterfactual twin, or
-    # when the form's strength is 0).
-    rfx = 0.0
-    rfy = 0.0
-    if context.robot_on:
-        rfx, rfy = robot_force(px, py, vx, vy, ri, hx, hy, has_h, robot, params)
-
-    # Obstacle repulsion from the closest point of every wall segment and pillar.
-    ofx = 0.0
-    ofy = 0.0
     a_o = params.a_obs
     b_o = params.b_obs
+    ped_cut = cut[0]
     obs_cut = cut[1]
-    if a_o != 0.0:
-        for k in range(segments.shape[0]):
-            cx, cy = closest_on_segment(
-                px, py, segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]
-            )
-            dx = px - cx
-            dy = py - cy
-            d = math.sqrt(dx * dx + dy * dy)
-            if d < EPS or d >= obs_cut:
-                continue
-            mag = a_o * capped_exp((ri - d) / b_o)
-            ofx += mag * dx / d
-            ofy += mag * dy / d
-        for k in range(circles.shape[0]):
-            dx = px - circles[k, 0]
-            dy = py - circles[k, 1]
-            dc = math.sqrt(dx * dx + dy * dy)
-            if dc < EPS:
-                continue
-            d = dc - circles[k, 2]  # distance to the pillar's surface
-            if d >= obs_cut:
-                continue
-            mag = a_o * capped_exp((ri - d) / b_o)
-            ofx += mag * dx / dc
-            ofy += mag * dy / dc
+    gfx = gfy = pfx = pfy = rfx = rfy = ofx = ofy = 0.0
+    for i in range(lo, hi):
+        px = pos[i, 0]
+        py = pos[i, 1]
+        vx = vel[i, 0]
+        vy = vel[i, 1]
+        ri = radius[i]
+        dvx, dvy = desired_velocity(px, py, goal[i, 0], goal[i, 1], v0[i])
+        hx, hy, has_h = _heading(vx, vy, dvx, dvy)
+
+        gfx = (dvx - vx) / tau
+        gfy = (dvy - vy) / tau
+
+        # Pedestrian repulsion, summed over j in index order (deterministic).
+        pfx = 0.0
+        pfy = 0.0
+        if a_p != 0.0 and ped_cut == np.inf:
+            for j in range(pos.shape[0]):
+                if j == i:
+                    continue
+                fx, fy = disc_repulsion(
+                    px, py, pos[j, 0], pos[j, 1], ri + radius[j], a_p, b_p, hx, hy, has_h, lam_p
+                )
+                pfx += fx
+                pfy += fy
+        elif a_p != 0.0:
+            # With a cut-off the pedestrian forces were summed pair by pair beforehand
+            # (cell_pair_forces).
+            pfx = ped[i, 0]
+            pfy = ped[i, 1]
+
+        # Robot repulsion in the parameter set's form (absent in the counterfactual twin,
+        # or when the form's strength is 0).
+        rfx = 0.0
+        rfy = 0.0
+        if robot_on:
+            rfx, rfy = robot_force(px, py, vx, vy, ri, hx, hy, has_h, robot, params)
+
+        # Obstacle repulsion from the closest point of every wall segment and pillar.
+        ofx = 0.0
+        ofy = 0.0
+        if a_o != 0.0:
+            for k in range(segments.shape[0]):
+                cx, cy = closest_on_segment(
+                    px, py, segments[k, 0], segments[k, 1], segments[k, 2], segments[k, 3]
+                )
+                dx = px - cx
+                dy = py - cy
+                d = math.sqrt(dx * dx + dy * dy)
+                if d < EPS or d >= obs_cut:
+                    continue
+                mag = a_o * capped_exp((ri - d) / b_o)
+                ofx += mag * dx / d
+                ofy += mag * dy / d
+            for k in range(circles.shape[0]):
+                dx = px - circles[k, 0]
+                dy = py - circles[k, 1]
+                dc = math.sqrt(dx * dx + dy * dy)
+                if dc < EPS:
+                    continue
+                d = dc - circles[k, 2]  # distance to the pillar's surface
+                if d >= obs_cut:
+                    continue
+                mag = a_o * capped_exp((ri - d) / b_o)
+                ofx += mag * dx / dc
+                ofy += mag * dy / dc
+        total[i - lo, 0] = gfx + pfx + rfx + ofx
+        total[i - lo, 1] = gfy + pfy + rfy + ofy
     return gfx, gfy, pfx, pfy, rfx, rfy, ofx, ofy
 
 
@@ -885,8 +902,9 @@ def cell_pair_forces(crowd: CrowdArrays, params: SRFMKernelParams, cutoff: float
 def force_components_kernel(crowd: CrowdArrays, context: ForceContext, out: np.ndarray) -> None:
     """Write the components into ``out`` (4, N, 2): goal, pedestrians, robot, obstacles."""
     ped = cell_pair_forces(crowd, context.params, context.cut[0])
+    total = np.empty((1, 2))
     for i in range(crowd.pos.shape[0]):
-        g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(i, crowd, context, ped)
+        g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(i, i + 1, crowd, context, ped, total)
         out[0, i, 0] = g0
         out[0, i, 1] = g1
         out[1, i, 0] = p0
@@ -895,16 +913,6 @@ def force_components_kernel(crowd: CrowdArrays, context: ForceContext, out: np.n
         out[2, i, 1] = r1
         out[3, i, 0] = o0
         out[3, i, 1] = o1
-
-
-@njit(cache=True, inline="always")
-def _agent_total(
-    i: int, crowd: CrowdArrays, context: ForceContext, ped: np.ndarray, out: np.ndarray
-) -> None:
-    """Total force F_i on agent i into ``out[i]``: goal + pedestrians + robot + obstacles."""
-    g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(i, crowd, context, ped)
-    out[i, 0] = g0 + p0 + r0 + o0
-    out[i, 1] = g1 + p1 + r1 + o1
 
 
 @njit(cache=True, inline="always")
@@ -955,8 +963,7 @@ def step_serial(
     """One crowd step; with a finite pedestrian cut-off (``context.cut[0]``) the row list
     of the snapshot (:func:`build_rows`) sums only the pairs closer than it."""
     ped = cell_pair_forces(crowd, context.params, context.cut[0])
-    for i in range(crowd.pos.shape[0]):
-        _agent_total(i, crowd, context, ped, force_buf)
+    _agent_forces(0, crowd.pos.shape[0], crowd, context, ped, force_buf)
     integrate(crowd.pos, crowd.vel, force_buf, crowd.vmax, dt)
 
 
@@ -978,8 +985,7 @@ def step_exact(crowd: CrowdArrays, context: ForceContext, dt: float, force_buf: 
     c = context
     exact = ForceContext(c.params, c.robot, c.robot_on, c.obstacles, np.array([np.inf, c.cut[1]]))
     ped = np.zeros((0, 2))
-    for i in range(crowd.pos.shape[0]):
-        _agent_total(i, crowd, exact, ped, force_buf)
+    _agent_forces(0, crowd.pos.shape[0], crowd, exact, ped, force_buf)
     integrate(crowd.pos, crowd.vel, force_buf, crowd.vmax, dt)
 
 
@@ -1009,7 +1015,8 @@ def step_parallel(
     for i in prange(pos.shape[0]):
         each = CrowdArrays(pos, vel, goal, radius, v0, v0)  # vmax is not read here
         walls = ObstacleArrays(segments, circles, circles, v0)  # nor the pillars' split
-        _agent_total(i, each, ForceContext(params, robot, robot_on, walls, cut), ped, force_buf)
+        felt = ForceContext(params, robot, robot_on, walls, cut)
+        _agent_forces(i, i + 1, each, felt, ped, force_buf[i:])
     integrate(pos, vel, force_buf, crowd.vmax, dt)
 
 

@@ -124,13 +124,14 @@ def one_step_deviation(crowd: CrowdArrays, felt: ForceContext, dt: float, zone: 
     exact = ForceContext(felt.params, felt.robot, True, felt.obstacles, cut)
     body = felt.robot
     z2 = zone * zone
-    total = 0.0
+    total = np.empty((1, 2))  # (each agent's step force, not read here)
+    deviation = 0.0
     for i in range(pos.shape[0]):
         dx = pos[i, 0] - body[0]
         dy = pos[i, 1] - body[1]
         if not dx * dx + dy * dy < z2:
             continue
-        g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(i, crowd, exact, ped)
+        g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(i, i + 1, crowd, exact, ped, total)
         px = pos[i, 0]
         py = pos[i, 1]
         # With the robot (the sum in the crowd step's order) ...
@@ -143,8 +144,8 @@ def one_step_deviation(crowd: CrowdArrays, felt: ForceContext, dt: float, zone: 
         )
         ex = (px + vx * dt) - (px + ux * dt)
         ey = (py + vy * dt) - (py + uy * dt)
-        total += math.sqrt(ex * ex + ey * ey)
-    return total
+        deviation += math.sqrt(ex * ex + ey * ey)
+    return deviation
 
 
 @njit(cache=True, inline="always")

@@ -118,9 +118,7 @@ def replay_windows_24(
                     robot[4] = (rb_b[g, 1] - rb_a[g, 1]) / dt[g] if dt[g] > 0.0 else 0.0
                 crowd = CrowdArrays(pos[:n], vel[:n], goal[:n], radius[:n], v0[:n], vmax)
                 context = ForceContext(params, robot, robot_on, obstacles, cut)
-                g0, g1, p0, p1, r0, r1, o0, o1 = _agent_forces(0, crowd, context, ped)
-                force[0, 0] = g0 + p0 + r0 + o0
-                force[0, 1] = g1 + p1 + r1 + o1
+                _agent_forces(0, 1, crowd, context, ped, force)  # (the total into force)
                 integrate(pos[:1], vel[:1], force, vmax, h)
             out[w_out[w] + s, 0] = pos[0, 0]
             out[w_out[w] + s, 1] = pos[0, 1]

@@ -169,8 +169,10 @@ def test_jitted_and_python_force_kernels_agree() -> None:
     np.testing.assert_allclose(py_out, jit_out, rtol=1e-13, atol=1e-15)
     # The per-agent body too, in pure Python all the way down to the helpers.
     for i in range(scene.crowd.n):
-        got = _kernels._agent_forces.py_func(i, *args, np.zeros((0, 2)))
+        total = np.zeros((1, 2))
+        got = _kernels._agent_forces.py_func(i, i + 1, *args, np.zeros((0, 2)), total)
         np.testing.assert_allclose(got, jit_out[:, i, :].ravel(), rtol=1e-13, atol=1e-15)
+        np.testing.assert_allclose(total[0], jit_out[:, i, :].sum(axis=0), rtol=1e-13, atol=1e-15)
     want = ref.forces(*scene)
     for k, name in enumerate(COMPONENTS):
         assert_component(jit_out[k], getattr(want, name), want.total_scale)

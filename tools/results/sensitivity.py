@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
+from srfm.fitting._protocol import holm
 from srfm.metrics.stats import ALPHA, compare, wilson
 from srfm.sweep.report import load_sweep, mean_ci
 from tools.results import fitting_pages as fp
@@ -213,10 +214,11 @@ def head_to_head() -> tuple[int, dict[tuple[str, str], list[int]]]:
     """Over the (cell, scenario) pairs with a robot force (A_r > 0) whose planners are
     not all tied: for each pair of planners how often the first's mean is
     significantly lower, significantly higher (paired t-test on the shared seeds,
-    p < ALPHA) or neither; and the number of (cell, scenario) pairs."""
+    p < ALPHA) or neither, then how often lower and higher after Holm's correction
+    over every test of the table; and the number of (cell, scenario) pairs."""
     names = planners()
     pairs = [(p, q) for i, p in enumerate(names) for q in names[i + 1 :]]
-    counts = {pair: [0, 0, 0] for pair in pairs}
+    tests: list[tuple[tuple[str, str], bool, float]] = []
     total = 0
     for a in (a for a in levels("a_robot") if a > 0):
         for b in levels("b_robot"):
@@ -232,7 +234,13 @@ def head_to_head() -> tuple[int, dict[tuple[str, str], list[int]]]:
                     seeds = sorted(set(values[p]) & set(values[q]))
                     pv = compare([values[p][k] for k in seeds], [values[q][k] for k in seeds])
                     lower = means[names.index(p)] < means[names.index(q)]
-                    counts[p, q][2 if not pv.paired_p < ALPHA else 0 if lower else 1] += 1
+                    tests.append(((p, q), lower, pv.paired_p))
+    counts = {pair: [0, 0, 0, 0, 0] for pair in pairs}
+    adjusted = holm([t[2] for t in tests])
+    for (pair, lower, pv), p_holm in zip(tests, adjusted, strict=True):
+        counts[pair][2 if not pv < ALPHA else 0 if lower else 1] += 1
+        if p_holm < ALPHA:
+            counts[pair][3 if lower else 4] += 1
     return total, counts
 
 
@@ -242,14 +250,18 @@ def sensitivity_pairs() -> str:
     lines = [
         prose(
             f"Head to head over the {total} (cell, scenario) pairs with A_r > 0 (paired "
-            f"t-test of the two planners on the same seeds, p < {ALPHA}, not corrected for "
-            f"the {total * len(counts)} tests):"
+            f"t-test of the two planners on the same seeds, p < {ALPHA}; the last two "
+            f"columns after Holm's correction over the table's {total * len(counts)} tests):"
         ),
         "",
-        "| pair | first significantly lower | first significantly higher | not significant |",
-        "|---|--:|--:|--:|",
+        "| pair | first significantly lower | first significantly higher | not significant "
+        "| lower (Holm) | higher (Holm) |",
+        "|---|--:|--:|--:|--:|--:|",
     ]
-    lines += [f"| {p} vs {q} | {c[0]} | {c[1]} | {c[2]} |" for (p, q), c in counts.items()]
+    lines += [
+        f"| {p} vs {q} | {c[0]} | {c[1]} | {c[2]} | {c[3]} | {c[4]} |"
+        for (p, q), c in counts.items()
+    ]
     return "\n".join(lines)
 
 
@@ -320,15 +332,15 @@ def sensitivity_policy_claims() -> str:
     names = planners()
     lines = []
     if ("td3-srfm", "td3-base") in counts:
-        lo, hi, ns = counts["td3-srfm", "td3-base"]
+        lo, hi, ns, lo_holm, hi_holm = counts["td3-srfm", "td3-base"]
         lines.append(
             f"Across the robot forces of the grid, `td3-srfm` is significantly less "
             f"deviating than `td3-base` in {lo} of the {total} (cell, scenario) pairs, "
             f"significantly more in {hi}, and neither in {ns} (paired t-test, p < {ALPHA}, "
-            "uncorrected)."
+            f"uncorrected; {lo_holm} and {hi_holm} after Holm's correction)."
         )
     if ("dwa", "vo") in counts and {"dwa", "vo"} <= set(names):
-        lo, hi, ns = counts["dwa", "vo"]
+        lo, hi, ns, _, _ = counts["dwa", "vo"]
         lines.append(
             f"DWA and VO are not significantly different in {ns} of the {total} pairs; "
             f"DWA is significantly lower in {lo} and higher in {hi}."

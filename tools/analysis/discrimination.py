@@ -64,6 +64,12 @@ from srfm.metrics.headroom import (
 )
 from srfm.scenarios.suites import SUITES
 
+ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:  # run as a script from the repository's root
+    sys.path.insert(0, str(ROOT))
+
+from tools.results.record import source_commit  # noqa: E402
+
 PLANNERS = (
     "straight",
     "oracle",
@@ -78,7 +84,6 @@ PLANNERS = (
 MIN_GOAL_RATE = 0.95
 MAX_SEEDS = 100
 MAX_SUITE = 8
-ROOT = Path(__file__).resolve().parents[2]
 SELECTION = ROOT / "docs" / "discrimination" / "selection.json"
 
 
@@ -318,19 +323,12 @@ def cmd_cost(args: argparse.Namespace) -> None:
     warm-up episode) over a suite's scenarios, written with the command, the commit, the
     time and the load to ``--json`` (resumable: the scenarios measured stay)."""
     import os
-    import subprocess
 
     from srfm.scenarios import load_scenario
     from srfm.sim.episode import run_episode
 
     lo, hi = (int(x) for x in args.seeds.split("-"))
-    root = Path(__file__).resolve().parents[2]
-    commit = subprocess.run(
-        ["git", "-C", str(root), "rev-parse", "--short", "HEAD"],
-        check=True,
-        capture_output=True,
-        text=True,
-    ).stdout.strip()
+    commit = source_commit()
     doc: dict[str, Any] = {
         "command": f"python tools/analysis/discrimination.py cost --suite {args.suite} "
         f"--seeds {args.seeds}" + (f" --json {args.json}" if args.json else ""),

@@ -15,6 +15,11 @@ import time
 from tools.results.run import _commit, _machine, _now
 
 
+def source_commit() -> str:
+    """The checkout's short commit, ``-dirty`` when srfm/ has local changes."""
+    return _commit()
+
+
 def command_line(argv: list[str] | None = None) -> str:
     """The command as typed from the repository's root (``python`` for the interpreter)."""
     args = sys.argv if argv is None else argv
@@ -26,7 +31,7 @@ def run_record(started: str, t0: float, load_start: float) -> dict[str, object]:
     monotonic clock, with a 1-minute load of ``load_start`` then."""
     return {
         "command": command_line(),
-        "commit": _commit(),
+        "commit": source_commit(),
         "started": started,
         "finished": _now(),
         "wall_s": round(time.monotonic() - t0, 1),

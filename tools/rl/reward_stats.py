@@ -14,12 +14,17 @@ from __future__ import annotations
 
 import argparse
 import json
-import subprocess
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:  # run as a script from the repository's root
+    sys.path.insert(0, str(ROOT))
+
+from tools.results.record import source_commit  # noqa: E402
 
 
 def measure(steps: int, seed: int) -> dict[str, float]:
@@ -56,13 +61,7 @@ def main(argv: list[str] | None = None) -> int:
         f"{figures['mean_m']:.4f} m, 99th percentile {figures['p99_m']:.4f} m"
     )
     if args.json is not None:
-        root = Path(__file__).resolve().parents[2]
-        commit = subprocess.run(
-            ["git", "-C", str(root), "rev-parse", "--short", "HEAD"],
-            check=True,
-            capture_output=True,
-            text=True,
-        ).stdout.strip()
+        commit = source_commit()
         doc = {
             "command": "python tools/rl/reward_stats.py "
             + " ".join(sys.argv[1:] if argv is None else argv),

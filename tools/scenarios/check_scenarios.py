@@ -18,13 +18,18 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import subprocess
 import sys
 import time
 from pathlib import Path
 
 from srfm.scenarios import FLOW_SCENARIOS, FRANCIS_SCENARIOS, NAVWARESET_SCENARIOS
 from srfm.sim.checks import check_scenario
+
+ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:  # run as a script from the repository's root
+    sys.path.insert(0, str(ROOT))
+
+from tools.results.record import source_commit  # noqa: E402
 
 PLANNERS = ("dwa", "vo", "orca", "social-force")
 
@@ -76,13 +81,7 @@ def main() -> int:
     wall = time.perf_counter() - start
     print(f"\n{len(names)} scenarios x {args.seeds} seeds in {wall:.0f} s")
     if args.json is not None:
-        root = Path(__file__).resolve().parents[2]
-        commit = subprocess.run(
-            ["git", "-C", str(root), "rev-parse", "--short", "HEAD"],
-            check=True,
-            capture_output=True,
-            text=True,
-        ).stdout.strip()
+        commit = source_commit()
         doc = {
             "command": "python tools/scenarios/check_scenarios.py " + " ".join(sys.argv[1:]),
             "commit": commit,

@@ -39,7 +39,14 @@ from srfm.metrics.tables import (
 from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
-from tools.results import fitting_pages, response_pages, rl_study, sensitivity, sets
+from tools.results import (
+    fitting_pages,
+    planner_pages,
+    response_pages,
+    rl_study,
+    sensitivity,
+    sets,
+)
 from tools.results import pages as data_pages
 
 DOCS = sets.ROOT / "docs"
@@ -944,6 +951,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     **fitting_pages.BLOCKS,
     **sensitivity.BLOCKS,
     **response_pages.BLOCKS,
+    **planner_pages.BLOCKS,
 }
 
 

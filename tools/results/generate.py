@@ -42,6 +42,7 @@ from tools.analysis import compare_presets, discrimination, paper_table3, suite_
 from tools.results import (
     fitting_pages,
     planner_pages,
+    readme_pages,
     response_pages,
     rl_study,
     sensitivity,
@@ -711,6 +712,37 @@ def performance_goals_table(doc: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def readme_speed() -> str:
+    """The README's line on speed: each goal's verdict on the committed measurement."""
+    doc = sets.read_json(PERFORMANCE_GOALS)
+    verdicts = []
+    for row_name, _, figure, goal, at_least in SPEED_GOALS:
+        row = doc["rows"].get(row_name)
+        median = float(np.median(_figures(row, figure))) if row else math.nan
+        verdicts.append(median >= goal if at_least else median <= goal)
+    full, simulate, crowd_1k, crowd_10k = verdicts
+    goals = {name: goal for name, _, _, goal, _ in SPEED_GOALS}
+
+    def within(ok: bool) -> str:
+        return "within" if ok else "not within"
+
+    crowd = (
+        "beats JuPedSim's social force model on the same crowd by more than the goals"
+        if crowd_1k and crowd_10k
+        else "does not beat JuPedSim's social force model on the same crowd by both goals"
+    )
+    n_1k, n_10k = (SPEED_GOALS[k][3] for k in (2, 3))
+    return fitting_pages.prose(
+        "- A one-off command pays for importing numba and loading its compiled kernels, and "
+        "the very first run compiles them. On two idle cores of the developers' machine "
+        f"({doc['date'][:10]}, [Speed goals](docs/performance.md#speed-goals)) `srfm simulate` "
+        f"is {within(simulate)} its goal of {goals['simulate']:g} s, the full 3,500-episode "
+        f"benchmark {within(full)} its goal of {goals['full']:g} s, and the crowd step "
+        f"{crowd} of {n_1k:g}× at 1,000 pedestrians and {n_10k:g}× at 10,000. Crowds of "
+        "hundreds or thousands step in O(N) with an interaction cut-off."
+    )
+
+
 PERFORMANCE_VS = DOCS / "results" / "performance" / "vs-fe28b0b.json"
 
 
@@ -943,6 +975,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "oracle-cost": oracle_cost,
     "performance-goals": performance_goals,
     "performance-vs-before": performance_vs,
+    "readme-speed": readme_speed,
     "rl43-validation": rl43_validation,
     "rl43-curves": rl43_curves,
     "rl43-summary": rl43_summary,
@@ -952,6 +985,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     **sensitivity.BLOCKS,
     **response_pages.BLOCKS,
     **planner_pages.BLOCKS,
+    **readme_pages.BLOCKS,
 }
 
 

@@ -114,3 +114,60 @@ def test_the_convergence_tables_are_the_tools_output() -> None:
     assert summary["n_means"] == 35
     assert summary["pairs"] == 21
     assert summary["worst_mean"] == max(summary["worst_mean_by_scenario"].values())
+
+
+def _run() -> dict[str, object]:
+    return {
+        "command": "python tool.py",
+        "commit": "abc1234",
+        "started": "2026-12-05T16:00:00Z",
+        "machine": "x86_64, 2 CPUs, 1-min load 0.5 at the start and 0.4 at the end",
+    }
+
+
+def test_the_range_beam_cost_is_the_best_block(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import json
+
+    rows = [
+        {"scenario": "a", "beams": 0, "us_per_step": [12.0, 10.0, 11.0]},
+        {"scenario": "a", "beams": 24, "us_per_step": [13.0, 12.0, 30.0]},
+        {"scenario": "b", "beams": 0, "us_per_step": [50.0]},
+        {"scenario": "b", "beams": 24, "us_per_step": [49.0]},
+    ]
+    path = tmp_path / "range_beams.json"
+    path.write_text(json.dumps({"steps": 100, "repeats": 3, "rows": rows, "run": _run()}))
+    monkeypatch.setattr(rl_study, "RANGE_BEAMS", path)
+    text = rl_study.range_beams()
+    assert "`a`: 10.0 → 12.0 µs (+20 %) and `b`: 50.0 → 49.0 µs (−2 %)" in text
+    assert "24 beams" in text and "commit `abc1234`" in text
+    monkeypatch.setattr(rl_study, "RANGE_BEAMS", tmp_path / "none.json")
+    assert rl_study.range_beams().startswith("*Not measured yet")
+
+
+def test_the_export_match_is_the_largest_difference(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import json
+
+    doc = {
+        "uniform": 20,
+        "sparse": 8,
+        "per_scenario": 7,
+        "scenarios": ["x", "y"],
+        "policies": {
+            "td3-srfm": {"backend": "sbx", "observations": 42, "max_abs_diff": 6e-6},
+            "td3-base": {"backend": "sbx", "observations": 42, "max_abs_diff": 8.14e-6},
+        },
+        "run": _run(),
+    }
+    path = tmp_path / "export_match.json"
+    path.write_text(json.dumps(doc))
+    monkeypatch.setattr(rl_study, "EXPORT_MATCH", path)
+    text = rl_study.export_match()
+    assert "the SBX checkpoint's deterministic `model.predict` within 8.1e-6 on 42 " in text
+    doc["policies"]["td3-base"]["observations"] = 41  # type: ignore[index]
+    path.write_text(json.dumps(doc))
+    with pytest.raises(SystemExit, match="different observation counts"):
+        rl_study.export_match()

@@ -596,7 +596,8 @@ def export_match() -> str:
     return (
         "The exported actor is the checkpoint's: for both shipped policies its action "
         f"equals the {' and '.join(backends)} checkpoint's deterministic `model.predict` "
-        f"within {largest:.1e} on {counts.pop():,} observations ({doc['uniform']:,} uniform "
+        f"within {largest:.1e}".replace("e-0", "e-")
+        + f" on {counts.pop():,} observations ({doc['uniform']:,} uniform "
         f"in [−1, 1], {doc['sparse']:,} sparse ones, and {doc['per_scenario']:,} from "
         f"episodes of each of {scenarios} under the policy; `{run['command']}`, commit "
         f"`{run['commit']}`, {run['started'][:10]}). Tested on untrained networks: within "
@@ -605,31 +606,58 @@ def export_match() -> str:
     )
 
 
-def _minutes(seconds: float) -> str:
-    return f"{seconds / 60:.0f} min"
+RANGE_BEAMS = sets.ROOT / "docs" / "rl" / "range_beams.json"
+
+
+def range_beams() -> str:
+    """What range beams cost the training step (tools/bench/bench_range_beams.py)."""
+    if not RANGE_BEAMS.is_file():
+        return (
+            "*Not measured yet: `python tools/bench/bench_range_beams.py --json "
+            "docs/rl/range_beams.json`.*"
+        )
+    doc = sets.read_json(RANGE_BEAMS)
+    best: dict[str, dict[int, float]] = {}
+    for row in doc["rows"]:
+        best.setdefault(row["scenario"], {})[row["beams"]] = min(row["us_per_step"])
+    beams = max(b for by in best.values() for b in by)
+    run = doc["run"]
+    cells = [
+        _minus(
+            f"`{scenario}`: {by[0]:.1f} → {by[beams]:.1f} µs "
+            f"({100 * (by[beams] / by[0] - 1):+.0f} %)"
+        )
+        for scenario, by in best.items()
+    ]
+    return (
+        f"**Cost.** {beams} beams take the training set-up's step (no full twin; the best of "
+        f"{doc['repeats']} blocks of {doc['steps']:,} steps with random actions, other jobs "
+        f"paused) in {', '.join(cells[:-1])} and {cells[-1]} (`{run['command']}`, commit `{run['commit']}`, "
+        f"{run['started'][:10]}; {run['machine']})."
+    )
 
 
 def evaluation_runs() -> str:
     """How long the committed evaluation of the study's policies took, with the load."""
     lines = []
     for part, what in (("report", "14 scenarios"), ("report_ttc", "five paper scenarios")):
-        path = STUDY / part / "runs.json"
-        runs: dict[str, Any] = sets.read_json(path)
-        walls = [r["wall_s"] for r in runs.values()]
+        runs: dict[str, Any] = sets.read_json(STUDY / part / "runs.json")
+        walls = [r["wall_s"] / 60 for r in runs.values()]
         first = min(r["started"] for r in runs.values())
         last = max(r["finished"] for r in runs.values())
         commits = sorted({r["commit"] for r in runs.values()})
         lines.append(
             f"`{part}/` ({what}, {len(runs)} training seeds × 2 policies × seeds 0–99): "
-            f"{_minutes(sum(walls))} of wall time in all, {_minutes(min(walls))}–"
-            f"{_minutes(max(walls))} a training seed, {first[:16].replace('T', ' ')} to "
-            f"{last[:16].replace('T', ' ')} UTC, commit {', '.join(f'`{c}`' for c in commits)}"
+            f"{sum(walls):.0f} min of wall time in all, {min(walls):.0f}–{max(walls):.0f} min "
+            f"a training seed, {first[:10]} {first[11:16]} to {last[11:16]} UTC, commit "
+            + ", ".join(f"`{c}`" for c in commits)
         )
     return (
         "The committed evaluation (`python tools/rl/study_evaluate.py --seeds 1-10 --jobs 2`, "
         "at nice 10 beside other work, so these are not speed figures): "
         + "; ".join(lines)
-        + " (each seed's run record: `runs.json` beside the episodes)."
+        + " (each seed's run record, with the machine's load: `runs.json` beside the "
+        "episodes)."
     )
 
 
@@ -644,6 +672,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "rl-wall-times": wall_times,
     "rl-reward-stats": reward_stats,
     "rl-export-match": export_match,
+    "rl-range-beams": range_beams,
     "rl-evaluation-runs": evaluation_runs,
 }
 """docs/rl.md's blocks of the issue-30 study, registered in tools/results/generate.py."""

@@ -141,7 +141,8 @@ def test_the_range_beam_cost_is_the_best_block(
     monkeypatch.setattr(rl_study, "RANGE_BEAMS", path)
     text = rl_study.range_beams()
     assert "`a`: 10.0 → 12.0 µs (+20 %) and `b`: 50.0 → 49.0 µs (−2 %)" in text
-    assert "24 beams" in text and "commit `abc1234`" in text
+    assert "24 beams" in text
+    assert "commit `abc1234`" in text
     monkeypatch.setattr(rl_study, "RANGE_BEAMS", tmp_path / "none.json")
     assert rl_study.range_beams().startswith("*Not measured yet")
 

@@ -591,6 +591,7 @@ def export_match() -> str:
     if len(counts) != 1:
         raise SystemExit(f"{EXPORT_MATCH}: the policies ran on different observation counts")
     largest = max(p["max_abs_diff"] for p in found.values())
+    within = f"{largest:.1e}".replace("e-0", "e-")
     scenarios = _list(doc["scenarios"])
     run = doc["run"]
     return (
@@ -632,8 +633,8 @@ def range_beams() -> str:
     return (
         f"**Cost.** {beams} beams take the training set-up's step (no full twin; the best of "
         f"{doc['repeats']} blocks of {doc['steps']:,} steps with random actions, other jobs "
-        f"paused) in {', '.join(cells[:-1])} and {cells[-1]} (`{run['command']}`, commit `{run['commit']}`, "
-        f"{run['started'][:10]}; {run['machine']})."
+        f"paused) in {', '.join(cells[:-1])} and {cells[-1]} (`{run['command']}`, "
+        f"commit `{run['commit']}`, {run['started'][:10]}; {run['machine']})."
     )
 
 

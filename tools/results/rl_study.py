@@ -597,8 +597,7 @@ def export_match() -> str:
     return (
         "The exported actor is the checkpoint's: for both shipped policies its action "
         f"equals the {' and '.join(backends)} checkpoint's deterministic `model.predict` "
-        f"within {largest:.1e}".replace("e-0", "e-")
-        + f" on {counts.pop():,} observations ({doc['uniform']:,} uniform "
+        f"within {within} on {counts.pop():,} observations ({doc['uniform']:,} uniform "
         f"in [−1, 1], {doc['sparse']:,} sparse ones, and {doc['per_scenario']:,} from "
         f"episodes of each of {scenarios} under the policy; `{run['command']}`, commit "
         f"`{run['commit']}`, {run['started'][:10]}). Tested on untrained networks: within "

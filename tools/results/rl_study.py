@@ -661,6 +661,19 @@ def evaluation_runs() -> str:
     )
 
 
+def study43_train_wall() -> str:
+    """The issue-43 runs' training wall times (tools/rl/study43/runs.json)."""
+    runs: dict[str, Any] = sets.read_json(sets.ROOT / "tools" / "rl" / "study43" / "runs.json")
+    minutes = [r["wall_time_s"] / 60 for r in runs.values() if r["finished"]]
+    steps = sorted({r["steps"] for r in runs.values() if r["finished"]})
+    return (
+        f"Training took {min(minutes):.0f}–{max(minutes):.0f} minutes a run "
+        f"({len(minutes)} runs of {' or '.join(f'{n:,}' for n in steps)} actions, two side "
+        "by side on the shared "
+        "machine; `tools/rl/study43/runs.json`)."
+    )
+
+
 BLOCKS: dict[str, Callable[[], str]] = {
     "rl-usual-misses": usual_misses,
     "rl-summary": summary,
@@ -673,6 +686,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "rl-reward-stats": reward_stats,
     "rl-export-match": export_match,
     "rl-range-beams": range_beams,
+    "rl43-train-wall": study43_train_wall,
     "rl-evaluation-runs": evaluation_runs,
 }
 """docs/rl.md's blocks of the issue-30 study, registered in tools/results/generate.py."""

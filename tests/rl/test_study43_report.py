@@ -157,7 +157,7 @@ def test_validation_check_reads_the_issue_30_report_and_scene_outcomes(tmp_path:
     """The cells missed per issue-30 run, as docs/rl.md's table lists them."""
     from tools.rl.study43 import validation_check
 
-    missed = validation_check.missed_cells(validation_check.STUDY30 / "report.md")
+    missed = validation_check.missed_cells()
     assert len(missed) == 20
     expected = {"k0-seed1": 0, "k0-seed2": 5, "k0-seed4": 2, "k0-seed10": 6}
     expected |= {"k2-seed4": 0, "k2-seed6": 1, "k2-seed10": 9}

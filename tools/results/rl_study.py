@@ -674,6 +674,73 @@ def study43_train_wall() -> str:
     )
 
 
+VAL30 = sets.ROOT / "tools" / "rl" / "study43" / "val30"
+_ORDINAL = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth")
+
+
+def _ordinal(rank: int) -> str:
+    return _ORDINAL[rank - 1] if rank <= len(_ORDINAL) else f"number {rank}"
+
+
+def validation_check() -> str:
+    """Would the issue-43 validation set have told issue 30's runs apart (the committed
+    benchmark of the runs on the new scenes, tools/rl/study43/val30, and the study's
+    committed episodes; tools/rl/study43/validation_check.py)."""
+    from tools.rl.study43 import validation_check as vc
+
+    rows = vc.rows_of(VAL30)
+    labels = {
+        "issue-30 set": f"issue-30 set ({rows[0][1][2]} episodes a run)",
+        "new scenes": f"the six new scenes ({rows[0][2][2]})",
+        "issue-43 set": f"issue-43 set (both, {rows[0][1][2] + rows[0][2][2]})",
+    }
+    lines = [
+        "| validation set | Spearman ρ (validation success, cells missed), "
+        f"{len(rows)} runs | p | the rule's k2 = 0 pick | k2 = 2 pick |",
+        "|---|---:|---:|---|---|",
+    ]
+    found = {}
+    for label in vc.SETS:
+        rho, p, k0, k2 = found[label] = vc.ranking(rows, label)
+        picks = [f"{rows[i][0]} (misses {rows[i][3]})" for i in (k0, k2)]
+        lines.append(
+            _minus(f"| {labels[label]} | {rho:+.2f} | {p:.2g} | {picks[0]} | {picks[1]} |")
+        )
+    old, new = found["issue-30 set"], found["issue-43 set"]
+    closer = abs(new[0]) > abs(old[0])
+    said = [
+        f"The issue-43 set ranks the runs {'closer to' if closer else 'no closer to'} the "
+        f"report (ρ {new[0]:+.2f} against {old[0]:+.2f}; the issue-30 figures are those of "
+        "checkpoints chosen on that very set, which flatters it)."
+    ]
+    for arm, k in (("k2 = 0", 2), ("k2 = 2", 3)):
+        a, b = rows[old[k]], rows[new[k]]
+        said.append(
+            f"For {arm} its rule picks `{b[0]}` (misses {b[3]}) where the issue-30 set "
+            f"picked `{a[0]}` (misses {a[3]})."
+        )
+    both = [
+        (-g / n, c / n, int(run.split("seed")[1]), run)
+        for run, o, w, _ in rows
+        if run.startswith("k2-")
+        for g, c, n in [vc.on("issue-43 set", o, w)]
+    ]
+    ranked = [r[3] for r in sorted(both)]
+    share = {r[3]: -r[0] for r in both}
+    clean = [run for run, *_, m in rows if run.startswith("k2-") and m == 0]
+    if clean:
+        said.append(
+            "Of the k2 = 2 runs that meet every target, "
+            + ", ".join(
+                f"`{run}` ranks {_ordinal(ranked.index(run) + 1)} ({share[run]:.3f} success)"
+                for run in clean
+            )
+            + f" on the issue-43 set, where the pick has {share[ranked[0]]:.3f}."
+        )
+    said.append(f"One study's {len(rows)} runs: a predictor, not a guarantee.")
+    return _minus("\n".join(lines)) + "\n\n" + _minus(" ".join(said))
+
+
 BLOCKS: dict[str, Callable[[], str]] = {
     "rl-usual-misses": usual_misses,
     "rl-summary": summary,
@@ -687,6 +754,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "rl-export-match": export_match,
     "rl-range-beams": range_beams,
     "rl43-train-wall": study43_train_wall,
+    "rl43-validation-check": validation_check,
     "rl-evaluation-runs": evaluation_runs,
 }
 """docs/rl.md's blocks of the issue-30 study, registered in tools/results/generate.py."""

@@ -196,3 +196,14 @@ def test_the_committed_columns_give_the_same_tables(tmp_path: Path) -> None:
     ]
     names = [report.planner_name(k, 3, final) for final in (False, True) for k in ("0", "2")]
     assert names == evaluate.planners(3)
+
+
+def test_shipped_scenes_runs_the_six_scenes_with_the_shipped_pair(tmp_path: Path) -> None:
+    from tools.rl.study43 import shipped_scenes
+
+    cmd = shipped_scenes.command(tmp_path / "out")
+    scenes = [cmd[i + 1] for i, a in enumerate(cmd) if a == "-s"]
+    assert len(scenes) == 6
+    assert all(s.startswith("tools/rl/study43/validation_scenes/val_") for s in scenes)
+    assert cmd[cmd.index("-p") + 1] == "td3-srfm,td3-base"
+    assert cmd[cmd.index("--seeds") + 1] == "20000-20009"

@@ -674,6 +674,72 @@ def study43_train_wall() -> str:
     )
 
 
+SCENES_SHIPPED = sets.ROOT / "tools" / "rl" / "study43" / "validation_scenes_shipped.csv.gz"
+SCENES = (
+    "val_standing_band",
+    "val_standing_patch",
+    "val_standing_corridor",
+    "val_corner_right",
+    "val_junction_blind",
+    "val_corner_group",
+)
+"""The issue-43 validation scenes, standing crowds first."""
+
+
+def scenes_shipped() -> str:
+    """The shipped policies on the issue-43 validation scenes (committed episodes of
+    tools/rl/study43/shipped_scenes.py)."""
+    from tools.rl.study_report import load
+
+    table = load(SCENES_SHIPPED)
+    run = sets.read_json(SCENES_SHIPPED.with_suffix("").with_suffix(".json"))
+    counts = {}
+    for (scene, planner), rows in table.items():
+        n = len(rows)
+        goal = sum(float(r["robot_success"]) for r in rows)
+        col = sum(float(r["robot_collision"]) for r in rows)
+        oob = sum(float(r["robot_out_of_bounds"]) for r in rows)
+        counts[scene, planner] = (round(goal), round(col), round(n - goal - col - oob), n)
+    missing = [(s, p) for s in SCENES for p in SHIPPED if (s, p) not in counts]
+    if missing or len(counts) != len(SCENES) * len(SHIPPED):
+        raise SystemExit(f"{SCENES_SHIPPED}: not the six scenes by the two policies {missing}")
+
+    def cell(goal: int, col: int, timeouts: int, n: int) -> str:
+        text = f"{goal / n:.1f} / {col / n:.1f}"
+        return text + (f" ({timeouts} timeouts)" if timeouts == n else "")
+
+    lines = [
+        f"*Run `{run['command']}`, commit `{run['commit']}`, {run['started'][:10]}; "
+        "goal / collision shares of "
+        f"{counts[SCENES[0], 'td3-srfm'][3]} episodes.*",
+        "",
+        "| scene | `td3-srfm` | `td3-base` |",
+        "|---|---|---|",
+    ]
+    for scene in SCENES:
+        lines.append(
+            f"| {scene} | {cell(*counts[scene, 'td3-srfm'])} | {cell(*counts[scene, 'td3-base'])} |"
+        )
+    standing = ("val_standing_band", "val_standing_patch")
+    waits = sum(counts[s, "td3-srfm"][2] for s in standing)
+    total = sum(counts[s, "td3-srfm"][3] for s in standing)
+    corners = ("val_corner_right", "val_junction_blind", "val_corner_group")
+    worst = max(corners, key=lambda s: counts[s, "td3-base"][1])
+    base_col = sum(counts[s, "td3-base"][1] for s in corners)
+    runs = shipped_runs()
+    chosen = [validation(runs[p])[0] for p in SHIPPED]
+    return (
+        "\n".join(lines)
+        + f"\n\n`td3-srfm` times out in {waits} of the {total} episodes with a standing "
+        "crowd across the path (`val_standing_band`, `val_standing_patch`), as it waits in "
+        f"`concert`; `td3-base` collides in {base_col} of the "
+        f"{sum(counts[s, 'td3-base'][3] for s in corners)} episodes at the corners "
+        f"({counts[worst, 'td3-base'][1]} of {counts[worst, 'td3-base'][3]} in `{worst}`), "
+        "as in `blind_corner`. On the issue-30 validation set their chosen checkpoints "
+        f"succeeded in {min(chosen):.3f}–{max(chosen):.3f} of the episodes."
+    )
+
+
 VAL30 = sets.ROOT / "tools" / "rl" / "study43" / "val30"
 _ORDINAL = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth")
 
@@ -737,7 +803,9 @@ def validation_check() -> str:
             )
             + f" on the issue-43 set, where the pick has {share[ranked[0]]:.3f}."
         )
-    said.append(f"One study's {len(rows)} runs: a predictor, not a guarantee.")
+    said.append(
+        f"One study's {len(rows)} runs: a {'better ' if closer else ''}predictor, not a guarantee."
+    )
     return _minus("\n".join(lines)) + "\n\n" + _minus(" ".join(said))
 
 
@@ -755,6 +823,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "rl-range-beams": range_beams,
     "rl43-train-wall": study43_train_wall,
     "rl43-validation-check": validation_check,
+    "rl43-scenes-shipped": scenes_shipped,
     "rl-evaluation-runs": evaluation_runs,
 }
 """docs/rl.md's blocks of the issue-30 study, registered in tools/results/generate.py."""

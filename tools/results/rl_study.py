@@ -809,6 +809,21 @@ def validation_check() -> str:
     return _minus("\n".join(lines)) + "\n\n" + _minus(" ".join(said))
 
 
+def issue30_on_set() -> str:
+    """Issue 30's runs' success on the issue-43 validation set (validation_check.py)."""
+    from tools.rl.study43 import validation_check as vc
+
+    rows = vc.rows_of(VAL30)
+    shares = []
+    for _, old, new, _ in rows:
+        goal, _, n = vc.on("issue-43 set", old, new)
+        shares.append(goal / n)
+    return (
+        f"Issue 30's {len(rows)} runs score {min(shares):.3f}–{max(shares):.3f} on the same "
+        "set (their chosen checkpoints; above)."
+    )
+
+
 BLOCKS: dict[str, Callable[[], str]] = {
     "rl-usual-misses": usual_misses,
     "rl-summary": summary,
@@ -824,6 +839,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "rl43-train-wall": study43_train_wall,
     "rl43-validation-check": validation_check,
     "rl43-scenes-shipped": scenes_shipped,
+    "rl43-issue30-on-set": issue30_on_set,
     "rl-evaluation-runs": evaluation_runs,
 }
 """docs/rl.md's blocks of the issue-30 study, registered in tools/results/generate.py."""

@@ -646,8 +646,10 @@ def evaluation_runs() -> str:
         first = min(r["started"] for r in runs.values())
         last = max(r["finished"] for r in runs.values())
         commits = sorted({r["commit"] for r in runs.values()})
+        size = sum(f.stat().st_size for f in (STUDY / part).glob("seed*.csv.gz")) / 1e6
         lines.append(
-            f"`{part}/` ({what}, {len(runs)} training seeds × 2 policies × seeds 0–99): "
+            f"`{part}/` ({what}, {len(runs)} training seeds × 2 policies × seeds 0–99; "
+            f"{size:.2f} MB): "
             f"{sum(walls):.0f} min of wall time in all, {min(walls):.0f}–{max(walls):.0f} min "
             f"a training seed, {first[:10]} {first[11:16]} to {last[11:16]} UTC, commit "
             + ", ".join(f"`{c}`" for c in commits)

@@ -27,7 +27,8 @@ def test_the_studys_committed_episodes_give_its_report() -> None:
     concert = cells["concert", "k2-seed6"]
     assert (concert.goal, concert.collision, concert.miss) == (0.02, 0.0, True)
     claims = {c.scenario: c for c in rl_study.report_claim()}
-    assert (claims["concert"].n, claims["concert"].mean) == (8, -0.039)
+    assert claims["concert"].n == 8
+    assert round(claims["concert"].mean, 3) == -0.039
     assert claims["down_path"].p == 0.056
     assert claims["footpath"].answer == "equivalent within ±0.03 m"
     ttc = {c.scenario: c for c in rl_study.report_claim("report_ttc")}

@@ -347,7 +347,7 @@ def _fmt_answer(c: Claim) -> str:
 
 def _minus(text: str) -> str:
     """Negative numbers with the minus sign (the report writes a hyphen)."""
-    return re.sub(r"-(?=\d)", "−", text)
+    return re.sub(r"(?<!\w)-(?=\d)", "−", text)
 
 
 def claim_table() -> str:
@@ -746,6 +746,10 @@ VAL30 = sets.ROOT / "tools" / "rl" / "study43" / "val30"
 _ORDINAL = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth")
 
 
+def _and(parts: list[str]) -> str:
+    return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
+
+
 def _ordinal(rank: int) -> str:
     return _ORDINAL[rank - 1] if rank <= len(_ORDINAL) else f"number {rank}"
 
@@ -795,13 +799,17 @@ def validation_check() -> str:
     ]
     ranked = [r[3] for r in sorted(both)]
     share = {r[3]: -r[0] for r in both}
-    clean = [run for run, *_, m in rows if run.startswith("k2-") and m == 0]
+    clean = sorted(
+        (run for run, *_, m in rows if run.startswith("k2-") and m == 0), key=ranked.index
+    )
     if clean:
         said.append(
             "Of the k2 = 2 runs that meet every target, "
-            + ", ".join(
-                f"`{run}` ranks {_ordinal(ranked.index(run) + 1)} ({share[run]:.3f} success)"
-                for run in clean
+            + _and(
+                [
+                    f"`{run}` ranks {_ordinal(ranked.index(run) + 1)} ({share[run]:.3f} success)"
+                    for run in clean
+                ]
             )
             + f" on the issue-43 set, where the pick has {share[ranked[0]]:.3f}."
         )

@@ -33,6 +33,7 @@ from srfm.models import SRFMParams
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO))
 from tools.results.record import run_record, start  # noqa: E402
+
 CAPS = (0.25, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0)
 KS = (0.15, 1.5)
 WINDOWS = WindowConfig(align="encounter", lead_s=3.0, goal="heading", min_start_speed_mps=0.3)

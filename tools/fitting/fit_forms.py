@@ -56,6 +56,7 @@ from srfm.models.params import FORM_FIELDS
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO))
 from tools.results.record import run_record, start  # noqa: E402
+
 PED_FIELDS = ("a_ped", "b_ped", "lambda_ped", "tau")
 LEAD_S = 3.0
 N_BOOT_ERR = 2000  # bootstrap of the held-out errors over scenes

@@ -13,6 +13,7 @@ everywhere: ``drop_supersets``). Deterministic; a few seconds.
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import sys
 from collections import Counter
@@ -95,7 +96,7 @@ def overlaps(scenes: list[Trajectories]) -> int:
     count = 0
     for items in spans.values():
         items.sort()
-        count += sum(1 for a, b in zip(items, items[1:], strict=False) if b[0] <= a[1])
+        count += sum(1 for a, b in itertools.pairwise(items) if b[0] <= a[1])
     return count
 
 
@@ -110,7 +111,9 @@ def closest_passes(scenes: list[Trajectories]) -> dict[str, float]:
             common = [k for k, f in enumerate(frames.tolist()) if f in rpos]
             if not common:
                 continue
-            d = np.linalg.norm(xy[common] - np.array([rpos[int(frames[k])] for k in common]), axis=1)
+            d = np.linalg.norm(
+                xy[common] - np.array([rpos[int(frames[k])] for k in common]), axis=1
+            )
             per.setdefault(s.source["navwareset_scene"], []).append(float(d.min()))
     return {k: float(np.median(v)) for k, v in sorted(per.items(), key=lambda kv: int(kv[0]))}
 
@@ -124,6 +127,25 @@ def robot_speeds(scenes: list[Trajectories]) -> dict[str, float]:
         v = np.linalg.norm(np.diff(xy, axis=0), axis=1)[consecutive] / DT_S
         speeds.setdefault(s.source["robot"], []).append(v[v > MOVING_MPS])
     return {r: float(np.median(np.concatenate(v))) for r, v in sorted(speeds.items())}
+
+
+def track_lengths(scenes: list[Trajectories], scenario: str, robot: str) -> dict[str, float]:
+    """The median duration (s) and start-to-end distance (m) of the pedestrian tracks of
+    one scenario and robot."""
+    durations, distances = [], []
+    for s in scenes:
+        if (s.source.get("scenario"), s.source.get("robot")) != (scenario, robot):
+            continue
+        for agent_id, kind in zip(s.agent_ids, s.kinds, strict=True):
+            if kind == PEDESTRIAN:
+                _, t_ns, xy = s.track(agent_id)
+                durations.append((t_ns[-1] - t_ns[0]) * 1e-9)
+                distances.append(float(np.linalg.norm(xy[-1] - xy[0])))
+    return {
+        "tracks": len(durations),
+        "median_duration_s": float(np.median(durations)),
+        "median_distance_m": float(np.median(distances)),
+    }
 
 
 def window_counts(scenes: list[Trajectories], config: WindowConfig) -> dict[str, int]:
@@ -158,6 +180,7 @@ def main() -> None:
         "overlapping_recordings": overlaps(scenes),
         "closest_pass_median_per_scene_m": passes,
         "robot_speed_mps": robot_speeds(scenes),
+        "frontal_approach_hsr": track_lengths(scenes, "frontal_approach", "hsr"),
         "fit_windows": window_counts(scenes, FIT_WINDOWS),
         "test_windows": window_counts(scenes, EVAL_WINDOWS),
         "run": run_record(*began),

@@ -26,8 +26,13 @@ REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO))
 
 from srfm.datasets.navwareset import drop_supersets, read_navwareset  # noqa: E402
-from srfm.fitting import FIT_WINDOWS, ROBOT_FIELDS, Windows, build_windows  # noqa: E402
-from srfm.fitting import fit_robot_part  # noqa: E402
+from srfm.fitting import (  # noqa: E402
+    FIT_WINDOWS,
+    ROBOT_FIELDS,
+    Windows,
+    build_windows,
+    fit_robot_part,
+)
 from srfm.models import SRFMParams  # noqa: E402
 from tools.fitting.fit_navwareset import data_folder  # noqa: E402
 from tools.results.record import run_record, start  # noqa: E402
@@ -66,7 +71,9 @@ def main() -> None:
         }
         print(name, out[name], file=sys.stderr, flush=True)
     doc = {
-        "pedestrian_part": {f: float(getattr(ped, f)) for f in ("a_ped", "b_ped", "lambda_ped", "tau")},
+        "pedestrian_part": {
+            f: float(getattr(ped, f)) for f in ("a_ped", "b_ped", "lambda_ped", "tau")
+        },
         "variants": out,
         "run": run_record(*began),
     }

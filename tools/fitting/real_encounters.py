@@ -40,6 +40,7 @@ from srfm.fitting import holm
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO))
 from tools.results.record import run_record, start  # noqa: E402
+
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 

@@ -70,9 +70,7 @@ def encounters_time_distance() -> str:
     hsr, jackal = curves["HSR"], curves["Jackal"]
 
     def onsets(c: dict[str, Any]) -> str:
-        return (
-            f"{c['onset_abs_a_n_d']['x_on']:.1f} m and {c['onset_abs_a_n_tstar']['x_on']:.1f} s"
-        )
+        return f"{c['onset_abs_a_n_d']['x_on']:.1f} m and {c['onset_abs_a_n_tstar']['x_on']:.1f} s"
 
     def overlap(key: str) -> bool:
         a, b = hsr[key]["x_on_ci"], jackal[key]["x_on_ci"]
@@ -379,7 +377,9 @@ def encounters_lane() -> str:
         o, n = r["lane_offset"], r["n"]
         lo, hi = o["ci"]
         count = (
-            f"{n['rows']} encounters, {n['scenes']} scenes" if full else f"{n['rows']} / {n['scenes']}"
+            f"{n['rows']} encounters, {n['scenes']} scenes"
+            if full
+            else f"{n['rows']} / {n['scenes']}"
         )
         return f"{fixed(o['est'], 2)} m, {fixed(lo, 2)} to {fixed(hi, 2, sign=True)}, {count}"
 
@@ -534,9 +534,7 @@ def _ttc_folds() -> list[dict[str, float]]:
     """The time-to-collision force's held-out fits (leave one scene out, every set)."""
     entries = _json("real_encounters/forms_cache_heading.json")["entries"]
     return [
-        v["fitted"]
-        for k, v in entries.items()
-        if k.startswith("heading/ttc/") and "/without/" in k
+        v["fitted"] for k, v in entries.items() if k.startswith("heading/ttc/") and "/without/" in k
     ]
 
 
@@ -557,7 +555,9 @@ def encounters_forms_verdict() -> str:
     if min(r["p_holm"] for r in ttc_ade) < 0.05:
         _stop("the time-to-collision force's ADE is now significantly worse")
     equivalent = sorted(
-        f for f in {f for f, _, _ in rows} if all(rows[f, s, "ade"]["equivalent"] for s in RESPONSE_SETS)
+        f
+        for f in {f for f, _, _ in rows}
+        if all(rows[f, s, "ade"]["equivalent"] for s in RESPONSE_SETS)
     )
     if equivalent != ["collision_prediction", "exponential"]:
         _stop(f"the forms equivalent on ADE are now {equivalent}")
@@ -620,7 +620,7 @@ def encounters_forms_verdict() -> str:
         f"({preset.robot_force_cap:g} m/s²). Many people pass the robot at or inside contact "
         "distance (centre distance ≤ r_i + r_r = 0.5 m), where the form pushes at the cap "
         "whatever k, and a predicted collision close to a graze gives a force beyond the cap "
-        "too (its 1/√D factor). So the preset is a capped \"get out of a predicted "
+        'too (its 1/√D factor). So the preset is a capped "get out of a predicted '
         'collision" rule whose strength is its cap; the least-squares fit cannot tune it, and '
         "a fit of the cap was not in the protocol. The exploratory, in-sample grid of [the "
         f"cap diagnostic](#the-cap-diagnostic) (all {cap['n']['windows']} windows, not held "
@@ -634,7 +634,7 @@ def encounters_forms_verdict() -> str:
         f"acceleration while the predicted miss is below about {miss:g} m, from about "
         f"{onset:.1f} s ahead, then a return. The time-to-collision force acts only on "
         "predicted misses below r_i + r_r = 0.5 m and then at up to "
-        f"{preset.robot_force_cap:g} m/s²; it captures \"people do not let the robot come "
+        f'{preset.robot_force_cap:g} m/s²; it captures "people do not let the robot come '
         'closer than they must" (the pass distance) but with an amplitude about '
         f"{float(format(preset.robot_force_cap / max(peaks), '.1g')):g} times the observed "
         "peak, and none of the "
@@ -666,9 +666,7 @@ def encounters_nws2025_fixed() -> str:
 
     def non(payload: dict[str, Any]) -> dict[str, Any]:
         row: dict[str, Any] = next(
-            r
-            for r in payload["table2"]
-            if r["cell"] == "all" and r["windows"] == "non-interaction"
+            r for r in payload["table2"] if r["cell"] == "all" and r["windows"] == "non-interaction"
         )
         return row
 
@@ -724,6 +722,44 @@ def encounters_runs() -> str:
     return "\n".join(lines)
 
 
+def encounters_baseline_stretches() -> str:
+    """Why the event-level baseline is not informative: how few stretches it has."""
+    n = _part1()["n"]["baseline stretches (3 s)"]["rows"]
+    return prose(
+        f"Only {n} three-second stretches without anyone within 4 m exist (the room is small "
+        "and the robot is always in it), so the event-level baseline is not informative; the "
+        "sample-level baseline is."
+    )
+
+
+def encounters_evidence() -> str:
+    """What the evidence says, from the curves of part 1."""
+    curves = _part1()["curves"]
+    peaks = [curves[k]["peak_avoid"]["value"] for k in ("robot", "frontal_approach")]
+    onset = curves["robot"]["onset_tstar_avoid"]["x_on"]
+    robot, ped = curves["robot"]["peak_avoid"]["value"], curves["pedestrian"]["peak_avoid"]["value"]
+    c, nc = (
+        curves["compliant"]["peak_avoid"]["value"],
+        curves["non-compliant"]["peak_avoid"]["value"],
+    )
+    if not (robot > ped and nc > c):
+        _stop("the robot or the non-compliant robot no longer draws the larger peak")
+    return prose(
+        "People in NavWareSet do respond to the robot, but not as the paper's force has it: "
+        "not as a push growing with the nearness of the robot, but as a small, anticipatory "
+        f"sideways acceleration (peaks of {min(peaks):.2f}–{max(peaks):.2f} m/s²) while the "
+        f"predicted miss is small, from about {onset:.1f} s before the closest approach, "
+        "followed by a return as they pass; no slowing down. The robot and another "
+        "pedestrian draw the same kind of response (the robot, if anything, a larger one); a "
+        "compliant robot, which makes room itself, draws less. The response is small enough "
+        "that a goal-directed model that ignores the robot predicts the pass distance "
+        "without bias (part 2), which is what [fitting.md](fitting.md) found: the "
+        "exponential distance force fits to nothing. Whether a time-to-collision or "
+        "collision-prediction force (part 3) can capture the away-then-return shape is the "
+        "question for part 4."
+    )
+
+
 BLOCKS: dict[str, Callable[[], str]] = {
     "encounters-time-distance": encounters_time_distance,
     "encounters-confirmatory-short": encounters_confirmatory_short,
@@ -743,4 +779,6 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "encounters-forms-verdict": encounters_forms_verdict,
     "encounters-nws2025-fixed": encounters_nws2025_fixed,
     "encounters-runs": encounters_runs,
+    "encounters-baseline-stretches": encounters_baseline_stretches,
+    "encounters-evidence": encounters_evidence,
 }

@@ -15,6 +15,7 @@ from srfm.datasets import Trajectories
 from srfm.datasets._trajectories import PEDESTRIAN, ROBOT
 from srfm.fitting import WindowConfig, build_windows
 from tools.fitting import navwareset_facts, navwareset_variants
+from tools.results import fitting_pages as fp
 from tools.results import fitting_text as ft
 
 RUN_KEYS = {"command", "commit", "started", "finished", "wall_s", "machine"}
@@ -56,7 +57,8 @@ def _patched(monkeypatch: pytest.MonkeyPatch, rel: str, edit: Any) -> None:
     real = ft._json
     doc = copy.deepcopy(real(rel))
     edit(doc)
-    monkeypatch.setattr(ft, "_json", lambda r: doc if r == rel else real(r))
+    for module in (ft, fp):  # fitting_pages' readers too (_compliance_rows)
+        monkeypatch.setattr(module, "_json", lambda r: doc if r == rel else real(r))
 
 
 def test_a_claim_the_data_no_longer_show_stops_the_generator(
@@ -94,7 +96,7 @@ def test_a_claim_the_data_no_longer_show_stops_the_generator(
             r["params"]["tau"] = doc["true"]["tau"]
 
     _patched(monkeypatch, ft.IDENTIFIABILITY, no_bias)
-    with pytest.raises(SystemExit, match="overestimated"):
+    with pytest.raises(SystemExit, match="underestimated"):
         ft.fitting_identifiability_bias()
 
 
@@ -104,7 +106,12 @@ def test_the_compliance_summary_names_the_cells_of_the_table() -> None:
     text = ft.fitting_compliance_short().replace("\n  ", " ")
     for scenario, robot in right + wrong:
         assert rows[scenario, robot]["deviation_m"]["welch_p"] < 0.05
-        assert f"{ft.ROBOT_NAMES[robot]} {scenario.replace('_', ' ')}" in text
+        assert scenario.replace("_", " ") in text
+    assert ft._by_scenario(right) in text
+    assert ft._by_scenario(wrong) in text
+    assert ft._by_scenario([("a_b", "hsr"), ("a_b", "jackal"), ("c", "hsr")]) == (
+        "a b (both robots) and the HSR's c"
+    )
 
 
 def _scene(ped_xy: list[tuple[float, float]], robot_xy: list[tuple[float, float]]) -> Trajectories:

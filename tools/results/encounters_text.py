@@ -178,7 +178,7 @@ def encounters_windows_short() -> str:
         f"recovers A_r = {good['a_robot']:.2f}, B_r = {good['b_robot']:.3f} m, λ_r = "
         f"{good['lambda_robot']:.2f} *without* the true goals, where the current windows "
         f"with the track-end goal give {now['a_robot']:.2f}, {now['b_robot']:.2f} m, "
-        f"{now['lambda_robot']:.2g} (the end of a deflected track carries the avoidance). It "
+        f"{now['lambda_robot']:.2f} (the end of a deflected track carries the avoidance). It "
         "is not a universal cure: where the heading at the window start does not point at the "
         "goal (people turning a corner, pedestrians weaving in two crossing streams) it is "
         "biased, and the track-end goal is better there."

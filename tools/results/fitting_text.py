@@ -473,7 +473,7 @@ def _one_parameter_set(eth: dict[str, Any]) -> str:
     lo, hi = jackal["bootstrap_sd_ci95"]["a_robot"][1:]
     weaker = float(f"{PAPER_A_ROBOT / ja:.1g}")
     stuck = (
-        ' (at the bound, so the bootstrap, which starts there, never leaves it: the zero sd '
+        " (at the bound, so the bootstrap, which starts there, never leaves it: the zero sd "
         'means "stuck", not "certain")'
         if h_sd == 0
         else f" (bootstrap 95 % interval {h_lo:.1g}–{h_hi:.1g}; B_r = "

@@ -40,7 +40,9 @@ from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
 from tools.results import (
+    encounters_text,
     fitting_pages,
+    fitting_text,
     planner_pages,
     response_pages,
     rl_study,
@@ -949,6 +951,8 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "rl43-targets": rl43_targets,
     "rl43-claim": rl43_claim,
     **fitting_pages.BLOCKS,
+    **fitting_text.BLOCKS,
+    **encounters_text.BLOCKS,
     **sensitivity.BLOCKS,
     **response_pages.BLOCKS,
     **planner_pages.BLOCKS,

@@ -153,3 +153,10 @@ def test_the_window_end_goal_is_each_windows_last_observed_position() -> None:
         last = w.out_row[k] + w.steps[k] - 1
         np.testing.assert_array_equal(moved.goal[k], w.observed[last])
         assert not np.array_equal(moved.goal[k], w.goal[k]) or k == w.n_windows - 1
+
+
+def test_the_robot_part_was_fitted_with_the_committed_pedestrian_part() -> None:
+    eth, nws = ft._json(ft.ETHUCY), ft._json(ft.NAVWARESET)
+    variants = ft._json(ft.VARIANTS)
+    for part in (nws["pedestrian_part"], variants["pedestrian_part"]):
+        assert part == pytest.approx(eth["fitted"], rel=1e-12)

@@ -39,7 +39,16 @@ from srfm.metrics.tables import (
 from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
-from tools.results import fitting_pages, response_pages, rl_study, sensitivity, sets
+from tools.results import (
+    encounters_text,
+    fitting_pages,
+    fitting_text,
+    planner_pages,
+    response_pages,
+    rl_study,
+    sensitivity,
+    sets,
+)
 from tools.results import pages as data_pages
 
 DOCS = sets.ROOT / "docs"
@@ -907,8 +916,11 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "rl43-targets": rl43_targets,
     "rl43-claim": rl43_claim,
     **fitting_pages.BLOCKS,
+    **fitting_text.BLOCKS,
+    **encounters_text.BLOCKS,
     **sensitivity.BLOCKS,
     **response_pages.BLOCKS,
+    **planner_pages.BLOCKS,
 }
 
 

@@ -125,6 +125,9 @@ def main(argv: list[str] | None = None) -> int:
             {
                 "scenario": name,
                 "pedestrians": n,
+                "obstacles": int(
+                    scenario.obstacles.segments.shape[0] + scenario.obstacles.circles.shape[0]
+                ),
                 "seeds": seeds,
                 "r_max_m": r_max,
                 "cutoff_m": cut,

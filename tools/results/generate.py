@@ -39,7 +39,7 @@ from srfm.metrics.tables import (
 from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
-from tools.results import fitting_pages, rl_study, sensitivity, sets
+from tools.results import fitting_pages, performance_pages, rl_study, sensitivity, sets
 from tools.results import pages as data_pages
 
 DOCS = sets.ROOT / "docs"
@@ -943,6 +943,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "rl43-claim": rl43_claim,
     **fitting_pages.BLOCKS,
     **sensitivity.BLOCKS,
+    **performance_pages.BLOCKS,
 }
 
 

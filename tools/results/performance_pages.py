@@ -118,10 +118,11 @@ def provenance(name: str) -> str:
 
 
 def _goals_provenance() -> str:
+    """Where the rows taken from the speed goals' record come from (no emphasis)."""
     doc = record(GOALS)
     return (
-        f"*Speed goals' record: measured {doc['date']} on commit `{doc['commits']['A']}`, "
-        f"`{doc['command']}` ([data](results/performance/{GOALS})).*"
+        f"Speed goals' record: measured {doc['date']} on commit `{doc['commits']['A']}`, "
+        f"`{doc['command']}` ([data](results/performance/{GOALS}))."
     )
 
 
@@ -225,7 +226,7 @@ def commands_table() -> str:
             f"| {label} | ≤ {goal:g} | {_spread(wall)} | {_median(cpu):.2f} "
             f"| {_verdict(over <= 0, f'{over:.2f} s')} |"
         )
-    lines += [*_full_row(), _crowd_row(), "", "¹ " + _goals_provenance()[1:]]
+    lines += [*_full_row(), _crowd_row(), "", f"¹ *{_goals_provenance()}*"]
     loads = "; ".join(
         f"{row} {doc['rows'][row]['load_before']} → {doc['rows'][row]['load_after']}"
         for row, _, _ in COMMAND_GOALS
@@ -355,7 +356,7 @@ def crowd_table() -> str:
             + (f"{_spread(shared[n])}×" if n in shared else "–")
             + f" | {n / r['srfm_default'] * 1e6:,.1f} | {n / jps * 1e6:,.1f} |"
         )
-    lines += ["", _goals_provenance(), "", pysocialforce_sentence()]
+    lines += ["", f"*{_goals_provenance()}*", "", pysocialforce_sentence()]
     return "\n".join(lines)
 
 

@@ -167,3 +167,21 @@ def test_the_speed_goal_table_gives_each_goal_its_verdict() -> None:
     assert verdicts == ["not met", "**met**", "**met**", "not met"]
     del doc["rows"]["full"]  # type: ignore[attr-defined]
     assert "not measured" in generate.performance_goals_table(doc)
+
+
+def test_the_readme_is_generated_too() -> None:
+    readme = sets.ROOT / "README.md"
+    assert readme in generate.pages()
+    text = readme.read_text(encoding="utf-8")
+    assert "<!-- generated: readme-real-people -->" in text
+    # the paragraph states the held-out windows and scenes of the response fits' tests
+    ade = next(
+        r
+        for r in json.loads(
+            (sets.ROOT / "docs/robot_response/results.json").read_text(encoding="utf-8")
+        )["tests"]["ade"]
+        if r["model"] == "sidestep" and r["set"] == "pooled"
+    )
+    assert f"{ade['n_windows']} encounter windows in\n{ade['n_scenes']} scenes" in text or (
+        f"{ade['n_windows']} encounter windows in {ade['n_scenes']} scenes" in text
+    )

@@ -4,8 +4,8 @@
     .venv/bin/python tools/results/generate.py --check   # exit 1 naming each stale block
 
 A block is the text between ``<!-- generated: NAME -->`` and ``<!-- end: NAME -->`` in
-any page under docs/; ``BLOCKS`` maps NAME to the function that writes it from the sets
-of ``docs/results/`` (``tools/results/sets.py``) and other committed data. Nothing is
+any page under docs/ or the README; ``BLOCKS`` maps NAME to the function that writes it
+from the sets of ``docs/results/`` (``tools/results/sets.py``) and other committed data. Nothing is
 simulated: the whole run reads Parquet and JSON files (the test
 ``tests/docs/test_generated.py`` runs ``--check`` in ``make test``, so a hand-edited
 number fails). A block whose set is not committed says so, with the command that makes
@@ -39,7 +39,15 @@ from srfm.metrics.tables import (
 from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
-from tools.results import fitting_pages, performance_pages, rl_study, sensitivity, sets
+from tools.results import (
+    fitting_pages,
+    performance_pages,
+    planner_pages,
+    response_pages,
+    rl_study,
+    sensitivity,
+    sets,
+)
 from tools.results import pages as data_pages
 
 DOCS = sets.ROOT / "docs"
@@ -943,6 +951,8 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "rl43-claim": rl43_claim,
     **fitting_pages.BLOCKS,
     **sensitivity.BLOCKS,
+    **response_pages.BLOCKS,
+    **planner_pages.BLOCKS,
     **performance_pages.BLOCKS,
 }
 
@@ -981,8 +991,9 @@ def rewrite(text: str, page: Path) -> tuple[str, list[str]]:
 
 
 def pages() -> list[Path]:
-    """Every Markdown page under docs/ with a generated block."""
-    return sorted(p for p in DOCS.rglob("*.md") if BEGIN.search(p.read_text(encoding="utf-8")))
+    """Every Markdown page under docs/, and the README, with a generated block."""
+    candidates = [sets.ROOT / "README.md", *sorted(DOCS.rglob("*.md"))]
+    return [p for p in candidates if BEGIN.search(p.read_text(encoding="utf-8"))]
 
 
 def stale() -> list[str]:

@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-from srfm.fitting._protocol import holm
+from srfm.fitting import holm
 from srfm.metrics.stats import ALPHA, compare, wilson
 from srfm.sweep.report import load_sweep, mean_ci
 from tools.results import fitting_pages as fp

@@ -43,6 +43,7 @@ from tools.results import (
     encounters_text,
     fitting_pages,
     fitting_text,
+    performance_pages,
     planner_pages,
     response_pages,
     rl_study,
@@ -921,6 +922,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     **sensitivity.BLOCKS,
     **response_pages.BLOCKS,
     **planner_pages.BLOCKS,
+    **performance_pages.BLOCKS,
 }
 
 

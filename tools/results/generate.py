@@ -44,6 +44,7 @@ from tools.results import (
     fitting_pages,
     fitting_text,
     io_pages,
+    performance_pages,
     planner_pages,
     response_pages,
     rl_study,
@@ -923,6 +924,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     **io_pages.BLOCKS,
     **response_pages.BLOCKS,
     **planner_pages.BLOCKS,
+    **performance_pages.BLOCKS,
 }
 
 

@@ -47,6 +47,8 @@ DATA: Final = {
     TIME_MODEL: "python tools/bench/bench_time_model.py "
     "--json docs/results/performance/time_model.json",
     SCENARIO_CHECKS: "python tools/scenarios/check_scenarios.py --json docs/scenarios/checks.json",
+    CONVERGENCE_RUNS: "python tools/analysis/convergence.py run results/conv "
+    "--csv docs/convergence/frechet.csv --json docs/convergence/runs.json",
 }
 """Every data file of this module and the command that writes it."""
 SEEDS_PER_TASK: Final = 10
@@ -613,12 +615,14 @@ def convergence_wall_times() -> str:
     ]
     return prose(
         "**The fix** for a study that ranks planners by centimetres is the finer crowd "
-        "step: `srfm benchmark --crowd-substeps 4` (the three runs above, at dt, dt/2 and "
-        f"dt/4, took {walls} of wall time and {cpus} CPU-s, {when(doc['run'])}, commit "
-        f"`{doc['run']['commit']}`, under `nice -n 10` on the two cores with other jobs "
-        f"running, 1-minute load {min(loads):.1f}–{max(loads):.1f}: the wall times are "
-        "measured under load; the CPU time of dt/4 is "
-        f"{runs[4]['cpu_s'] / runs[1]['cpu_s']:.1f}× that of dt). The paper's step stays "
+        "step: `srfm benchmark --crowd-substeps 4`. The three runs above, at dt, dt/2 and "
+        f"dt/4, took {cpus} CPU-s (all processes of each run): dt/4 costs "
+        f"{runs[4]['cpu_s'] / runs[1]['cpu_s']:.2f}× the CPU time of dt, since the crowd "
+        "step is a small part of an episode beside the planners and the metrics. Their "
+        f"wall times, {walls}, were measured under load and say little: they ran under "
+        "`nice -n 10` beside other jobs on the two cores (1-minute load "
+        f"{min(loads):.1f}–{max(loads):.1f}) and were paused while other jobs were timed "
+        f"({when(doc['run'])}, commit `{doc['run']['commit']}`). The paper's step stays "
         "the default for reproduction."
     )
 
@@ -636,4 +640,5 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "time-model-check": time_model_check,
     "time-model-estimate": time_model_estimate,
     "scenario-checks-cost": scenario_checks_cost,
+    "convergence-wall-times": convergence_wall_times,
 }

@@ -71,6 +71,15 @@ def test_the_time_model_data_holds_the_shipped_coefficients() -> None:
     assert tuple(doc["shipped"][t] for t in io_pages.TERMS) == shipped
     assert set(doc["shipped"]) == set(doc["refit"]) == set(io_pages.TERMS)
     assert all(v >= 0 for v in doc["refit"].values())
+    from srfm.benchmark._runner import _HELD_PER_EPISODE, _HELD_PER_PEDESTRIAN
+
+    memory = doc["held_memory"]
+    assert memory["shipped"] == {
+        "per_episode": _HELD_PER_EPISODE,
+        "per_pedestrian": _HELD_PER_PEDESTRIAN,
+    }
+    sizes = [r["pedestrians"] for r in memory["scenarios"]]
+    assert len(set(sizes)) == len(sizes) >= 2  # a + b·N needs two crowd sizes
 
 
 def test_the_formula_on_the_reliability_page_is_the_shipped_model() -> None:

@@ -13,6 +13,13 @@ S·N·K and S·N·M, its metrics time on N·S and N·S², both in relative terms
 weighted by 1 / its measured time, so the 10-pedestrian episodes count as much as the
 400-pedestrian ones); the shipped coefficients are written beside it.
 
+The memory a benchmark's report phase holds per episode (the run-size model's
+``held_per_episode`` and ``held_per_pedestrian``, ``srfm/benchmark/_runner.py``):
+``--memory-seeds`` episodes of each of three scenarios of 10, 27 and 400 pedestrians
+are written as a benchmark writes them and read back as its report phase does
+(``write_episode``, ``read_episode``); the bytes the read metrics hold
+(``tracemalloc``, after garbage collection) per episode, fitted as a + b · N.
+
 It also writes the estimate line ``srfm benchmark`` prints for two requests on two
 workers (``--suite large``, and the paper's full benchmark), as the model gives them.
 
@@ -25,10 +32,13 @@ Usage::
 from __future__ import annotations
 
 import argparse
+import gc
 import json
 import math
 import sys
+import tempfile
 import time
+import tracemalloc
 from pathlib import Path
 from typing import Any
 
@@ -38,7 +48,7 @@ from scipy.optimize import nnls
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from srfm.benchmark import BenchmarkRequest, default_planners
-from srfm.benchmark._runner import estimate_benchmark
+from srfm.benchmark._runner import _HELD_PER_EPISODE, _HELD_PER_PEDESTRIAN, estimate_benchmark
 from srfm.metrics import episode_metrics
 from srfm.scenarios import Scenario, load_scenario, scenario_names
 from srfm.scenarios.suites import SUITES
@@ -127,6 +137,50 @@ def measure(names: list[str], planners: tuple[str, ...], seeds: int) -> list[dic
     return rows
 
 
+MEMORY_SCENARIOS = ("crosswalk", "corridor_flow", "concert_crowd")
+
+
+def held_memory(seeds: int) -> list[dict[str, Any]]:
+    """Bytes the report phase holds per episode of each of :data:`MEMORY_SCENARIOS`."""
+    from srfm.benchmark._results import read_episode, write_episode
+
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp)
+        for name in MEMORY_SCENARIOS:
+            scenario = load_scenario(name)
+            paths = [
+                write_episode(out, episode_metrics(run_episode(scenario, seed, "straight")))
+                for seed in range(seeds)
+            ]
+            gc.collect()
+            tracemalloc.start()
+            before = tracemalloc.get_traced_memory()[0]
+            held = [read_episode(p) for p in paths]
+            gc.collect()
+            after = tracemalloc.get_traced_memory()[0]
+            tracemalloc.stop()
+            rows.append(
+                {
+                    "scenario": name,
+                    "pedestrians": scenario.n_pedestrians,
+                    "episodes": len(held),
+                    "bytes_per_episode": round((after - before) / len(held)),
+                }
+            )
+            print(f"{name:16s} {rows[-1]['bytes_per_episode']:>9,} bytes held per episode")
+            del held
+    return rows
+
+
+def fit_memory(rows: list[dict[str, Any]]) -> dict[str, float]:
+    """``held_per_episode`` and ``held_per_pedestrian`` (bytes) by least squares."""
+    a = np.array([[1.0, r["pedestrians"]] for r in rows])
+    y = np.array([float(r["bytes_per_episode"]) for r in rows])
+    coef, _ = nnls(a, y)
+    return {"per_episode": float(coef[0]), "per_pedestrian": float(coef[1])}
+
+
 def estimates(jobs: int) -> dict[str, str]:
     """The estimate line ``srfm benchmark`` prints, for ``--suite large`` and the paper's
     full benchmark (default logs), on ``jobs`` workers."""
@@ -160,10 +214,12 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seeds", type=int, default=1, help="seeds 0 .. N-1 per cell")
     parser.add_argument("--scenarios", nargs="+", default=list(scenario_names()))
+    parser.add_argument("--memory-seeds", type=int, default=20, help="episodes per scenario")
     parser.add_argument("--json", type=Path, default=None, help="also write the data here")
     args = parser.parse_args()
     started, t0, load0 = start()
     lines = estimates(2)  # first: a mistake here costs no measurement
+    memory = held_memory(args.memory_seeds)
     planners = default_planners()
     rows = measure(args.scenarios, planners, args.seeds)
     simulation = fit(rows, SIMULATION_TERMS, "simulation_s")
@@ -182,6 +238,14 @@ def main() -> None:
             "shipped": SHIPPED,
             "refit": {**simulation, **metrics},
             "estimates_on_2_workers": lines,
+            "held_memory": {
+                "scenarios": memory,
+                "fit": fit_memory(memory),
+                "shipped": {
+                    "per_episode": _HELD_PER_EPISODE,
+                    "per_pedestrian": _HELD_PER_PEDESTRIAN,
+                },
+            },
             "run": run_record(started, t0, load0),
         }
         args.json.parent.mkdir(parents=True, exist_ok=True)

@@ -573,8 +573,35 @@ def time_model_check() -> str:
             "those of `srfm/sim/budget.py`, fitted when the model was written (issue 33; "
             "that fit's data was not committed)."
         ),
+        "",
+        *held_memory_lines(doc),
     ]
     return "\n".join(lines)
+
+
+def held_memory_lines(doc: dict[str, Any]) -> list[str]:
+    """What a benchmark's report phase holds per episode, measured and as shipped."""
+    memory = doc["held_memory"]
+    fit, shipped = memory["fit"], memory["shipped"]
+    return [
+        "| held by the report phase, per episode | pedestrians | episodes | bytes |",
+        "|---|--:|--:|--:|",
+        *(
+            f"| `{r['scenario']}` | {r['pedestrians']} | {r['episodes']} "
+            f"| {r['bytes_per_episode']:,} |"
+            for r in memory["scenarios"]
+        ),
+        "",
+        prose(
+            "Each scenario's episodes written and read back as a benchmark does "
+            "(`write_episode`, `read_episode`), the bytes the read metrics hold after "
+            "garbage collection (`tracemalloc`). Fitted as a + b · N: "
+            f"{fit['per_episode']:,.0f} bytes per episode and {fit['per_pedestrian']:,.0f} "
+            "per pedestrian and episode; the model ships "
+            f"{shipped['per_episode']:,.0f} and {shipped['per_pedestrian']:,.0f} "
+            "(`srfm/benchmark/_runner.py`)."
+        ),
+    ]
 
 
 def time_model_estimate() -> str:

@@ -654,7 +654,35 @@ def convergence_wall_times() -> str:
     )
 
 
+PAGES: Final = {
+    LOGGING: "logging.md, performance.md, distributed.md",
+    EXTERNAL: "performance.md, planners-any-language.md",
+    TRANSPORT: "performance.md",
+    TIME_MODEL: "reliability.md",
+    SCENARIO_CHECKS: "scenarios.md",
+    CONVERGENCE_RUNS: "metrics.md",
+}
+"""The pages each data file's figures are on."""
+
+
+def data_index() -> str:
+    """docs/results/index.md: every data file of this module, its size, run and pages."""
+    lines = [
+        "| data | size (kB) | measured (UTC) | commit | wall time | pages | command |",
+        "|---|--:|---|---|--:|---|---|",
+    ]
+    for path in DATA:
+        run = load(path)["run"]
+        lines.append(
+            f"| `{path.relative_to(DOCS.parent)}` | {path.stat().st_size / 1e3:.0f} "
+            f"| {when(run)[:-4]} | `{run['commit']}` | {run['wall_s']:.0f} s "
+            f"| {PAGES[path]} | `{run['command']}` |"
+        )
+    return "\n".join(lines)
+
+
 BLOCKS: dict[str, Callable[[], str]] = {
+    "io-data-index": data_index,
     "logging-size-cost": logging_size_cost,
     "logging-encodings": logging_encodings,
     "logging-profiles": logging_profiles,

@@ -157,7 +157,7 @@ def test_validation_check_reads_the_issue_30_report_and_scene_outcomes(tmp_path:
     """The cells missed per issue-30 run, as docs/rl.md's table lists them."""
     from tools.rl.study43 import validation_check
 
-    missed = validation_check.missed_cells(validation_check.STUDY30 / "report.md")
+    missed = validation_check.missed_cells()
     assert len(missed) == 20
     expected = {"k0-seed1": 0, "k0-seed2": 5, "k0-seed4": 2, "k0-seed10": 6}
     expected |= {"k2-seed4": 0, "k2-seed6": 1, "k2-seed10": 9}
@@ -196,3 +196,14 @@ def test_the_committed_columns_give_the_same_tables(tmp_path: Path) -> None:
     ]
     names = [report.planner_name(k, 3, final) for final in (False, True) for k in ("0", "2")]
     assert names == evaluate.planners(3)
+
+
+def test_shipped_scenes_runs_the_six_scenes_with_the_shipped_pair(tmp_path: Path) -> None:
+    from tools.rl.study43 import shipped_scenes
+
+    cmd = shipped_scenes.command(tmp_path / "out")
+    scenes = [cmd[i + 1] for i, a in enumerate(cmd) if a == "-s"]
+    assert len(scenes) == 6
+    assert all(s.startswith("tools/rl/study43/validation_scenes/val_") for s in scenes)
+    assert cmd[cmd.index("-p") + 1] == "td3-srfm,td3-base"
+    assert cmd[cmd.index("--seeds") + 1] == "20000-20009"

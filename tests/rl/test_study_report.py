@@ -87,3 +87,43 @@ def test_report_reads_several_folders_as_one(
     assert capsys.readouterr().out == one
     with pytest.raises(ValueError, match="is in both"):
         study_report.load(first, first)
+
+
+def test_committed_names_a_missing_part(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(study_report, "STUDY", tmp_path)
+    with pytest.raises(SystemExit, match="nope: no seed"):
+        study_report.committed("nope")
+
+
+def test_the_committed_report_is_the_committed_episodes(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """tools/rl/study/report.md and report_ttc.md are study_report.py's output on the
+    committed episodes (tools/rl/study_evaluate.py), byte for byte."""
+    for part, page in (("report", "report.md"), ("report_ttc", "report_ttc.md")):
+        files = sorted((study_report.STUDY / part).glob("seed*.csv.gz"))
+        assert len(files) == 10
+        assert study_report.main([str(f) for f in files]) == 0
+        assert capsys.readouterr().out == (study_report.STUDY / page).read_text(encoding="utf-8")
+
+
+def test_the_evaluation_runs_each_part_of_a_seed() -> None:
+    from tools.rl import study_evaluate
+
+    cmd = study_evaluate.command("report", 3, jobs=2, nice=10)
+    assert cmd[:3] == ["nice", "-n", "10"]
+    assert cmd[cmd.index("-p") + 1] == (
+        "tools.rl.study_planners:k0_seed3,tools.rl.study_planners:k2_seed3"
+    )
+    assert [cmd[i + 1] for i, a in enumerate(cmd) if a == "-s"] == list(
+        study_report.REPORT_SCENARIOS
+    )
+    assert "--params" not in cmd
+    ttc = study_evaluate.command("report_ttc", 3, jobs=1, nice=5)
+    assert ttc[-2:] == ["--params", "navwareset2026_ttc"]
+    assert [ttc[i + 1] for i, a in enumerate(ttc) if a == "-s"] == list(
+        study_report.REPORT_SCENARIOS[:5]
+    )
+    assert study_evaluate.output("report_ttc", 3).name == "seed3.csv.gz"
+    with pytest.raises(SystemExit, match=r"unknown part\(s\) \['x'\]"):
+        study_evaluate.main(["--parts", "report,x"])

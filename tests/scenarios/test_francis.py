@@ -1,5 +1,5 @@
 """Checks of every scenario of the library (issue 17): the Francis scenarios and the
-NavWareSet room. Over the issue's 20 seeds (about 25 CPU-s for all 22 scenarios): the
+NavWareSet room. Over the issue's 20 seeds (their cost: docs/scenarios.md, "Checks"): the
 counterfactual pedestrians reach their goals (>= 95 %) and never stand in a wall,
 nobody overlaps at the start, DWA reaches the robot goal in >= 90 % of the seeds.
 (A_r = 0 keeping the twins bit-identical is checked for every built-in scenario in

@@ -15,6 +15,14 @@ times per control step (dt/2, dt/4; the planners' control rate unchanged,
     # the tables of docs/metrics.md from that file alone
     .venv/bin/python tools/analysis/convergence.py table docs/convergence/frechet.csv
 
+or, the three runs timed and the data written in one command (each run's wall time,
+CPU time of all its processes and the load, with the run record of
+``tools/results/record.py``, into ``docs/convergence/runs.json``; resumable like the
+benchmark):
+
+    .venv/bin/python tools/analysis/convergence.py run results/conv \
+        --csv docs/convergence/frechet.csv --json docs/convergence/runs.json
+
 Relative change of a quantity q from dt to a finer step: (q(dt) − q(fine)) / |q(fine)|,
 q the mean deviation of a (scenario, planner) or the difference of two planners' mean
 deviations in a scenario. The default step has converged for q when the change from
@@ -28,8 +36,13 @@ from __future__ import annotations
 import argparse
 import csv
 import itertools
+import json
 import math
+import os
+import resource
+import subprocess
 import sys
+import time
 from collections import defaultdict
 from pathlib import Path
 from typing import Any
@@ -58,6 +71,55 @@ def collect(folders: list[Path], out: Path) -> None:
         for key in sorted(values):
             w.writerow([*key, *(repr(v) for v in values[key])])
     print(f"{len(values)} episodes -> {out}")
+
+
+def _benchmark_command(n: int, out: Path) -> list[str]:
+    """The benchmark of crowd substep ``n`` (the module's command)."""
+    srfm = str(Path(sys.executable).with_name("srfm"))
+    return [
+        *("nice", "-n", "10", srfm, "benchmark", "--suite", "paper", "--seeds", "0-99"),
+        *("--crowd-substeps", str(n), "--no-logs", "--no-figures", "-j", "2"),
+        *("--out", str(out)),
+    ]
+
+
+def run(root: Path, csv_out: Path, json_out: Path) -> None:
+    """The three benchmarks into ``root-sub1``, ``root-sub2``, ``root-sub4``, each timed
+    (wall and CPU seconds of all its processes, the 1-minute load before and after),
+    then :func:`collect`; the times go to ``json_out`` with the run record."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+    from tools.results.record import run_record, start
+
+    started, t0, load0 = start()
+    runs = []
+    folders = []
+    for n in SUBSTEPS:
+        folder = Path(f"{root}-sub{n}")
+        folders.append(folder)
+        cmd = _benchmark_command(n, folder)
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        load_before = os.getloadavg()
+        wall0 = time.perf_counter()
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        wall = time.perf_counter() - wall0
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+        runs.append(
+            {
+                "crowd_substeps": n,
+                "command": " ".join(Path(a).name if a.endswith("/srfm") else a for a in cmd),
+                "wall_s": round(wall, 1),
+                "cpu_s": round(cpu, 1),
+                "load_before": [round(x, 2) for x in load_before],
+                "load_after": [round(x, 2) for x in os.getloadavg()],
+            }
+        )
+        print(f"crowd substeps {n}: {wall:.0f} s wall, {cpu:.0f} s CPU")
+    collect(folders, csv_out)
+    doc = {"runs": runs, "run": run_record(started, t0, load0)}
+    json_out.parent.mkdir(parents=True, exist_ok=True)
+    json_out.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
+    print(f"-> {json_out}")
 
 
 def _read(path: Path) -> dict[tuple[str, str], list[list[float]]]:
@@ -224,9 +286,15 @@ def main() -> None:
     c.add_argument("--csv", type=Path, required=True)
     t = sub.add_parser("table", help="the Markdown tables from the CSV")
     t.add_argument("csv", type=Path)
+    r = sub.add_parser("run", help="the three benchmarks, timed, then collect")
+    r.add_argument("root", type=Path, help="folders ROOT-sub1, ROOT-sub2, ROOT-sub4")
+    r.add_argument("--csv", type=Path, required=True)
+    r.add_argument("--json", type=Path, required=True)
     args = parser.parse_args()
     if args.command == "collect":
         collect(args.folders, args.csv)
+    elif args.command == "run":
+        run(args.root, args.csv, args.json)
     else:
         table(args.csv)
 

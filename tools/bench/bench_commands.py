@@ -12,6 +12,8 @@ Rows (``--rows``, default all but ``full`` and ``crowd``):
 - ``quick-bare``: the same with ``--no-logs --no-figures``;
 - ``cold``: ``srfm benchmark --quick`` with ``NUMBA_CACHE_DIR`` on a new, empty folder
   for every run (a fresh clone's first run);
+- ``cold-busy``: the same with a CPU-bound process (a Python busy loop) beside it, the
+  other core taken;
 - ``full``: ``srfm benchmark`` (seeds 0-99, every planner, default logs): minutes a run;
   also prints the MCAP bytes per episode;
 - ``crowd``: ``tools/bench/bench_crowd_step.py`` at N = 1000 against JuPedSim by both
@@ -33,8 +35,9 @@ a before/after comparison under the same load. Each checkout keeps its own numba
 untimed run of each row has filled it (``--warmup``, default 1).
 
 ``--json PATH`` also writes every run's figures (wall, CPU, simulation phase, MCAP bytes,
-the crowd ratios), the date, the commits, the CPU model and the loads to PATH: the data
-that docs/performance.md's goal table is generated from (``make docs-tables``).
+the crowd ratios), the date, the commits, the CPU model and the loads to PATH, with the
+run's record (``tools/results/record.py``): the data that docs/performance.md's goal
+and command tables are generated from (``make docs-tables``).
 
 Usage::
 
@@ -43,6 +46,8 @@ Usage::
     .venv/bin/python tools/bench/bench_commands.py --rows full --runs 1
     .venv/bin/python tools/bench/bench_commands.py --rows simulate full shared-crowd \\
         --json docs/results/performance/goals.json
+    .venv/bin/python tools/bench/bench_commands.py --rows help simulate quick-bare quick \\
+        cold cold-busy --json docs/results/performance/commands.json
 """
 
 from __future__ import annotations
@@ -62,7 +67,8 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
-from bench_crowd_step import srfm_commit  # the same folder: one definition of the commit line
+# the same folder: one definition of the commit line and of the busy core
+from bench_crowd_step import busy_core, srfm_commit
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -81,8 +87,13 @@ ROWS: dict[str, tuple[str, list[str]]] = {
         "srfm benchmark --quick, empty numba cache",
         ["benchmark", "--quick", "--out", "{out}"],
     ),
+    "cold-busy": (
+        "srfm benchmark --quick, empty numba cache, the other core busy",
+        ["benchmark", "--quick", "--out", "{out}"],
+    ),
     "full": ("srfm benchmark (seeds 0-99, 7 planners)", ["benchmark", "--out", "{out}"]),
 }
+COLD_ROWS = ("cold", "cold-busy")
 DEFAULT_ROWS = ("help", "simulate", "quick-bare", "quick", "cold")
 SHARED_RATIO = re.compile(r"N=(\d+): srfm ([0-9,]+) +jupedsim ([0-9,]+) agent-steps/s +ratio")
 SIMULATED = re.compile(r"simulated (\d+) of (\d+) episodes in ([0-9.]+) s")
@@ -111,7 +122,7 @@ def run_once(tree: Path, row: str, scratch: Path) -> Run:
     # and CI images set it) every command compiled srfm's ~60 modules from source,
     # 0.1-0.2 s of each command.
     env.pop("PYTHONDONTWRITEBYTECODE", None)
-    if row == "cold":
+    if row in COLD_ROWS:
         cache = scratch / "numba-cache"
         shutil.rmtree(cache, ignore_errors=True)
         cache.mkdir()
@@ -285,6 +296,12 @@ def main() -> None:
             f"unknown rows {sorted(unknown)}; known: {[*ROWS, 'crowd', 'shared-crowd', 'stages']}"
         )
     trees = [args.tree.resolve(), *([args.vs.resolve()] if args.vs else [])]
+    begun = None
+    if args.json is not None:  # imports srfm from ROOT: only when a record is written
+        sys.path.insert(0, str(ROOT))
+        from tools.results import record as run_record
+
+        begun = run_record.start()
     started = datetime.datetime.now(datetime.UTC)
     record: dict[str, object] = {
         "date": f"{started:%Y-%m-%d %H:%M} UTC",
@@ -308,14 +325,15 @@ def main() -> None:
             if row in ("crowd", "stages", "shared-crowd"):
                 continue
             load_before = _load()
-            if row != "cold":
+            if row not in COLD_ROWS:
                 for _ in range(args.warmup):
                     for tree in trees:
                         run_once(tree, row, scratch)
             runs: dict[Path, list[Run]] = {tree: [] for tree in trees}
-            for _ in range(args.runs):
-                for tree in trees:
-                    runs[tree].append(run_once(tree, row, scratch))
+            with busy_core(row == "cold-busy"):
+                for _ in range(args.runs):
+                    for tree in trees:
+                        runs[tree].append(run_once(tree, row, scratch))
             load_after = _load()
             rows_out[row] = {
                 "label": ROWS[row][0],
@@ -407,12 +425,8 @@ def main() -> None:
             "runs": crowd,
         }
     print(f"load average at end: {_load()}")
-    if args.json is not None:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        tmp = args.json.with_suffix(".tmp")
-        tmp.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n", encoding="utf-8")
-        tmp.replace(args.json)
-        print(f"wrote {args.json}")
+    if args.json is not None and begun is not None:
+        run_record.write_json(args.json, record, begun)
 
 
 if __name__ == "__main__":

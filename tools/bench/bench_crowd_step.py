@@ -70,6 +70,14 @@ a robot in the middle of the crowd, walking at 1 m/s, in each form of the robot 
 (``SRFMParams(robot_form=...)``, default parameters), the forms in turn within each
 repeat, and prints each form's time per step beside the paper's exponential form, and
 whether each form stays within 1.3× of it (the target of issues 28 and 40).
+
+``--json PATH`` also writes every rate (agent-steps/s, ``null`` where a simulator was
+not run) with the options and the run's record (``tools/results/record.py``): the data
+docs/performance.md's crowd-step and robot-form tables are generated from
+(``make docs-tables``)::
+
+    .venv/bin/python tools/bench/bench_crowd_step.py --side-by-side --cpu-time \
+        --sizes 10 100 1000 10000 --memory-n 0 --json docs/results/performance/crowd.json
 """
 
 from __future__ import annotations
@@ -641,6 +649,7 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
         action="store_true",
         help="use an empty numba cache so srfm's first calls include a full JIT compile",
     )
+    parser.add_argument("--json", type=Path, default=None, help="also write the figures here")
     args = parser.parse_args(argv)
     if any(n < 2 for n in args.sizes) or args.seconds <= 0 or args.repeats < 1:
         parser.error("sizes must be >= 2, --seconds > 0 and --repeats >= 1")
@@ -664,6 +673,23 @@ def main(argv: list[str] | None = None) -> int:
         importlib.import_module("srfm")
         import_s = time.perf_counter() - t0
         from srfm.models.forces import CELL_LIST_MIN_AGENTS
+
+        sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+        from tools.results import record
+
+        begun = record.start()
+        options = {
+            "sizes": args.sizes,
+            "seconds": args.seconds,
+            "repeats": args.repeats,
+            "window_s": args.window_s,
+            "clock": "cpu" if args.cpu_time else "wall",
+            "busy": args.busy,
+            "seed": args.seed,
+            "dt_s": DT_S,
+            "jupedsim_dt_s": JUPEDSIM_DT_S,
+            "density_per_m2": DENSITY_PER_M2,
+        }
 
         psf = None if args.no_pysocialforce or args.robot_forms else import_pysocialforce(tmp)
         config = None if psf is None else pysocialforce_config(psf, tmp)
@@ -701,6 +727,18 @@ def main(argv: list[str] | None = None) -> int:
                 f"\n- load average (1, 5, 15 min) at end: {load_average()}; other processes"
                 f" used {other_percent:.1f} % of the machine's CPU time during the measurements"
             )
+            if args.json is not None:
+                record.write_json(
+                    args.json,
+                    {
+                        "options": options,
+                        "target": ROBOT_FORM_TARGET,
+                        "robot_speed_mps": ROBOT_SPEED_MPS,
+                        "other_cpu_percent": other_percent,
+                        "robot_forms": [{"n": n, "rates": rates} for n, rates in form_rows],
+                    },
+                    begun,
+                )
             return 0
 
         with busy_core(args.busy):
@@ -797,6 +835,36 @@ def main(argv: list[str] | None = None) -> int:
             f" {other_percent:.1f} % of the machine's CPU time during the measurements"
             + (" (the busy process included)" if args.busy else "")
         )
+        if args.json is not None:
+            kinds = ("srfm_serial", "srfm_parallel", "srfm_default", "pysocialforce", "jupedsim")
+            record.write_json(
+                args.json,
+                {
+                    "options": {
+                        **options,
+                        "side_by_side_repeats": args.side_by_side_repeats if sbs else 0,
+                        "max_pysocialforce": args.max_pysocialforce,
+                        "cell_list_min_agents": CELL_LIST_MIN_AGENTS,
+                    },
+                    "other_cpu_percent": other_percent,
+                    "first_call_s": first,
+                    "rates": [
+                        {
+                            "n": n,
+                            "default_kernel": kernel,
+                            **{
+                                k: None if math.isnan(r) else r
+                                for k, r in zip(kinds, rates, strict=True)
+                            },
+                        }
+                        for n, kernel, rates in rows
+                    ],
+                    "side_by_side": [
+                        {"n": n, "srfm": ours, "jupedsim": theirs} for n, ours, theirs in sbs
+                    ],
+                },
+                begun,
+            )
     return 0
 
 

@@ -19,14 +19,21 @@ Usage::
     .venv/bin/python tools/bench/bench_env.py
     .venv/bin/python tools/bench/bench_env.py --steps 50000 --repeats 3 --scenarios random
     .venv/bin/python tools/bench/bench_env.py --scenarios random entering_room --beams 24
+    .venv/bin/python tools/bench/bench_env.py --json docs/results/performance/env.json
+
+``--json PATH`` also writes every block's rate, per scenario and configuration, with the
+run's record (``tools/results/record.py``): the data docs/performance.md's environment
+table is generated from (``make docs-tables``).
 """
 
 from __future__ import annotations
 
 import argparse
 import statistics
+import sys
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
@@ -80,14 +87,15 @@ def _simulator_loop(scenario: str, n: int) -> Callable[[], None]:
     return run
 
 
-def _time(run: Callable[[], None], steps: int, repeats: int) -> tuple[float, float]:
+def _time(run: Callable[[], None], steps: int, repeats: int) -> list[float]:
+    """Steps/s of each of ``repeats`` timed blocks, after one untimed block."""
     run()  # warm-up (kernel loading, first episode)
     rates = []
     for _ in range(repeats):
         t0 = time.perf_counter()
         run()
         rates.append(steps / (time.perf_counter() - t0))
-    return max(rates), statistics.median(rates)
+    return rates
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -104,16 +112,20 @@ def main(argv: list[str] | None = None) -> int:
         default=0,
         help="also time the training set-up with this many range beams (0: not)",
     )
+    parser.add_argument("--json", type=Path, default=None, help="also write the figures here")
     args = parser.parse_args(argv)
 
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
     import gymnasium as gym
     from bench_crowd_step import OtherLoad, load_average, machine_info
 
     import srfm.rl
     from srfm.rl import EnvConfig, SocialNavEnv
+    from tools.results import record
 
+    begun = record.start()
     other = OtherLoad()
-    rows: list[tuple[str, str, float, float]] = []
+    rows: list[tuple[str, str, list[float]]] = []
     actions = np.random.default_rng(0).uniform(-1.0, 1.0, (args.steps, 2)).astype(np.float32)
     for name in args.scenarios:
         env = SocialNavEnv(name)
@@ -122,7 +134,7 @@ def main(argv: list[str] | None = None) -> int:
             (
                 name,
                 "SocialNavEnv, full twin",
-                *_time(_env_loop(env, actions), args.steps, args.repeats),
+                _time(_env_loop(env, actions), args.steps, args.repeats),
             )
         )
         env = SocialNavEnv(name, EnvConfig(counterfactual_twin=False))
@@ -131,7 +143,7 @@ def main(argv: list[str] | None = None) -> int:
             (
                 name,
                 "SocialNavEnv, no full twin (training)",
-                *_time(_env_loop(env, actions), args.steps, args.repeats),
+                _time(_env_loop(env, actions), args.steps, args.repeats),
             )
         )
         if args.beams:
@@ -141,7 +153,7 @@ def main(argv: list[str] | None = None) -> int:
                 (
                     name,
                     f"SocialNavEnv, no full twin, {args.beams} range beams",
-                    *_time(_env_loop(env, actions), args.steps, args.repeats),
+                    _time(_env_loop(env, actions), args.steps, args.repeats),
                 )
             )
         made = gym.make(srfm.rl.ENV_ID, scenario=name)
@@ -150,7 +162,7 @@ def main(argv: list[str] | None = None) -> int:
             (
                 name,
                 "gym.make (default wrappers), full twin",
-                *_time(_env_loop(made, actions), args.steps, args.repeats),
+                _time(_env_loop(made, actions), args.steps, args.repeats),
             )
         )
         env = SocialNavEnv(name)
@@ -160,14 +172,14 @@ def main(argv: list[str] | None = None) -> int:
             (
                 name,
                 "SocialNavEnv + action_space.sample() per step",
-                *_time(_sample_loop(env, args.steps), args.steps, args.repeats),
+                _time(_sample_loop(env, args.steps), args.steps, args.repeats),
             )
         )
         rows.append(
             (
                 name,
                 "core TwinSimulator: observe + step from Python",
-                *_time(_simulator_loop(name, args.steps), args.steps, args.repeats),
+                _time(_simulator_loop(name, args.steps), args.steps, args.repeats),
             )
         )
 
@@ -179,12 +191,28 @@ def main(argv: list[str] | None = None) -> int:
     )
     print("\n| scenario | configuration | best (steps/s) | median (steps/s) | µs per step (best) |")
     print("|---|---|---:|---:|---:|")
-    for name, what, best, median in rows:
+    for name, what, rates in rows:
+        best, median = max(rates), statistics.median(rates)
         print(f"| {name} | {what} | {best:,.0f} | {median:,.0f} | {1e6 / best:.1f} |")
+    other_percent = other.percent()
     print(
         f"\n- load average (1, 5, 15 min) at end: {load_average()}; other processes used"
-        f" {other.percent():.1f} % of the machine's CPU time during the measurements"
+        f" {other_percent:.1f} % of the machine's CPU time during the measurements"
     )
+    if args.json is not None:
+        record.write_json(
+            args.json,
+            {
+                "steps": args.steps,
+                "repeats": args.repeats,
+                "other_cpu_percent": other_percent,
+                "rows": [
+                    {"scenario": name, "configuration": what, "steps_per_s": rates}
+                    for name, what, rates in rows
+                ],
+            },
+            begun,
+        )
     return 0
 
 

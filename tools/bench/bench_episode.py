@@ -25,6 +25,11 @@ Usage::
     .venv/bin/python tools/bench/bench_episode.py
     .venv/bin/python tools/bench/bench_episode.py --seeds 50 --scenarios footpath circle
     .venv/bin/python tools/bench/bench_episode.py --walls --seeds 10
+    .venv/bin/python tools/bench/bench_episode.py --json docs/results/performance/episodes.json
+
+``--json PATH`` also writes every episode's time, per scenario and planner, with the
+run's record (``tools/results/record.py``): the data docs/performance.md's "Full
+episodes" table is generated from (``make docs-tables``).
 """
 
 from __future__ import annotations
@@ -34,6 +39,7 @@ import collections
 import importlib
 import os
 import statistics
+import sys
 import tempfile
 import time
 from dataclasses import dataclass
@@ -152,6 +158,7 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument(
         "--walls", action="store_true", help="time scenarios with walls against without"
     )
+    parser.add_argument("--json", type=Path, default=None, help="also write the figures here")
     parser.add_argument(
         "--cold-cache",
         action="store_true",
@@ -183,6 +190,10 @@ def main(argv: list[str] | None = None) -> int:
         if unknown:
             raise SystemExit(f"unknown scenario(s) {unknown}; built-in: {list(BUILTIN_SCENARIOS)}")
 
+        sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+        from tools.results import record
+
+        begun = record.start()
         other = OtherLoad()
         t0 = time.perf_counter()
         srfm.run_episode(names[0], 0, "straight")
@@ -209,11 +220,38 @@ def main(argv: list[str] | None = None) -> int:
         print_table("Planner `straight` (robot episode may end before the horizon):", straight)
         stay = [time_scenario(name, StayPlanner(), args.seeds) for name in names]
         print_table("Planner `stay` (zero velocity, observes everyone; active all steps):", stay)
+        other_percent = other.percent()
         print(
             f"\n- load average (1, 5, 15 min) at end: {load_average()}; other processes used"
-            f" {other.percent():.1f} % of the machine's CPU time during the measurements"
+            f" {other_percent:.1f} % of the machine's CPU time during the measurements"
         )
+        if args.json is not None:
+            record.write_json(
+                args.json,
+                {
+                    "seeds": args.seeds,
+                    "numba_cache": "cold" if args.cold_cache else "as found",
+                    "first_episode_s": first_s,
+                    "other_cpu_percent": other_percent,
+                    "planners": {
+                        "straight": [_row_dict(r) for r in straight],
+                        "stay": [_row_dict(r) for r in stay],
+                    },
+                },
+                begun,
+            )
     return 0
+
+
+def _row_dict(row: Row) -> dict[str, object]:
+    return {
+        "scenario": row.scenario,
+        "pedestrians": row.pedestrians,
+        "horizon_steps": row.horizon,
+        "active_steps_median": row.active_steps,
+        "outcomes": row.outcomes,
+        "times_s": row.times_s,
+    }
 
 
 if __name__ == "__main__":

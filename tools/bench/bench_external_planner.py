@@ -27,11 +27,17 @@ Usage::
 
     .venv/bin/python tools/bench/bench_external_planner.py
     .venv/bin/python tools/bench/bench_external_planner.py --seeds 5 --repeats 10
+    .venv/bin/python tools/bench/bench_external_planner.py \\
+        --json docs/results/performance/external.json
+
+``--json PATH`` also writes the figures of the tables (and the run's record,
+``tools/results/record.py``) for docs/performance.md's generated blocks.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import platform
 import statistics
@@ -48,6 +54,10 @@ import srfm
 from srfm.planners import Observation, PlannerContext, StraightPlanner
 from srfm.planners.external import define_external
 from srfm.scenarios import EVALUATION_SCENARIOS
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+from tools.results.record import run_record
+from tools.results.record import start as record_start
 
 REPO = Path(__file__).resolve().parents[2]
 EPISODE_STEPS = 750
@@ -108,7 +118,9 @@ def main() -> None:
         default=Path(tempfile.gettempdir()) / "srfm-cpp-client",
         help="where clients/cpp is built",
     )
+    parser.add_argument("--json", type=Path, default=None, help="also write the figures here")
     args = parser.parse_args()
+    started, t0_run, load0 = record_start()
     program = build(args.build_dir)
     name = define_external("bench-cpp", [str(program)])
     script = args.build_dir / "python_planner.py"
@@ -205,6 +217,7 @@ def main() -> None:
         "| planner steps |"
     )
     print("|---|---:|---:|---:|")
+    whole = []
     for scenario in EVALUATION_SCENARIOS:
         walls: dict[str, list[float]] = {"straight": [], name: []}
         record = None
@@ -218,6 +231,45 @@ def main() -> None:
             f"| {scenario}, seed 0 | {statistics.median(walls['straight']):.1f} | "
             f"{statistics.median(walls[name]):.1f} | {record.end_step} |"
         )
+        whole.append(
+            {
+                "scenario": scenario,
+                "builtin_ms": round(statistics.median(walls["straight"]), 2),
+                "external_ms": round(statistics.median(walls[name]), 2),
+                "planner_steps": int(record.end_step),
+            }
+        )
+    if args.json is not None:
+
+        def q(values: list[float]) -> dict[str, float]:
+            return {
+                "median": round(statistics.median(values), 2),
+                "p90": round(
+                    statistics.quantiles(values, n=10)[-1] if len(values) > 1 else values[0], 2
+                ),
+                "max": round(max(values), 2),
+            }
+
+        doc = {
+            "episodes": len(episodes),
+            "scenarios": list(EVALUATION_SCENARIOS),
+            "seeds": args.seeds,
+            "observations": steps,
+            "passes": args.repeats,
+            "episode_steps": EPISODE_STEPS,
+            "per_step_us": {"builtin": q(t_in), "cpp": q(t_ex), "python": q(t_py)},
+            "per_episode_ms": {
+                "blocks": len(diffs),
+                "builtin": q(block_in),
+                "cpp": q(block_ex),
+                "overhead": q(diffs),
+            },
+            "whole_episodes_ms": whole,
+            "run": run_record(started, t0_run, load0),
+        }
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
+        print(f"-> {args.json}")
 
 
 if __name__ == "__main__":

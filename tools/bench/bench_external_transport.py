@@ -24,6 +24,11 @@ Usage::
 
     .venv/bin/python tools/bench/bench_external_transport.py
     .venv/bin/python tools/bench/bench_external_transport.py --steps 5000 --repeats 5
+    .venv/bin/python tools/bench/bench_external_transport.py --steps 3000 --repeats 5 \
+        --json docs/results/performance/external_transport.json
+
+``--json PATH`` also writes each candidate's figures and the run's record
+(``tools/results/record.py``) for docs/performance.md's generated blocks.
 """
 
 from __future__ import annotations
@@ -44,6 +49,9 @@ from pathlib import Path
 from typing import Any
 
 import msgpack
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+from tools.results.record import run_record, start
 
 HERE = Path(__file__).resolve().parent
 SOURCES = HERE / "external_transport"
@@ -186,7 +194,9 @@ def main() -> None:
         help="where the C++ peers are built",
     )
     parser.add_argument("--candidates", nargs="+", default=list(CANDIDATES), choices=CANDIDATES)
+    parser.add_argument("--json", type=Path, default=None, help="also write the figures here")
     args = parser.parse_args()
+    started, t0_run, load0 = start()
     build(args.build_dir)
     print(
         f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, {platform.node()}, "
@@ -196,11 +206,27 @@ def main() -> None:
     print(f"{args.repeats} x {args.steps} round trips per candidate\n")
     print("| candidate | median (µs) | 90th percentile (µs) |")
     print("|---|---:|---:|")
+    rows = {}
     for candidate in args.candidates:
         times = round_trips(candidate, args.build_dir, args.steps, args.repeats)
         p90 = statistics.quantiles(times, n=10)[-1]
         print(f"| {candidate} | {statistics.median(times):.1f} | {p90:.1f} |")
         sys.stdout.flush()
+        rows[candidate] = {
+            "round_trips": len(times),
+            "median_us": round(statistics.median(times), 2),
+            "p90_us": round(p90, 2),
+        }
+    if args.json is not None:
+        doc = {
+            "steps": args.steps,
+            "repeats": args.repeats,
+            "candidates": rows,
+            "run": run_record(started, t0_run, load0),
+        }
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
+        print(f"-> {args.json}")
 
 
 if __name__ == "__main__":

@@ -31,12 +31,21 @@ Usage::
     PYTHONPATH=/path/to/old/checkout .venv/bin/python tools/bench/bench_logging.py
     .venv/bin/python tools/bench/bench_logging.py --seeds 2 --planners straight dwa
     .venv/bin/python tools/bench/bench_logging.py --full-benchmark /tmp/bench-logs -j 2
+    .venv/bin/python tools/bench/bench_logging.py --planners dwa orca social-force \\
+        straight td3-base td3-srfm vo --seeds 4 --full-benchmark /tmp/bench-logs -j 2 \\
+        --json docs/results/performance/logging.json
+
+``--json PATH`` also writes every episode's measurements (CPU and wall seconds of each
+stage, bytes of each file, the compact file's bytes by channel, the exact positions'
+bytes in each encoding) and the run's record (``tools/results/record.py``): the data of
+the generated figures of docs/logging.md and docs/performance.md.
 """
 
 from __future__ import annotations
 
 import argparse
 import gc
+import json
 import os
 import platform
 import resource
@@ -48,6 +57,9 @@ import time
 from collections import defaultdict
 from pathlib import Path
 from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+from tools.results.record import run_record, start
 
 EVALUATION = ("footpath", "crosswalk", "cross_footpath", "circle", "concert")
 CLASSICAL = ("straight", "dwa", "vo", "orca", "social-force")
@@ -68,7 +80,6 @@ def _encodings(pos: Any, out: dict[str, list[float]]) -> None:
     measured has them)."""
     import base64
     import io
-    import json
 
     import numpy as np
     import zstandard
@@ -99,6 +110,32 @@ def _encodings(pos: Any, out: dict[str, list[float]]) -> None:
     for name, data in ways.items():
         raw = data.encode() if isinstance(data, str) else data
         out[name].append(len(zc.compress(raw)) / pos.size)
+        out[f"bytes: {name}"].append(float(len(zc.compress(raw))))
+
+
+def channel_bytes(path: Path) -> dict[str, int]:
+    """Bytes of an MCAP file by what they hold: each channel's messages (the
+    ``/srfm/trajectories`` messages by group) as zstd level 3 compresses them alone, the
+    schemas (uncompressed, as the summary repeats them) and ``file``, the file's size."""
+    import zstandard
+    from mcap.reader import make_reader
+
+    zc = zstandard.ZstdCompressor(level=3)
+    data: dict[str, list[bytes]] = defaultdict(list)
+    schemas: dict[str, int] = {}
+    with path.open("rb") as f:
+        reader = make_reader(f)
+        for schema, channel, message in reader.iter_messages():
+            key = channel.topic
+            if key == "/srfm/trajectories":
+                key += ":" + str(json.loads(message.data)["group"])
+            data[key].append(message.data)
+            if schema is not None:
+                schemas[schema.name] = len(schema.data)
+    out = {key: len(zc.compress(b"".join(parts))) for key, parts in sorted(data.items())}
+    out.update({f"schema: {name}": n for name, n in sorted(schemas.items())})
+    out["file"] = path.stat().st_size
+    return out
 
 
 def _run_episode() -> Any:
@@ -128,6 +165,20 @@ def _measure_one(
     m["cpu"]["simulate + metrics"].append(c)
     m["wall"]["simulate + metrics"].append(w)
     _encodings(record.factual_pos, m["encoding"])
+    row: dict[str, Any] = {
+        "scenario": scenario.name,
+        "planner": planner,
+        "seed": seed,
+        "steps": int(record.end_step),
+        "pedestrians": int(record.factual_pos.shape[1]),
+        "position_values": int(record.factual_pos.size),
+        "cpu_s": {"simulate + metrics": c},
+        "wall_s": {"simulate + metrics": w},
+        "bytes": {},
+        "encoding_bytes": {
+            k[len("bytes: ") :]: v[-1] for k, v in m["encoding"].items() if k.startswith("bytes: ")
+        },
+    }
     stem = root / f"{scenario.name}-{planner}-{seed}"
     cf = root / f"{scenario.name}-cf-{seed}.mcap"
 
@@ -175,11 +226,18 @@ def _measure_one(
         out, c, w = _timed(fn)
         m["cpu"][stage].append(c)
         m["wall"][stage].append(w)
+        row["cpu_s"][stage] = c
+        row["wall_s"][stage] = w
         if isinstance(out, int):
             m["size"][stage].append(out)
+            row["bytes"][stage] = out
     m["size"]["compact episode file"].append(stem.with_suffix(".mcap").stat().st_size)
+    row["bytes"]["compact episode file"] = stem.with_suffix(".mcap").stat().st_size
+    row["compact_channels"] = channel_bytes(stem.with_suffix(".mcap"))
     if first:
         m["size"]["shared counterfactual file"].append(cf.stat().st_size)
+        row["bytes"]["shared counterfactual file"] = cf.stat().st_size
+    m["episodes"].append(row)
     for p in root.glob(f"{stem.name}*"):
         p.unlink()
 
@@ -193,6 +251,7 @@ def per_episode(scenarios: list[str], planners: list[str], seeds: list[int]) -> 
     run_episode = _run_episode()
 
     m: dict[str, Any] = {k: defaultdict(list) for k in ("cpu", "wall", "size", "encoding")}
+    m["episodes"] = []
     with tempfile.TemporaryDirectory() as tmp:
         root = Path(tmp)
         warm = load_scenario("concert")  # compile and load everything once, untimed
@@ -245,6 +304,8 @@ def report(m: dict[str, Any], n_planners: list[int], n_scenarios: int, seeds: in
         )
     lines += ["", "| exact factual positions, zstd level 3 | bytes per value, mean |", "|---|--:|"]
     for name, values in m["encoding"].items():
+        if name.startswith("bytes: "):
+            continue
         lines.append(f"| {name} | {statistics.fmean(values):.2f} |")
     ep = statistics.fmean(size["compact episode file"])
     cf = statistics.fmean(size["shared counterfactual file"])
@@ -267,10 +328,12 @@ def _folder_bytes(root: Path, suffix: str) -> tuple[int, int]:
     return len(files), sum(p.stat().st_size for p in files)
 
 
-def full_benchmark(out: Path, planners: list[str], jobs: int) -> str:
-    """Run the 100-seed benchmark without and with logs; report time and bytes."""
+def full_benchmark(out: Path, planners: list[str], jobs: int) -> tuple[str, list[dict[str, Any]]]:
+    """Run the 100-seed benchmark without and with logs; report time and bytes (as a
+    Markdown table and as one dict per run)."""
     srfm = str(Path(sys.executable).with_name("srfm"))
     rows = []
+    data = []
     for label, extra in (("no logs", ["--no-logs"]), ("default logs", [])):
         folder = out / label.replace(" ", "-")
         cmd = [
@@ -286,17 +349,36 @@ def full_benchmark(out: Path, planners: list[str], jobs: int) -> str:
             *extra,
         ]
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
-        start = time.perf_counter()
+        load_before = os.getloadavg()[0]
+        start_t = time.perf_counter()
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-        wall = time.perf_counter() - start
+        wall = time.perf_counter() - start_t
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
         cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
         logs = folder / "logs"
         n_mcap, b_mcap = _folder_bytes(logs, ".mcap") if logs.exists() else (0, 0)
         n_rrd, b_rrd = _folder_bytes(logs, ".rrd") if logs.exists() else (0, 0)
+        cf = logs.rglob("_counterfactual/*.mcap") if logs.exists() else iter(())
+        cf_files = [p for p in cf if p.is_file()]
         rows.append(
             f"| {label} | {wall:.1f} | {cpu:.1f} | {n_mcap} | {b_mcap / 1e6:.1f} | "
             f"{n_rrd} | {b_rrd / 1e6:.1f} |"
+        )
+        data.append(
+            {
+                "run": label,
+                "command": " ".join(["srfm", *cmd[1:]]).replace(str(folder), f"DIR/{folder.name}"),
+                "wall_s": round(wall, 2),
+                "cpu_s": round(cpu, 2),
+                "load_before": round(load_before, 2),
+                "load_after": round(os.getloadavg()[0], 2),
+                "mcap_files": n_mcap,
+                "mcap_bytes": b_mcap,
+                "counterfactual_files": len(cf_files),
+                "counterfactual_bytes": sum(p.stat().st_size for p in cf_files),
+                "rrd_files": n_rrd,
+                "rrd_bytes": b_rrd,
+            }
         )
     head = [
         f"`srfm benchmark -p {','.join(planners)} --no-figures -j {jobs}` (100 seeds, "
@@ -305,7 +387,7 @@ def full_benchmark(out: Path, planners: list[str], jobs: int) -> str:
         "| run | wall s | CPU s (all workers) | .mcap files | MCAP MB | .rrd files | Rerun MB |",
         "|---|--:|--:|--:|--:|--:|--:|",
     ]
-    return "\n".join(head + rows)
+    return "\n".join(head + rows), data
 
 
 def main() -> None:
@@ -317,7 +399,9 @@ def main() -> None:
     parser.add_argument("--project-planners", type=int, nargs="+", default=[5, 7])
     parser.add_argument("--full-benchmark", type=Path, default=None, metavar="DIR")
     parser.add_argument("-j", "--jobs", type=int, default=2)
+    parser.add_argument("--json", type=Path, default=None, help="also write every episode here")
     args = parser.parse_args()
+    started, t0, load0 = start()
     os.environ.setdefault("NUMBA_NUM_THREADS", "1")
     import srfm.logs
 
@@ -332,10 +416,24 @@ def main() -> None:
         f"planners × {args.seeds} seeds), one process:\n"
     )
     print(report(m, args.project_planners, len(args.scenarios), 100))
+    benchmark_runs: list[dict[str, Any]] = []
     if args.full_benchmark is not None:
         print()
-        print(full_benchmark(args.full_benchmark, args.planners, args.jobs))
+        text, benchmark_runs = full_benchmark(args.full_benchmark, args.planners, args.jobs)
+        print(text)
     print(f"\nload average at the end {os.getloadavg()[0]:.1f}")
+    if args.json is not None:
+        doc = {
+            "scenarios": args.scenarios,
+            "planners": args.planners,
+            "seeds": list(range(args.seeds)),
+            "episodes": m["episodes"],
+            "full_benchmark": benchmark_runs,
+            "run": run_record(started, t0, load0),
+        }
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
+        print(f"-> {args.json}")
 
 
 if __name__ == "__main__":

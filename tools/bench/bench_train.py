@@ -18,7 +18,12 @@ torch thread), the reference of the speed-up column.
 
 Needs the ``rl`` extra, and the ``sbx`` extra for the SBX rows (skipped without it).
 Prints a Markdown table (docs/performance.md, "Training throughput") with the projected
-wall time of 2,000,000 steps.
+wall time of 2,000,000 steps. ``--json PATH`` also writes every round of every
+configuration with the options and the run's record (``tools/results/record.py``): the
+data that table is generated from (``make docs-tables``)::
+
+    .venv/bin/python tools/bench/bench_train.py --only sb3-paper,sbx-64-tf50,sbx-64-tf50-ar4 \
+        --repeats 2 --json docs/results/performance/train.json
 """
 
 from __future__ import annotations
@@ -33,6 +38,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from pathlib import Path
 from typing import Any
 
 # name -> (description, TrainConfig overrides). The paper's set-up is TrainConfig's
@@ -143,6 +149,10 @@ def main() -> None:
     if args.child:
         print(json.dumps(_child(args.child, args.warmup, args.learn, args.settle)))
         return
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+    from tools.results import record
+
+    begun = record.start()
     names = args.only.split(",") if args.only else list(CONFIGS)
     unknown = [n for n in names if n not in CONFIGS]
     if unknown:
@@ -156,6 +166,7 @@ def main() -> None:
         file=sys.stderr,
     )
     best: dict[str, dict[str, Any]] = {}
+    rounds: dict[str, list[float]] = {}
     for name in [n for _ in range(args.repeats) for n in names]:
         overrides = CONFIGS[name][1]
         if overrides.get("backend") == "sbx" and not has_sbx:
@@ -185,6 +196,7 @@ def main() -> None:
             continue
         row = json.loads(out.stdout.strip().splitlines()[-1])
         row["load_before"] = load
+        rounds.setdefault(name, []).append(row["steps_per_s"])
         if name not in best or row["steps_per_s"] > best[name]["steps_per_s"]:
             best[name] = row
         print(
@@ -192,10 +204,20 @@ def main() -> None:
             file=sys.stderr,
             flush=True,
         )
-    results = [best[n] for n in names if n in best]
+    results = [{**best[n], "rounds_steps_per_s": rounds[n]} for n in names if n in best]
     if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(results, fh, indent=2)
+        record.write_json(
+            args.json,
+            {
+                "warmup": args.warmup,
+                "learn": args.learn,
+                "settle": args.settle,
+                "repeats": args.repeats,
+                "action_repeat": {n: CONFIGS[n][1].get("action_repeat", 1) for n in best},
+                "configurations": results,
+            },
+            begun,
+        )
     ref = next((r["steps_per_s"] for r in results if r["name"] == "sb3-paper"), None)
     print(
         "| configuration | backend | net | batch | grad. steps / env steps | envs | threads "

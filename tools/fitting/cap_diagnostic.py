@@ -20,6 +20,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -30,6 +31,9 @@ from srfm.fitting import WindowConfig, build_windows, window_metrics
 from srfm.models import SRFMParams
 
 REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO))
+from tools.results.record import run_record, start  # noqa: E402
+
 CAPS = (0.25, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0)
 KS = (0.15, 1.5)
 WINDOWS = WindowConfig(align="encounter", lead_s=3.0, goal="heading", min_start_speed_mps=0.3)
@@ -75,6 +79,7 @@ def main() -> None:
     ap.add_argument("--data", type=Path, default=None, help="data root (default $SRFM_DATA_DIR)")
     ap.add_argument("--out", type=Path, default=REPO / "docs" / "real_encounters")
     args = ap.parse_args()
+    began = start()
     root = args.data or Path(os.environ.get("SRFM_DATA_DIR", REPO.parent / "shared" / "data"))
     scenes, _ = drop_supersets(read_navwareset(root / "navwareset_quant"))
     enc = build_windows(scenes, WINDOWS)
@@ -89,7 +94,12 @@ def main() -> None:
         "tracks": int(np.unique(enc.track).size),
         "scenes": len({s.source.get("navwareset_scene", s.scene) for s in scenes}),
     }
-    payload = {"windows": "encounter, lead 3 s, 4.8 s, goal heading", "n": n, "rows": rows}
+    payload = {
+        "windows": "encounter, lead 3 s, 4.8 s, goal heading",
+        "n": n,
+        "rows": rows,
+        "run": run_record(*began),
+    }
     text = table_text(payload)
     print(text)
     args.out.mkdir(parents=True, exist_ok=True)

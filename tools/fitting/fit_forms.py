@@ -54,6 +54,9 @@ from srfm.models import SRFMParams, save_params
 from srfm.models.params import FORM_FIELDS
 
 REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO))
+from tools.results.record import run_record, start  # noqa: E402
+
 PED_FIELDS = ("a_ped", "b_ped", "lambda_ped", "tau")
 LEAD_S = 3.0
 N_BOOT_ERR = 2000  # bootstrap of the held-out errors over scenes
@@ -718,6 +721,7 @@ def main() -> None:
         help="write srfm/models/presets/NAME.toml: the FORM fitted on SET (hsr, jackal, pooled)",
     )
     args = ap.parse_args()
+    began = start()
     t0 = time.perf_counter()
     folder = data_root(args.data) / "navwareset_quant"
     data = load(folder, args.goal)
@@ -743,6 +747,7 @@ def main() -> None:
             "non_interaction_windows": int((~data.ped.interaction).sum()),
         },
     }
+    payload["run"] = run_record(*began)
     payload = json.loads(json.dumps(payload, default=float))
     text = tables(payload)
     print(text)

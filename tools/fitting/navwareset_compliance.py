@@ -209,8 +209,10 @@ def episodes(scenes: list[Any], params: Any, args: argparse.Namespace) -> None:
     from srfm.metrics.episode import episode_metrics
     from srfm.planners.recorded import recorded_encounter
 
+    began = start()
     t0 = time.perf_counter()
     records = []
+    skipped = []
     for scene in scenes:
         cond = condition_of(scene)
         if cond is None or scene.robot_index is None:
@@ -219,6 +221,7 @@ def episodes(scenes: list[Any], params: Any, args: argparse.Namespace) -> None:
             scenario, planner = recorded_encounter(scene)
         except ScenarioError as exc:  # e.g. a person starting in contact with the robot
             print(f"skipped: {exc}")
+            skipped.append({"recording": scene.scene, "reason": str(exc)})
             continue
         rec = srfm.run_episode(scenario, 0, planner, params)
         m = episode_metrics(rec)
@@ -240,7 +243,13 @@ def episodes(scenes: list[Any], params: Any, args: argparse.Namespace) -> None:
     if args.out:
         args.out.write_text(
             json.dumps(
-                {"params": args.params, "time_s": round(elapsed, 1), "episodes": records},
+                {
+                    "params": args.params,
+                    "time_s": round(elapsed, 1),
+                    "episodes": records,
+                    "skipped": skipped,
+                    "run": run_record(*began),
+                },
                 separators=(",", ":"),
             )
             + "\n"

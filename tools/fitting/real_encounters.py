@@ -38,6 +38,9 @@ from srfm.datasets.navwareset import condition_of, drop_supersets, read_navwares
 from srfm.fitting import holm
 
 REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO))
+from tools.results.record import run_record, start  # noqa: E402
+
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
 
@@ -1760,6 +1763,7 @@ def main() -> None:
     args = ap.parse_args()
     root = args.data or Path(os.environ.get("SRFM_DATA_DIR", REPO.parent / "shared" / "data"))
     args.out.mkdir(parents=True, exist_ok=True)
+    began = start()
     t0 = time.perf_counter()
     payload: dict[str, Any] = {}
     text: list[str] = []
@@ -1774,6 +1778,7 @@ def main() -> None:
         text.append("## Part 2\n\n" + part2_tables(r2))
     tables = "\n".join(text)
     print(tables)
+    payload["run"] = run_record(*began)
     (args.out / "tables.md").write_text(tables)
     (args.out / "results.json").write_text(
         json.dumps(_strip(payload), indent=1, sort_keys=True) + "\n"

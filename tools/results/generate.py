@@ -40,7 +40,11 @@ from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
 from tools.results import (
+    encounters_text,
     fitting_pages,
+    fitting_text,
+    io_pages,
+    performance_pages,
     planner_pages,
     readme_pages,
     response_pages,
@@ -572,33 +576,6 @@ def discriminative_tables() -> str:
     )
 
 
-def _study_misses(scenario: str) -> tuple[int, int, int]:
-    """(runs, runs that miss the cell, of those the runs with a collision) in the RL
-    study's committed table of targets (tools/rl/study/report.md: success / collision /
-    out of bounds per run, ✗ where the run misses the target)."""
-    report = (sets.ROOT / "tools" / "rl" / "study" / "report.md").read_text(encoding="utf-8")
-    row = next(line for line in report.splitlines() if line.startswith(f"| {scenario} |"))
-    cells = [c.strip() for c in row.strip().strip("|").split("|")[1:]]
-    missed = [c for c in cells if "✗" in c]
-    collided = sum(float(c.split("/")[1]) > 0 for c in missed)
-    return len(cells), len(missed), collided
-
-
-def rl_usual_misses() -> str:
-    """The cells the study's runs miss most, from its committed table."""
-    n, concert, concert_coll = _study_misses("concert")
-    _, flow, flow_coll = _study_misses("corridor_flow")
-    _, down, _ = _study_misses("down_path")
-    _, corner, _ = _study_misses("blind_corner")
-    return (
-        f"The usual misses (of the {n} runs): `concert`, a standing crowd across the path, "
-        f"missed by {concert} runs ({concert - concert_coll} of them without a collision: "
-        f"they wait until the horizon); `corridor_flow`, collisions with the entering "
-        f"stream, by {flow} ({flow_coll} with collisions); `down_path` by {down} and "
-        f"`blind_corner` by {corner} (`tools/rl/study/report.md`)."
-    )
-
-
 def oracle_cost() -> str:
     """The oracle's CPU time per episode (docs/discrimination/oracle_cost*.json, written
     by ``tools/analysis/discrimination.py cost``) and its goal rate in the sets."""
@@ -953,15 +930,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "rankings-intervals": rankings_intervals,
     "selection-table": selection_table,
     "discriminative-tables": discriminative_tables,
-    "rl-usual-misses": rl_usual_misses,
-    "rl-summary": rl_study.summary,
-    "rl-validation": rl_study.validation_table,
-    "rl-shipped-targets": rl_study.shipped_targets,
-    "rl-study-misses": rl_study.study_misses,
-    "rl-claim": rl_study.claim_table,
-    "rl-claim-ttc": rl_study.claim_ttc,
-    "rl-wall-times": rl_study.wall_times,
-    "rl-reward-stats": rl_study.reward_stats,
+    **rl_study.BLOCKS,
     "planner-outcomes-unicycle": data_pages.outcomes_unicycle,
     "planner-outcomes-holonomic": data_pages.outcomes_holonomic,
     "planner-outcomes-summary": data_pages.outcomes_summary,
@@ -982,10 +951,14 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "rl43-targets": rl43_targets,
     "rl43-claim": rl43_claim,
     **fitting_pages.BLOCKS,
+    **fitting_text.BLOCKS,
+    **encounters_text.BLOCKS,
     **sensitivity.BLOCKS,
+    **io_pages.BLOCKS,
     **response_pages.BLOCKS,
     **planner_pages.BLOCKS,
     **readme_pages.BLOCKS,
+    **performance_pages.BLOCKS,
 }
 
 

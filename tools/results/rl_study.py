@@ -3,10 +3,10 @@ policies, from committed data only (``tools/results/generate.py``):
 
 - the shipped policies against the targets: the results sets of docs/results/ (the
   paper, Francis, NavWareSet and flows suites run the shipped policies on seeds 0-99);
-- every study run against the targets and the claim over training seeds:
-  ``tools/rl/study/report.md`` and ``report_ttc.md``, the output of
-  ``tools/rl/study_report.py`` on the runs' benchmark folders (the folders themselves
-  are not committed);
+- every study run against the targets and the claim over training seeds: the
+  committed episodes ``tools/rl/study/report/seed<s>.csv.gz`` (and ``report_ttc/``,
+  under the real-data preset), written by ``tools/rl/study_evaluate.py``, read with
+  ``tools/rl/study_report.py``'s rules;
 - the runs' checkpoint validation: ``tools/rl/study/validation/<run>.json``
   (``tools/rl/validate_checkpoints.py``), their wall times ``tools/rl/study/runs.json``
   (``tools/rl/study.py``);
@@ -16,44 +16,41 @@ policies, from committed data only (``tools/results/generate.py``):
 
 from __future__ import annotations
 
-import math
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 from tools.results import sets
-from tools.rl.study_report import MARGIN_M, REPORT_SCENARIOS, misses_target
+from tools.rl.study_report import (
+    MARGIN_M,
+    POLICY,
+    REPORT_SCENARIOS,
+    Shares,
+    claim_rows,
+    committed,
+    misses_target,
+    planners_of,
+    shares,
+)
 
 STUDY = sets.ROOT / "tools" / "rl" / "study"
-REPORT = STUDY / "report.md"
-REPORT_TTC = STUDY / "report_ttc.md"
 SHIPPED = {"td3-base": "td3_base", "td3-srfm": "td3_srfm"}
 """The shipped TD3 planners and their policy files' stems in srfm/policies/."""
 SETS_OF_REPORT = ("paper", "francis", "navwareset", "flows")
 """The results sets that hold the report's scenarios for the shipped policies."""
-_HEAD = re.compile(r"k2=(\d+) seed (\d+)")
 PAPER_RANGE_M = (0.04, 0.09)
 """The deviation differences the paper reports between its two policies (m)."""
 
 
-@dataclass(frozen=True)
-class Cell:
-    """A policy's shares in one scenario over seeds 0-99 and whether they miss."""
-
-    goal: float
-    collision: float
-    out_of_bounds: float
-    miss: bool
-
-    def text(self) -> str:
-        mark = " ✗" if self.miss else ""
-        return f"{self.goal:.2f} / {self.collision:.2f} / {self.out_of_bounds:.2f}{mark}"
+Cell = Shares
+"""A policy's shares in one scenario over seeds 0-99 and whether they miss."""
 
 
 @dataclass(frozen=True)
 class Claim:
-    """One scenario's row of the study's claim table."""
+    """One scenario's row of the study's claim table, as the report prints it (p-values
+    to 2 significant digits, intervals to the millimetre)."""
 
     scenario: str
     n: int
@@ -65,39 +62,24 @@ class Claim:
     answer: str
 
 
-def run_name(head: str) -> str:
-    """``k2=0 seed 4`` (a report column) -> ``k0-seed4`` (a run)."""
-    match = _HEAD.fullmatch(head.strip())
+def run_name(planner: str) -> str:
+    """``tools.rl.study_planners:k2_seed4`` (a benchmark planner) -> ``k2-seed4`` (a run)."""
+    match = POLICY.fullmatch(planner)
     if match is None:
-        raise SystemExit(f"{REPORT}: unexpected column {head!r}")
+        raise SystemExit(f"{STUDY}: unexpected planner {planner!r}")
     return f"k{match[1]}-seed{match[2]}"
 
 
-def _section(path: Path, title: str) -> list[list[str]]:
-    """The cells of every table row under the heading ``## title`` (header first)."""
-    lines = path.read_text(encoding="utf-8").splitlines()
-    start = lines.index(f"## {title}")
-    rows = []
-    for line in lines[start + 1 :]:
-        if line.startswith("## "):
-            break
-        if line.startswith("|") and not line.startswith("|---"):
-            rows.append([c.strip() for c in line.strip().strip("|").split("|")])
-    return rows
-
-
-def report_targets(path: Path = REPORT) -> dict[tuple[str, str], Cell]:
-    """(scenario, run) -> the run's cell in the report's table of targets (a run with
-    no episodes of a scenario has none)."""
-    rows = _section(path, "Targets (seeds 0-99)")
-    runs = [run_name(h) for h in rows[0][1:]]
+def report_targets(part: str = "report") -> dict[tuple[str, str], Cell]:
+    """(scenario, run) -> the run's shares in the study's committed episodes (a run
+    with no episodes of a scenario has none)."""
+    table = committed(part)
     out = {}
-    for row in rows[1:]:
-        for run, text in zip(runs, row[1:], strict=True):
-            if text == "–":
-                continue
-            shares = [float(x) for x in text.replace("✗", "").split("/")]
-            out[row[0], run] = Cell(*shares, miss="✗" in text)  # type: ignore[arg-type]
+    for planner in planners_of(table):
+        for scenario in REPORT_SCENARIOS:
+            cell = shares(table, scenario, planner)
+            if cell is not None:
+                out[scenario, run_name(planner)] = cell
     return out
 
 
@@ -110,14 +92,30 @@ def _seed(run: str) -> int:
     return int(run.rsplit("seed", 1)[1])
 
 
-def report_claim(path: Path = REPORT) -> list[Claim]:
-    """The report's claim over training seeds, one row per scenario."""
-    rows = _section(path, "The claim over training seeds")
-    out = []
-    for r in rows[1:]:
-        num = [math.nan if x == "–" else float(x) for x in (r[2], r[4], r[5])]
-        out.append(Claim(r[0], int(r[1]), num[0], r[3], num[1], num[2], r[6], r[7]))
-    return out
+def _p(p: float) -> float:
+    """A p-value as the report prints it, 2 significant digits."""
+    return float(f"{p:.2g}")
+
+
+def report_claim(part: str = "report") -> list[Claim]:
+    """The claim over training seeds on the study's committed episodes, one row per
+    scenario of the part (a scenario without episodes is left out)."""
+    table = committed(part)
+    scenarios = {s for s, _ in table}
+    return [
+        Claim(
+            r.scenario,
+            r.n,
+            r.mean,
+            f"{r.lo:+.3f} to {r.hi:+.3f}",
+            _p(r.p),
+            _p(r.p_holm),
+            f"{r.lo90:+.3f} to {r.hi90:+.3f}",
+            r.answer,
+        )
+        for r in claim_rows(table, planners_of(table))
+        if r.scenario in scenarios
+    ]
 
 
 def validation(run: str) -> tuple[float, float]:
@@ -349,7 +347,7 @@ def _fmt_answer(c: Claim) -> str:
 
 def _minus(text: str) -> str:
     """Negative numbers with the minus sign (the report writes a hyphen)."""
-    return re.sub(r"-(?=\d)", "−", text)
+    return re.sub(r"(?<!\w)-(?=\d)", "−", text)
 
 
 def claim_table() -> str:
@@ -425,8 +423,9 @@ def claim_table() -> str:
 
 
 def claim_ttc() -> str:
-    """The claim under navwareset2026_ttc (report_ttc.md), in one paragraph."""
-    rows = [c for c in report_claim(REPORT_TTC) if c.n > 0]
+    """The claim under navwareset2026_ttc (the committed ``report_ttc`` episodes), in one
+    paragraph."""
+    rows = report_claim("report_ttc")
     parts = []
     for c in rows:
         if c.answer.startswith("equivalent"):
@@ -549,3 +548,308 @@ def reward_stats() -> str:
         f"k2 = {DEFAULT_K_DIV:g} makes a close pass cost up to about "
         f"{DEFAULT_K_DIV * doc['p99_m']:.2f} per step, against k1 · r_dist ≤ 0.1."
     )
+
+
+def _study_misses(scenario: str) -> tuple[int, int, int]:
+    """(runs, runs that miss the scenario's target, of those the runs with a collision)
+    in the study's committed episodes."""
+    cells = report_targets()
+    mine = [c for (s, _), c in cells.items() if s == scenario]
+    missed = [c for c in mine if c.miss]
+    return len(mine), len(missed), sum(c.collision > 0 for c in missed)
+
+
+def usual_misses() -> str:
+    """The cells the study's runs miss most, from its committed episodes."""
+    n, concert, concert_coll = _study_misses("concert")
+    _, flow, flow_coll = _study_misses("corridor_flow")
+    _, down, _ = _study_misses("down_path")
+    _, corner, _ = _study_misses("blind_corner")
+    return (
+        f"The usual misses (of the {n} runs): `concert`, a standing crowd across the path, "
+        f"missed by {concert} runs ({concert - concert_coll} of them without a collision: "
+        f"they wait until the horizon); `corridor_flow`, collisions with the entering "
+        f"stream, by {flow} ({flow_coll} with collisions); `down_path` by {down} and "
+        f"`blind_corner` by {corner} (`tools/rl/study/report/`)."
+    )
+
+
+EXPORT_MATCH = sets.ROOT / "docs" / "rl" / "export_match.json"
+
+
+def export_match() -> str:
+    """The shipped NumPy actors against their checkpoints' own (tools/rl/export_match.py)."""
+    if not EXPORT_MATCH.is_file():
+        return (
+            "*Not measured yet: `python tools/rl/export_match.py --json "
+            "docs/rl/export_match.json`.*"
+        )
+    doc = sets.read_json(EXPORT_MATCH)
+    found = doc["policies"]
+    backends = sorted({p["backend"].upper() for p in found.values()})
+    counts = {p["observations"] for p in found.values()}
+    if len(counts) != 1:
+        raise SystemExit(f"{EXPORT_MATCH}: the policies ran on different observation counts")
+    largest = max(p["max_abs_diff"] for p in found.values())
+    within = f"{largest:.1e}".replace("e-0", "e-")
+    scenarios = _list(doc["scenarios"])
+    run = doc["run"]
+    return (
+        "The exported actor is the checkpoint's: for both shipped policies its action "
+        f"equals the {' and '.join(backends)} checkpoint's deterministic `model.predict` "
+        f"within {within} on {counts.pop():,} observations ({doc['uniform']:,} uniform "
+        f"in [−1, 1], {doc['sparse']:,} sparse ones, and {doc['per_scenario']:,} from "
+        f"episodes of each of {scenarios} under the policy; `{run['command']}`, commit "
+        f"`{run['commit']}`, {run['started'][:10]}). Tested on untrained networks: within "
+        "2e-6 of SB3's (`tests/planners/test_td3.py`) and 1e-5 of SBX's "
+        "(`tests/rl/test_train.py`)."
+    )
+
+
+RANGE_BEAMS = sets.ROOT / "docs" / "rl" / "range_beams.json"
+
+
+def range_beams() -> str:
+    """What range beams cost the training step (tools/bench/bench_range_beams.py)."""
+    if not RANGE_BEAMS.is_file():
+        return (
+            "*Not measured yet: `python tools/bench/bench_range_beams.py --json "
+            "docs/rl/range_beams.json`.*"
+        )
+    doc = sets.read_json(RANGE_BEAMS)
+    best: dict[str, dict[int, float]] = {}
+    for row in doc["rows"]:
+        best.setdefault(row["scenario"], {})[row["beams"]] = min(row["us_per_step"])
+    beams = max(b for by in best.values() for b in by)
+    run = doc["run"]
+    cells = [
+        _minus(
+            f"`{scenario}`: {by[0]:.1f} → {by[beams]:.1f} µs "
+            f"({100 * (by[beams] / by[0] - 1):+.0f} %)"
+        )
+        for scenario, by in best.items()
+    ]
+    return (
+        f"**Cost.** {beams} beams take the training set-up's step (no full twin; the best of "
+        f"{doc['repeats']} blocks of {doc['steps']:,} steps with random actions, other jobs "
+        f"paused) in {', '.join(cells[:-1])} and {cells[-1]} (`{run['command']}`, "
+        f"commit `{run['commit']}`, {run['started'][:10]}; {run['machine']})."
+    )
+
+
+def evaluation_runs() -> str:
+    """How long the committed evaluation of the study's policies took, with the load."""
+    lines = []
+    for part, what in (("report", "14 scenarios"), ("report_ttc", "five paper scenarios")):
+        runs: dict[str, Any] = sets.read_json(STUDY / part / "runs.json")
+        walls = [r["wall_s"] / 60 for r in runs.values()]
+        first = min(r["started"] for r in runs.values())
+        last = max(r["finished"] for r in runs.values())
+        commits = sorted({r["commit"] for r in runs.values()})
+        size = sum(f.stat().st_size for f in (STUDY / part).glob("seed*.csv.gz")) / 1e6
+        lines.append(
+            f"`{part}/` ({what}, {len(runs)} training seeds × 2 policies × seeds 0–99; "
+            f"{size:.2f} MB): "
+            f"{sum(walls):.0f} min of wall time in all, {min(walls):.0f}–{max(walls):.0f} min "
+            f"a training seed, {first[:10]} {first[11:16]} to {last[11:16]} UTC, commit "
+            + ", ".join(f"`{c}`" for c in commits)
+        )
+    return (
+        "The committed evaluation (`python tools/rl/study_evaluate.py --seeds 1-10 --jobs 2`, "
+        "at nice 10 beside other work, so these are not speed figures): "
+        + "; ".join(lines)
+        + " (each seed's run record, with the machine's load: `runs.json` beside the "
+        "episodes)."
+    )
+
+
+def study43_train_wall() -> str:
+    """The issue-43 runs' training wall times (tools/rl/study43/runs.json)."""
+    runs: dict[str, Any] = sets.read_json(sets.ROOT / "tools" / "rl" / "study43" / "runs.json")
+    minutes = [r["wall_time_s"] / 60 for r in runs.values() if r["finished"]]
+    steps = sorted({r["steps"] for r in runs.values() if r["finished"]})
+    return (
+        f"Training took {min(minutes):.0f}–{max(minutes):.0f} minutes a run "
+        f"({len(minutes)} runs of {' or '.join(f'{n:,}' for n in steps)} actions, two side "
+        "by side on the shared "
+        "machine; `tools/rl/study43/runs.json`)."
+    )
+
+
+SCENES_SHIPPED = sets.ROOT / "tools" / "rl" / "study43" / "validation_scenes_shipped.csv.gz"
+SCENES = (
+    "val_standing_band",
+    "val_standing_patch",
+    "val_standing_corridor",
+    "val_corner_right",
+    "val_junction_blind",
+    "val_corner_group",
+)
+"""The issue-43 validation scenes, standing crowds first."""
+
+
+def scenes_shipped() -> str:
+    """The shipped policies on the issue-43 validation scenes (committed episodes of
+    tools/rl/study43/shipped_scenes.py)."""
+    from tools.rl.study_report import load
+
+    table = load(SCENES_SHIPPED)
+    run = sets.read_json(SCENES_SHIPPED.with_suffix("").with_suffix(".json"))
+    counts = {}
+    for (scene, planner), rows in table.items():
+        n = len(rows)
+        goal = sum(float(r["robot_success"]) for r in rows)
+        col = sum(float(r["robot_collision"]) for r in rows)
+        oob = sum(float(r["robot_out_of_bounds"]) for r in rows)
+        counts[scene, planner] = (round(goal), round(col), round(n - goal - col - oob), n)
+    missing = [(s, p) for s in SCENES for p in SHIPPED if (s, p) not in counts]
+    if missing or len(counts) != len(SCENES) * len(SHIPPED):
+        raise SystemExit(f"{SCENES_SHIPPED}: not the six scenes by the two policies {missing}")
+
+    def cell(goal: int, col: int, timeouts: int, n: int) -> str:
+        text = f"{goal / n:.1f} / {col / n:.1f}"
+        return text + (f" ({timeouts} timeouts)" if timeouts == n else "")
+
+    lines = [
+        f"*Run `{run['command']}`, commit `{run['commit']}`, {run['started'][:10]}; "
+        "goal / collision shares of "
+        f"{counts[SCENES[0], 'td3-srfm'][3]} episodes.*",
+        "",
+        "| scene | `td3-srfm` | `td3-base` |",
+        "|---|---|---|",
+    ]
+    for scene in SCENES:
+        lines.append(
+            f"| {scene} | {cell(*counts[scene, 'td3-srfm'])} | {cell(*counts[scene, 'td3-base'])} |"
+        )
+    standing = ("val_standing_band", "val_standing_patch")
+    waits = sum(counts[s, "td3-srfm"][2] for s in standing)
+    total = sum(counts[s, "td3-srfm"][3] for s in standing)
+    corners = ("val_corner_right", "val_junction_blind", "val_corner_group")
+    worst = max(corners, key=lambda s: counts[s, "td3-base"][1])
+    base_col = sum(counts[s, "td3-base"][1] for s in corners)
+    runs = shipped_runs()
+    chosen = [validation(runs[p])[0] for p in SHIPPED]
+    return (
+        "\n".join(lines)
+        + f"\n\n`td3-srfm` times out in {waits} of the {total} episodes with a standing "
+        "crowd across the path (`val_standing_band`, `val_standing_patch`), as it waits in "
+        f"`concert`; `td3-base` collides in {base_col} of the "
+        f"{sum(counts[s, 'td3-base'][3] for s in corners)} episodes at the corners "
+        f"({counts[worst, 'td3-base'][1]} of {counts[worst, 'td3-base'][3]} in `{worst}`), "
+        "as in `blind_corner`. On the issue-30 validation set their chosen checkpoints "
+        f"succeeded in {min(chosen):.3f}–{max(chosen):.3f} of the episodes."
+    )
+
+
+VAL30 = sets.ROOT / "tools" / "rl" / "study43" / "val30"
+_ORDINAL = ("first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth")
+
+
+def _and(parts: list[str]) -> str:
+    return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
+
+
+def _ordinal(rank: int) -> str:
+    return _ORDINAL[rank - 1] if rank <= len(_ORDINAL) else f"number {rank}"
+
+
+def validation_check() -> str:
+    """Would the issue-43 validation set have told issue 30's runs apart (the committed
+    benchmark of the runs on the new scenes, tools/rl/study43/val30, and the study's
+    committed episodes; tools/rl/study43/validation_check.py)."""
+    from tools.rl.study43 import validation_check as vc
+
+    rows = vc.rows_of(VAL30)
+    labels = {
+        "issue-30 set": f"issue-30 set ({rows[0][1][2]} episodes a run)",
+        "new scenes": f"the six new scenes ({rows[0][2][2]})",
+        "issue-43 set": f"issue-43 set (both, {rows[0][1][2] + rows[0][2][2]})",
+    }
+    lines = [
+        "| validation set | Spearman ρ (validation success, cells missed), "
+        f"{len(rows)} runs | p | the rule's k2 = 0 pick | k2 = 2 pick |",
+        "|---|---:|---:|---|---|",
+    ]
+    found = {}
+    for label in vc.SETS:
+        rho, p, k0, k2 = found[label] = vc.ranking(rows, label)
+        picks = [f"{rows[i][0]} (misses {rows[i][3]})" for i in (k0, k2)]
+        lines.append(
+            _minus(f"| {labels[label]} | {rho:+.2f} | {p:.2g} | {picks[0]} | {picks[1]} |")
+        )
+    old, new = found["issue-30 set"], found["issue-43 set"]
+    closer = abs(new[0]) > abs(old[0])
+    said = [
+        f"The issue-43 set ranks the runs {'closer to' if closer else 'no closer to'} the "
+        f"report (ρ {new[0]:+.2f} against {old[0]:+.2f}; the issue-30 figures are those of "
+        "checkpoints chosen on that very set, which flatters it)."
+    ]
+    for arm, k in (("k2 = 0", 2), ("k2 = 2", 3)):
+        a, b = rows[old[k]], rows[new[k]]
+        said.append(
+            f"For {arm} its rule picks `{b[0]}` (misses {b[3]}) where the issue-30 set "
+            f"picked `{a[0]}` (misses {a[3]})."
+        )
+    both = [
+        (-g / n, c / n, int(run.split("seed")[1]), run)
+        for run, o, w, _ in rows
+        if run.startswith("k2-")
+        for g, c, n in [vc.on("issue-43 set", o, w)]
+    ]
+    ranked = [r[3] for r in sorted(both)]
+    share = {r[3]: -r[0] for r in both}
+    clean = sorted(
+        (run for run, *_, m in rows if run.startswith("k2-") and m == 0), key=ranked.index
+    )
+    if clean:
+        said.append(
+            "Of the k2 = 2 runs that meet every target, "
+            + _and(
+                [
+                    f"`{run}` ranks {_ordinal(ranked.index(run) + 1)} ({share[run]:.3f} success)"
+                    for run in clean
+                ]
+            )
+            + f" on the issue-43 set, where the pick has {share[ranked[0]]:.3f}."
+        )
+    said.append(
+        f"One study's {len(rows)} runs: a {'better ' if closer else ''}predictor, not a guarantee."
+    )
+    return _minus("\n".join(lines)) + "\n\n" + _minus(" ".join(said))
+
+
+def issue30_on_set() -> str:
+    """Issue 30's runs' success on the issue-43 validation set (validation_check.py)."""
+    from tools.rl.study43 import validation_check as vc
+
+    rows = vc.rows_of(VAL30)
+    shares = []
+    for _, old, new, _ in rows:
+        goal, _, n = vc.on("issue-43 set", old, new)
+        shares.append(goal / n)
+    return (
+        f"Issue 30's {len(rows)} runs score {min(shares):.3f}–{max(shares):.3f} on the same "
+        "set (their chosen checkpoints; above)."
+    )
+
+
+BLOCKS: dict[str, Callable[[], str]] = {
+    "rl-usual-misses": usual_misses,
+    "rl-summary": summary,
+    "rl-validation": validation_table,
+    "rl-shipped-targets": shipped_targets,
+    "rl-study-misses": study_misses,
+    "rl-claim": claim_table,
+    "rl-claim-ttc": claim_ttc,
+    "rl-wall-times": wall_times,
+    "rl-reward-stats": reward_stats,
+    "rl-export-match": export_match,
+    "rl-range-beams": range_beams,
+    "rl43-train-wall": study43_train_wall,
+    "rl43-validation-check": validation_check,
+    "rl43-scenes-shipped": scenes_shipped,
+    "rl43-issue30-on-set": issue30_on_set,
+    "rl-evaluation-runs": evaluation_runs,
+}
+"""docs/rl.md's blocks of the issue-30 study, registered in tools/results/generate.py."""

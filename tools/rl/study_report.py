@@ -1,12 +1,15 @@
 """The study's report (issue 30): targets per policy and scenario, and the paper's
 claim tested over training seeds.
 
-    PYTHONPATH=. srfm benchmark -s SCENARIOS -p tools.rl.study_planners:k0_seed1,... \\
-        --seeds 0-99 --no-logs --no-figures --out runs/study-report
-    python tools/rl/study_report.py runs/study-report [MORE ...] > tools/rl/study/report.md
+    PYTHONPATH=. python tools/rl/study_evaluate.py --seeds 1-10       # the benchmarks
+    python tools/rl/study_report.py tools/rl/study/report/seed*.csv.gz
+    python tools/rl/study_report.py tools/rl/study/report_ttc/seed*.csv.gz   # ttc preset
 
-Several results folders (e.g. one per training seed, run as the seeds finish) are read
-as one table; a (scenario, planner, seed) episode found in two folders is an error.
+``study_evaluate.py`` runs ``srfm benchmark`` of each training seed's two policies and
+commits the episodes' columns read here (``tools/rl/study/report/seed<s>.csv.gz``).
+Several such files or benchmark folders are read as one table; a (scenario, planner,
+seed) episode found in two of them is an error. docs/rl.md's tables of the study are
+generated from the committed files (``tools/results/rl_study.py``).
 
 ``SCENARIOS`` are the report's: the five paper scenarios, the library's held-out set
 and corridor_flow (``python tools/rl/study_report.py --scenarios`` prints them
@@ -36,6 +39,7 @@ import math
 import re
 import sys
 from collections import defaultdict
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -48,6 +52,7 @@ from srfm.scenarios.training import LIBRARY_HELDOUT
 REPORT_SCENARIOS = (*EVALUATION_SCENARIOS, *LIBRARY_HELDOUT, "corridor_flow")
 POLICY = re.compile(r"tools\.rl\.study_planners:k(\d+(?:\.\d+)?)_seed(\d+)")
 MARGIN_M = 0.03
+STUDY = Path(__file__).resolve().parent / "study"
 ALPHA = 0.05
 
 Table = dict[tuple[str, str], list[dict[str, str]]]
@@ -83,6 +88,32 @@ def misses_target(scenario: str, goal: float, collision: float) -> bool:
     return collision > 0.02 or goal < 0.95
 
 
+@dataclass(frozen=True)
+class Shares:
+    """A policy's goal, collision and out-of-bounds shares in one scenario, and whether
+    they miss the target."""
+
+    goal: float
+    collision: float
+    out_of_bounds: float
+    miss: bool
+
+    def text(self) -> str:
+        mark = " ✗" if self.miss else ""
+        return f"{self.goal:.2f} / {self.collision:.2f} / {self.out_of_bounds:.2f}{mark}"
+
+
+def shares(table: Table, scenario: str, planner: str) -> Shares | None:
+    """The policy's shares in the scenario (None without episodes)."""
+    rows = table.get((scenario, planner), [])
+    if not rows:
+        return None
+    goal = share(rows, "robot_success")
+    col = share(rows, "robot_collision")
+    oob = share(rows, "robot_out_of_bounds")
+    return Shares(goal, col, oob, misses_target(scenario, goal, col))
+
+
 def targets(table: Table, planners: list[str]) -> list[str]:
     lines = [
         "| scenario | " + " | ".join(short(p) for p in planners) + " |",
@@ -92,17 +123,9 @@ def targets(table: Table, planners: list[str]) -> list[str]:
     for scenario in REPORT_SCENARIOS:
         cells = []
         for planner in planners:
-            rows = table.get((scenario, planner), [])
-            if not rows:
-                cells.append("–")
-                continue
-            goal = share(rows, "robot_success")
-            col = share(rows, "robot_collision")
-            oob = share(rows, "robot_out_of_bounds")
-            miss = misses_target(scenario, goal, col)
-            misses += miss
-            mark = " ✗" if miss else ""
-            cells.append(f"{goal:.2f} / {col:.2f} / {oob:.2f}{mark}")
+            cell = shares(table, scenario, planner)
+            misses += cell is not None and cell.miss
+            cells.append("–" if cell is None else cell.text())
         lines.append(f"| {scenario} | " + " | ".join(cells) + " |")
     lines.append("")
     lines.append(
@@ -128,16 +151,37 @@ def seed_means(table: Table, scenario: str, planner: str) -> float:
     return float(np.mean(good)) if good else math.nan
 
 
-def claim(table: Table, planners: list[str]) -> list[str]:
+@dataclass(frozen=True)
+class ClaimRow:
+    """One scenario's test of the claim (NaN where fewer than 2 seeds have a mean)."""
+
+    scenario: str
+    n: int
+    mean: float
+    lo: float
+    hi: float
+    p: float
+    p_holm: float
+    lo90: float
+    hi90: float
+    answer: str
+
+
+def arms_of(planners: list[str]) -> dict[str, dict[int, str]]:
+    """k2 -> training seed -> planner, for the study's policies among the planners."""
     arms: dict[str, dict[int, str]] = defaultdict(dict)
     for planner in planners:
         match = POLICY.fullmatch(planner)
         if match:
             arms[match[1]][int(match[2])] = planner
-    if set(arms) < {"0", "2"}:
-        return ["(needs both arms, k2 = 0 and k2 = 2)"]
+    return arms
+
+
+def claim_rows(table: Table, planners: list[str]) -> list[ClaimRow]:
+    """The claim per scenario of the report, over the training seeds with both arms."""
+    arms = arms_of(planners)
     seeds = sorted(set(arms["0"]) & set(arms["2"]))
-    rows = []
+    raw = []
     for scenario in REPORT_SCENARIOS:
         d = np.array(
             [
@@ -149,9 +193,7 @@ def claim(table: Table, planners: list[str]) -> list[str]:
         d = d[np.isfinite(d)]
         n = len(d)
         if n < 2:
-            rows.append(
-                (scenario, n, math.nan, math.nan, math.nan, math.nan, math.nan, math.nan, math.nan)
-            )
+            raw.append((scenario, n, *[math.nan] * 7))
             continue
         mean = float(d.mean())
         sd = float(d.std(ddof=1))
@@ -160,21 +202,14 @@ def claim(table: Table, planners: list[str]) -> list[str]:
         t95 = float(stats.t.ppf(0.95, n - 1))
         p = float(stats.ttest_1samp(d, 0.0).pvalue) if sd > 0 else math.nan
         lo90, hi90 = mean - t95 * se, mean + t95 * se
-        rows.append((scenario, n, mean, mean - t975 * se, mean + t975 * se, p, lo90, hi90, sd))
-    adjusted = holm([r[5] for r in rows])
+        raw.append((scenario, n, mean, mean - t975 * se, mean + t975 * se, p, lo90, hi90, sd))
+    adjusted = holm([float(r[5]) for r in raw])
     z = float(stats.norm.ppf(0.95) + stats.norm.ppf(0.9))
-    lines = [
-        f"Training seeds with both arms: {', '.join(map(str, seeds))} (n = {len(seeds)}).",
-        "",
-        "| scenario | n seeds | Δ Fréchet (m), k2=2 − k2=0 | 95 % CI | p | p (Holm) "
-        "| 90 % CI (TOST ±0.03 m) | answer |",
-        "|---|---:|---:|---|---:|---:|---|---|",
-    ]
-    for (scenario, n, mean, lo, hi, p, lo90, hi90, sd), p_holm in zip(rows, adjusted, strict=True):
+    rows = []
+    for (scenario, n, mean, lo, hi, p, lo90, hi90, sd), p_holm in zip(raw, adjusted, strict=True):
         if not math.isfinite(mean):
-            lines.append(f"| {scenario} | {n} | – | – | – | – | – | too few seeds |")
-            continue
-        if math.isfinite(p_holm) and p_holm < ALPHA:
+            answer = "too few seeds"
+        elif math.isfinite(p_holm) and p_holm < ALPHA:
             verb = "lowers" if mean < 0 else "raises"
             answer = f"the penalty {verb} deviation by {abs(mean):.3f} m ({lo:+.3f} to {hi:+.3f})"
         elif lo90 > -MARGIN_M and hi90 < MARGIN_M:
@@ -182,11 +217,45 @@ def claim(table: Table, planners: list[str]) -> list[str]:
         else:
             need = math.ceil((z * sd / MARGIN_M) ** 2)
             answer = f"inconclusive: would need about {need} seeds"
+        rows.append(ClaimRow(str(scenario), int(n), mean, lo, hi, p, p_holm, lo90, hi90, answer))
+    return rows
+
+
+def claim(table: Table, planners: list[str]) -> list[str]:
+    arms = arms_of(planners)
+    if set(arms) < {"0", "2"}:
+        return ["(needs both arms, k2 = 0 and k2 = 2)"]
+    seeds = sorted(set(arms["0"]) & set(arms["2"]))
+    lines = [
+        f"Training seeds with both arms: {', '.join(map(str, seeds))} (n = {len(seeds)}).",
+        "",
+        "| scenario | n seeds | Δ Fréchet (m), k2=2 − k2=0 | 95 % CI | p | p (Holm) "
+        "| 90 % CI (TOST ±0.03 m) | answer |",
+        "|---|---:|---:|---|---:|---:|---|---|",
+    ]
+    for r in claim_rows(table, planners):
+        if not math.isfinite(r.mean):
+            lines.append(f"| {r.scenario} | {r.n} | – | – | – | – | – | {r.answer} |")
+            continue
         lines.append(
-            f"| {scenario} | {n} | {mean:+.3f} | {lo:+.3f} to {hi:+.3f} | {p:.2g} | "
-            f"{p_holm:.2g} | {lo90:+.3f} to {hi90:+.3f} | {answer} |"
+            f"| {r.scenario} | {r.n} | {r.mean:+.3f} | {r.lo:+.3f} to {r.hi:+.3f} | "
+            f"{r.p:.2g} | {r.p_holm:.2g} | {r.lo90:+.3f} to {r.hi90:+.3f} | {r.answer} |"
         )
     return lines
+
+
+def planners_of(table: Table) -> list[str]:
+    """The table's planners, the study's policies first (by name)."""
+    return sorted({p for _, p in table}, key=lambda p: (POLICY.fullmatch(p) is None, p))
+
+
+def committed(part: str = "report") -> Table:
+    """The issue-30 study's committed episodes, ``tools/rl/study/<part>/seed*.csv.gz``
+    (``report`` or ``report_ttc``; written by ``tools/rl/study_evaluate.py``)."""
+    files = sorted((STUDY / part).glob("seed*.csv.gz"))
+    if not files:
+        raise SystemExit(f"{STUDY / part}: no seed*.csv.gz (tools/rl/study_evaluate.py)")
+    return load(*files)
 
 
 def main(argv: list[str]) -> int:
@@ -197,7 +266,7 @@ def main(argv: list[str]) -> int:
         print(__doc__, file=sys.stderr)
         return 2
     table = load(*map(Path, argv))
-    planners = sorted({p for _, p in table}, key=lambda p: (POLICY.fullmatch(p) is None, p))
+    planners = planners_of(table)
     print("## Targets (seeds 0-99)\n")
     print("\n".join(targets(table, planners)))
     print("\n## The claim over training seeds\n")

@@ -8,9 +8,10 @@ goal in >= 90 % of the seeds. Prints a Markdown table; exits 1 when a check fail
     nice .venv/bin/python tools/scenarios/check_scenarios.py [--seeds 20] [NAME ...] \\
         [--json docs/scenarios/checks.json]
 
-``--json`` also writes every scenario's row with the command, the commit, when it ran
-and its wall time: the data of the table in docs/scenarios.md
-(``tools/results/generate.py``).
+``--json`` also writes every scenario's row (with the CPU seconds its checks took, this
+process alone, ``time.process_time``) with the command, the commit, when it ran and its
+wall time, and the run record of ``tools/results/record.py``: the data of the table in
+docs/scenarios.md (``tools/results/generate.py``).
 """
 
 from __future__ import annotations
@@ -29,7 +30,8 @@ ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:  # run as a script from the repository's root
     sys.path.insert(0, str(ROOT))
 
-from tools.results.record import source_commit  # noqa: E402
+from tools.results.record import run_record, source_commit  # noqa: E402
+from tools.results.record import start as record_start  # noqa: E402
 
 PLANNERS = ("dwa", "vo", "orca", "social-force")
 
@@ -41,6 +43,7 @@ def main() -> int:
     parser.add_argument("--json", type=Path, help="also write the rows and provenance here")
     args = parser.parse_args()
     rows: dict[str, dict[str, object]] = {}
+    record_started, t0, load0 = record_start()
     started = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
     names = args.names or [*FRANCIS_SCENARIOS, *NAVWARESET_SCENARIOS, *FLOW_SCENARIOS]
     seeds = range(args.seeds)
@@ -48,7 +51,9 @@ def main() -> int:
     print("| scenario | pedestrians arrived | in a wall | overlaps | robot goal (planner) |")
     print("|---|---|---|---|---|")
     start = time.perf_counter()
+    cpu_start = time.process_time()
     for name in names:
+        cpu0 = time.process_time()
         for planner in PLANNERS:
             check = check_scenario(name, seeds, planner)
             if check.robot_success_rate >= 0.9:
@@ -70,6 +75,7 @@ def main() -> int:
             "seeds": check.seeds,
             "planner": check.planner,
             "ok": ok,
+            "cpu_s": round(time.process_time() - cpu0, 2),
         }
         print(
             f"| {name} | {check.ped_arrived}/{check.ped_total} | {check.in_wall_samples} | "
@@ -79,6 +85,7 @@ def main() -> int:
             flush=True,
         )
     wall = time.perf_counter() - start
+    cpu = time.process_time() - cpu_start
     print(f"\n{len(names)} scenarios x {args.seeds} seeds in {wall:.0f} s")
     if args.json is not None:
         commit = source_commit()
@@ -89,7 +96,9 @@ def main() -> int:
             "wall_s": wall,
             "cpus": os.cpu_count(),
             "load_average": round(os.getloadavg()[0], 2),
+            "cpu_s": round(cpu, 1),
             "scenarios": rows,
+            "run": run_record(record_started, t0, load0),
         }
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")

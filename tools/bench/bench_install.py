@@ -9,7 +9,7 @@ without extras) and ``dev`` (what ``make test`` installs: every extra), so the s
 the Makefile's own. The JSON records each step's seconds and bytes, the run record of
 ``tools/results/record.py`` (command, commit, date, load) and the Python and pip
 versions; the README's install table is generated from it (``make docs-tables``).
-Network speed dominates: the figures are this machine's, on its network and with its
+The figures are this machine's, on its network and with its
 pip configuration (recorded: e.g. a local ``find-links`` folder of wheels), that day.
 """
 
@@ -26,7 +26,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-from tools.results.record import run_record, start  # noqa: E402
+from tools.results.record import machine, run_record, start
 
 ROOT = Path(__file__).resolve().parents[2]
 STAMPS = {"run": ".installed-run", "dev": ".installed-dev"}
@@ -84,6 +84,7 @@ def main(argv: list[str] | None = None) -> None:
         "pip_config": pip_config,
         "steps": rows,
         "run": run_record(started, t0, load),
+        "machine": machine(),
     }
     tmp_path = args.json.with_suffix(".json.tmp")
     tmp_path.write_text(json.dumps(payload, indent=1) + "\n", encoding="utf-8")

@@ -753,6 +753,49 @@ def performance_vs() -> str:
     return "\n".join(lines)
 
 
+def _vs_medians(row: dict[str, Any], figure: str) -> tuple[float, float]:
+    """The medians of checkout A and of checkout B in one row of a ``--vs`` record."""
+    a = _figures(row, figure)
+    b = _figures({"runs": {"A": row["runs"]["B"]}}, figure)
+    return float(np.median(a)), float(np.median(b))
+
+
+def performance_vs_reading() -> str:
+    """What the before-and-after record says of the commands' wall times."""
+    doc = sets.read_json(PERFORMANCE_VS)
+    gaps = [
+        abs(1.0 - a / b) * 100
+        for a, b in (_vs_medians(doc["rows"][name], "wall_s") for name in ("full", "simulate"))
+    ]
+    return fitting_pages.prose(
+        f"The code of `{doc['commits']['B']}` (the last figures on an idle machine before "
+        f"this page's, 2026-11-27), timed in turn with `{doc['commits']['A']}` on one machine "
+        f"({doc['date'][:10]}), takes within {min(gaps):.0f}–{max(gaps):.0f} % of its wall "
+        "time for `srfm benchmark` and `srfm simulate` (block below): most of the difference "
+        "from the figures of 2026-11-27 is the machine, not the code, and a slower machine "
+        "can miss the command goals that this one meets (the old figures: "
+        "[history](history/performance.md#speed-goals-as-read-on-2026-12-05))."
+    )
+
+
+def performance_crowd_change() -> str:
+    """The crowd step against JuPedSim before (``--vs`` record) and after (goals)."""
+    before = sets.read_json(PERFORMANCE_VS)["rows"]["shared-crowd"]
+    after = sets.read_json(PERFORMANCE_GOALS)["rows"]["shared-crowd"]
+    parts = []
+    for n, goal in ((1000, 3.0), (10000, 3.5)):
+        was = _figures(before, str(n)) + _figures({"runs": {"A": before["runs"]["B"]}}, str(n))
+        now = _figures(after, str(n))
+        parts.append(
+            f"{min(was):.1f}–{max(was):.1f}× before, {min(now):.1f}–{max(now):.1f}× after, "
+            f"at N = {n:,} (goal {goal:g}×)"
+        )
+    return fitting_pages.prose(
+        "The crowd step against JuPedSim's social force model, every run of the two records "
+        f"above: {'; '.join(parts)}."
+    )
+
+
 STUDY43 = sets.ROOT / "tools" / "rl" / "study43"
 
 
@@ -944,6 +987,8 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "oracle-cost": oracle_cost,
     "performance-goals": performance_goals,
     "performance-vs-before": performance_vs,
+    "performance-vs-reading": performance_vs_reading,
+    "performance-crowd-change": performance_crowd_change,
     "readme-speed": readme_speed,
     "rl43-validation": rl43_validation,
     "rl43-curves": rl43_curves,

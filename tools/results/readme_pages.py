@@ -8,9 +8,10 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from tools.results.fitting_pages import _json, prose
+from tools.results import performance_pages
+from tools.results.fitting_pages import prose
 
-INSTALL = "results/performance/install.json"
+INSTALL = "install.json"  # in docs/results/performance/
 TARGETS = {
     "run": (
         "`make benchmark`",
@@ -19,8 +20,7 @@ TARGETS = {
     ),
     "dev": (
         "`make test`",
-        "srfm with every extra: `dev,rl,sbx,dask,sweep,docs,release` (torch, JAX, Dask, "
-        "MkDocs, …)",
+        "srfm with every extra: `dev,rl,sbx,dask,sweep,docs,release` (torch, JAX, Dask, MkDocs, …)",
     ),
 }
 
@@ -35,19 +35,27 @@ def _duration(seconds: float) -> str:
 
 def _index(config: list[str]) -> str:
     """Where pip took the packages from, as its configuration says."""
-    links = [line.split("=", 1)[1].strip("'") for line in config if "find-links" in line]
-    extra = [line.split("=", 1)[1].strip("'") for line in config if "index-url" in line]
+
+    def values(key: str) -> set[str]:
+        return {
+            value
+            for line in config
+            if key in line
+            for value in line.split("=", 1)[1].strip("'").split()
+        }
+
+    links, extra = values("find-links"), values("index-url")
     parts = ["the default index (PyPI)"]
     if extra:
-        parts.append("extra indexes " + ", ".join(f"`{x}`" for x in sorted(set(extra))))
+        parts.append("extra indexes " + ", ".join(f"`{x}`" for x in sorted(extra)))
     if links:
-        parts.append("local wheels in " + ", ".join(f"`{x}`" for x in sorted(set(links))))
+        parts.append("local wheels in " + ", ".join(f"`{x}`" for x in sorted(links)))
     return " and ".join(parts)
 
 
 def readme_install() -> str:
     """What the first install of each quick-start target costs."""
-    doc: dict[str, Any] = _json(INSTALL)
+    doc: dict[str, Any] = performance_pages.record(INSTALL)  # checked: what its command wrote
     run = doc["run"]
     head = prose(
         "What the first install costs (a new `.venv`, pip's cache off, Python "

@@ -46,6 +46,7 @@ from tools.results import (
     io_pages,
     performance_pages,
     planner_pages,
+    readme_pages,
     response_pages,
     rl_study,
     sensitivity,
@@ -688,6 +689,37 @@ def performance_goals_table(doc: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def readme_speed() -> str:
+    """The README's line on speed: each goal's verdict on the committed measurement."""
+    doc = sets.read_json(PERFORMANCE_GOALS)
+    verdicts = []
+    for row_name, _, figure, goal, at_least in SPEED_GOALS:
+        row = doc["rows"].get(row_name)
+        median = float(np.median(_figures(row, figure))) if row else math.nan
+        verdicts.append(median >= goal if at_least else median <= goal)
+    full, simulate, crowd_1k, crowd_10k = verdicts
+    goals = {name: goal for name, _, _, goal, _ in SPEED_GOALS}
+
+    def within(ok: bool) -> str:
+        return "within" if ok else "not within"
+
+    crowd = (
+        "beats JuPedSim's social force model on the same crowd by more than the goals"
+        if crowd_1k and crowd_10k
+        else "does not beat JuPedSim's social force model on the same crowd by both goals"
+    )
+    n_1k, n_10k = (SPEED_GOALS[k][3] for k in (2, 3))
+    return fitting_pages.prose(
+        "- A one-off command pays for importing numba and loading its compiled kernels, and "
+        "the very first run compiles them. On two idle cores of the developers' machine "
+        f"({doc['date'][:10]}, [Speed goals](docs/performance.md#speed-goals)) `srfm simulate` "
+        f"is {within(simulate)} its goal of {goals['simulate']:g} s, the full 3,500-episode "
+        f"benchmark {within(full)} its goal of {goals['full']:g} s, and the crowd step "
+        f"{crowd} of {n_1k:g}× at 1,000 pedestrians and {n_10k:g}× at 10,000. Crowds of "
+        "hundreds or thousands step in O(N) with an interaction cut-off."
+    )
+
+
 PERFORMANCE_VS = DOCS / "results" / "performance" / "vs-fe28b0b.json"
 
 
@@ -719,6 +751,49 @@ def performance_vs() -> str:
             f"| {row['load_before']} → {row['load_after']} |"
         )
     return "\n".join(lines)
+
+
+def _vs_medians(row: dict[str, Any], figure: str) -> tuple[float, float]:
+    """The medians of checkout A and of checkout B in one row of a ``--vs`` record."""
+    a = _figures(row, figure)
+    b = _figures({"runs": {"A": row["runs"]["B"]}}, figure)
+    return float(np.median(a)), float(np.median(b))
+
+
+def performance_vs_reading() -> str:
+    """What the before-and-after record says of the commands' wall times."""
+    doc = sets.read_json(PERFORMANCE_VS)
+    gaps = [
+        abs(1.0 - a / b) * 100
+        for a, b in (_vs_medians(doc["rows"][name], "wall_s") for name in ("full", "simulate"))
+    ]
+    return fitting_pages.prose(
+        f"The code of `{doc['commits']['B']}` (the last figures on an idle machine before "
+        f"this page's, 2026-11-27), timed in turn with `{doc['commits']['A']}` on one machine "
+        f"({doc['date'][:10]}), takes within {min(gaps):.0f}–{max(gaps):.0f} % of its wall "
+        "time for `srfm benchmark` and `srfm simulate` (block below): most of the difference "
+        "from the figures of 2026-11-27 is the machine, not the code, and a slower machine "
+        "can miss the command goals that this one meets (the old figures: "
+        "[history](history/performance.md#speed-goals-as-read-on-2026-12-05))."
+    )
+
+
+def performance_crowd_change() -> str:
+    """The crowd step against JuPedSim before (``--vs`` record) and after (goals)."""
+    before = sets.read_json(PERFORMANCE_VS)["rows"]["shared-crowd"]
+    after = sets.read_json(PERFORMANCE_GOALS)["rows"]["shared-crowd"]
+    parts = []
+    for n, goal in ((1000, 3.0), (10000, 3.5)):
+        was = _figures(before, str(n)) + _figures({"runs": {"A": before["runs"]["B"]}}, str(n))
+        now = _figures(after, str(n))
+        parts.append(
+            f"{min(was):.1f}–{max(was):.1f}× before, {min(now):.1f}–{max(now):.1f}× after, "
+            f"at N = {n:,} (goal {goal:g}×)"
+        )
+    return fitting_pages.prose(
+        "The crowd step against JuPedSim's social force model, every run of the two records "
+        f"above: {'; '.join(parts)}."
+    )
 
 
 STUDY43 = sets.ROOT / "tools" / "rl" / "study43"
@@ -912,6 +987,9 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "oracle-cost": oracle_cost,
     "performance-goals": performance_goals,
     "performance-vs-before": performance_vs,
+    "performance-vs-reading": performance_vs_reading,
+    "performance-crowd-change": performance_crowd_change,
+    "readme-speed": readme_speed,
     "rl43-validation": rl43_validation,
     "rl43-curves": rl43_curves,
     "rl43-summary": rl43_summary,
@@ -924,6 +1002,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     **io_pages.BLOCKS,
     **response_pages.BLOCKS,
     **planner_pages.BLOCKS,
+    **readme_pages.BLOCKS,
     **performance_pages.BLOCKS,
 }
 

@@ -40,6 +40,9 @@ COMMANDS: dict[str, str] = {
     "--json docs/results/performance/env.json",
     "train.json": "python tools/bench/bench_train.py --only sb3-paper,sbx-64-tf50,"
     "sbx-64-tf50-ar4 --repeats 2 --json docs/results/performance/train.json",
+    # the README's install table (tools/results/readme_pages.py)
+    "install.json": "python tools/bench/bench_install.py "
+    "--json docs/results/performance/install.json",
 }
 GOALS = "goals.json"  # the speed goals' record (generate.performance_goals)
 RUN_KEYS = ("command", "commit", "started", "finished", "wall_s", "machine")

@@ -20,6 +20,7 @@ import gzip
 import io
 import json
 import math
+import shlex
 import sys
 from collections.abc import Callable
 from functools import cache
@@ -33,7 +34,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from srfm.fitting import holm
 from srfm.metrics.stats import ALPHA, compare, wilson
-from srfm.sweep.report import load_sweep, mean_ci
+from srfm.sweep.report import SweepData, load_sweep, mean_ci, report_figures, report_text
 from tools.results import fitting_pages as fp
 from tools.results.fitting_pages import DOCS, MissingDataError, prose
 
@@ -47,6 +48,9 @@ COLUMNS: Final = (*FACTORS, *TEXT_COLUMNS, "seed", "frechet_m", "robot_success")
 REFERENCE: Final = {"a_robot": 7.93, "b_robot": 0.99}
 """The paper's A_r and B_r: the sweep's reference cell."""
 LABELS: Final = {"a_robot": "A_r", "b_robot": "B_r"}
+SPEC_KEYS: Final = ("name", "planners", "scenarios", "seeds", "cells", "factors", "params")
+"""What :data:`RUN` keeps of the sweep's manifest: enough to read the episodes back as
+the sweep (:func:`sweep_data`), whose report ``srfm sweep report`` wrote."""
 
 
 # -- pack -------------------------------------------------------------------------------
@@ -89,7 +93,7 @@ def pack(folder: Path, record: dict[str, Any]) -> None:
         **record,
         "episodes": sum(1 for _ in _rows()),
         "versions": manifest["versions"],
-        "spec": {k: manifest[k] for k in ("name", "planners", "scenarios", "seeds", "cells")},
+        "spec": {k: manifest[k] for k in SPEC_KEYS},
     }
     RUN.write_text(json.dumps(payload, indent=1) + "\n", encoding="utf-8")
 
@@ -127,6 +131,60 @@ def run() -> dict[str, Any]:
         raise MissingDataError(f"data file `docs/{RUN.relative_to(DOCS)}`")
     payload: dict[str, Any] = json.loads(RUN.read_text(encoding="utf-8"))
     return payload
+
+
+def sweep_data() -> SweepData:
+    """The sweep as ``srfm sweep report`` read it from its folder, read back from the
+    committed episodes and run record: the same columns the report reads, in the same
+    order, the same cells, factors and base parameters (the reference cell)."""
+    spec = run()["spec"]
+    lacking = [k for k in SPEC_KEYS if k not in spec]
+    if lacking:
+        raise MissingDataError(
+            f"{', '.join(lacking)} in `docs/{RUN.relative_to(DOCS)}` (pack the sweep again)"
+        )
+    factors = tuple(str(f) for f in spec["factors"])
+    if set(factors) != set(FACTORS):
+        raise SystemExit(f"{RUN}: factors {list(factors)}; the episodes hold {list(FACTORS)}")
+    cells = {
+        str(c): {str(k): float(v) for k, v in values.items()} for c, values in spec["cells"].items()
+    }
+    e = episodes()
+    cell_of = {tuple(values[f] for f in factors): c for c, values in cells.items()}
+    keys = zip(*(e[f].tolist() for f in factors), strict=True)
+    cell = np.array([cell_of[key] for key in keys], dtype=object)
+    command = shlex.split(str(run()["command"]))
+    return SweepData.from_columns(
+        folder=Path(command[command.index("--out") + 1]),
+        factors=factors,
+        cells=cells,
+        scenarios=tuple(str(s) for s in spec["scenarios"]),
+        planners=tuple(str(p) for p in spec["planners"]),
+        base={str(k): float(v) for k, v in spec["params"].items()},
+        columns={"cell": cell, **e},
+        expected=len(cells) * len(spec["scenarios"]) * len(spec["planners"]) * len(spec["seeds"]),
+    )
+
+
+@cache
+def report() -> tuple[str, str]:
+    """``docs/sensitivity/report.md`` and ``rankings.csv``: the sweep report's text, by
+    ``srfm sweep report``'s own function, from the committed episodes."""
+    return report_text(sweep_data())
+
+
+def report_md() -> str:
+    return report()[0]
+
+
+def rankings_csv() -> str:
+    return report()[1]
+
+
+def figures() -> dict[str, bytes]:
+    """The sweep report's figures (``docs/sensitivity/*.png``), by ``srfm sweep
+    report``'s own function, from the committed episodes."""
+    return report_figures(sweep_data())
 
 
 def planners() -> list[str]:

@@ -65,9 +65,10 @@ typecheck: $(DEV_STAMP)
 docs: $(DEV_STAMP)
 	$(BIN)/mkdocs build --strict --site-dir site
 
-# Every generated table of the docs (between <!-- generated: NAME --> and <!-- end: NAME -->)
-# from the results sets committed in docs/results/: reads data, simulates nothing (seconds).
-# tests/docs/test_generated.py fails when a page differs from what the data give.
+# Every generated table of the docs (between <!-- generated: NAME --> and <!-- end: NAME -->,
+# and the whole files of tools/results/whole_files.py) from the committed data: reads data,
+# simulates nothing (seconds). tests/docs/test_generated.py and test_whole_files.py fail
+# when a page differs from what the data give.
 docs-tables: $(DEV_STAMP)
 	$(BIN)/python tools/results/generate.py
 

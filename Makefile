@@ -67,10 +67,12 @@ docs: $(DEV_STAMP)
 
 # Every generated table of the docs (between <!-- generated: NAME --> and <!-- end: NAME -->,
 # and the whole files of tools/results/whole_files.py) from the committed data: reads data,
-# simulates nothing (seconds). tests/docs/test_generated.py and test_whole_files.py fail
-# when a page differs from what the data give.
+# simulates nothing (seconds); then every figure from its committed data
+# (tools/results/figures.py, about 20 s). tests/docs/test_generated.py,
+# test_whole_files.py and test_figures.py fail when a page, file or figure differs.
 docs-tables: $(DEV_STAMP)
 	$(BIN)/python tools/results/generate.py
+	$(BIN)/python tools/results/figures.py
 
 # Run one results set again from scratch into results/SET (interrupt and run again: the
 # benchmark resumes), pack it into docs/results/SET, then `make docs-tables`.

@@ -68,7 +68,7 @@ def test_a_hand_edited_number_is_named_and_put_back(path: str, tmp_path: Path) -
 
 
 def test_an_unknown_file_is_refused() -> None:
-    with pytest.raises(SystemExit, match="unknown generated file 'docs/nope.md'"):
+    with pytest.raises(SystemExit, match=r"unknown generated file 'docs/nope\.md'"):
         generate.file_text("docs/nope.md")
 
 

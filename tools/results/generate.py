@@ -14,8 +14,7 @@ measured, its wall time, its command, planners, parameters and policies.
 
 Whole files that a run tool writes in full (``FILES``: path -> text, e.g.
 docs/real_encounters/tables.md) are rewritten and checked the same way, by the
-function the tool writes them with; ``FIGURES`` are written from their data but never
-checked (their bytes depend on the plotting library's build).
+function the tool writes them with (the figures: ``tools/results/figures.py``).
 """
 
 from __future__ import annotations
@@ -1018,11 +1017,6 @@ FILES: dict[str, Callable[[], str]] = {
 }
 """Whole files (path from the repository's root) -> their text from committed data."""
 
-FIGURES: dict[str, Callable[[], dict[str, bytes]]] = {
-    **whole_files.FIGURES,
-}
-"""Groups of figures -> their bytes by path; written by ``make docs-tables``, not checked."""
-
 _MISSING = (MissingError, data_pages.MissingDataError, fitting_pages.MissingDataError)
 
 
@@ -1056,18 +1050,6 @@ def write_files(root: Path = sets.ROOT) -> list[str]:
             page.parent.mkdir(parents=True, exist_ok=True)
             page.write_bytes(data)
             changed.append(path)
-    return changed
-
-
-def write_figures(root: Path = sets.ROOT) -> list[str]:
-    """Rewrite every figure of ``FIGURES`` under ``root`` whose bytes differ; its paths."""
-    changed = []
-    for make in FIGURES.values():
-        for path, data in make().items():
-            page = root / path
-            if not page.is_file() or page.read_bytes() != data:
-                page.write_bytes(data)
-                changed.append(path)
     return changed
 
 
@@ -1133,8 +1115,6 @@ def main(argv: list[str] | None = None) -> None:
         return
     for path in write_files():  # first: blocks read some of them (sensitivity/rankings.csv)
         print(f"{path}: whole file")
-    for path in write_figures():
-        print(f"{path}: figure")
     for page in pages():
         text = page.read_text(encoding="utf-8")
         new, changed = rewrite(text, page)

@@ -2,10 +2,9 @@
 rewritten from its committed data by the function its tool writes it with.
 
 ``tools/results/generate.py`` registers :data:`FILES` (``make docs-tables`` writes them,
-``--check`` names each that differs) and :data:`FIGURES` (written, never checked: a PNG's
-bytes depend on the plotting library's build, its numbers are the text's). The tools
-themselves call the same functions on the data as they save it, so that what a run
-writes is what the committed data give:
+``--check`` names each that differs; the figures beside them are
+``tools/results/figures.py``'s). The tools themselves call the same functions on the
+data as they save it, so that what a run writes is what the committed data give:
 
 - docs/real_encounters/tables.md, from results.json: ``tables_text`` of
   tools/fitting/real_encounters.py;
@@ -15,9 +14,9 @@ writes is what the committed data give:
   tools/fitting/cap_diagnostic.py;
 - docs/robot_response/tables.md, from results.json: ``tables`` of
   tools/fitting/fit_response.py;
-- docs/sensitivity/report.md, rankings.csv and the figures, from episodes.csv.gz and
-  run.json read back as the sweep (tools/results/sensitivity.py): ``report_text`` and
-  ``report_figures`` of ``srfm sweep report`` (srfm/sweep/report.py).
+- docs/sensitivity/report.md and rankings.csv, from episodes.csv.gz and run.json read
+  back as the sweep (tools/results/sensitivity.py): ``report_text`` of
+  ``srfm sweep report`` (srfm/sweep/report.py).
 """
 
 from __future__ import annotations
@@ -82,13 +81,3 @@ FILES: dict[str, Callable[[], str]] = {
     "docs/sensitivity/rankings.csv": sensitivity.rankings_csv,
 }
 """Path from the repository's root -> the file's whole text from committed data."""
-
-
-def _sensitivity_figures() -> dict[str, bytes]:
-    return {f"docs/sensitivity/{name}": png for name, png in sensitivity.figures().items()}
-
-
-FIGURES: dict[str, Callable[[], dict[str, bytes]]] = {
-    "docs/sensitivity/*.png": _sensitivity_figures,
-}
-"""What writes a group of figures -> their bytes by path from the repository's root."""

@@ -12,13 +12,16 @@ function the run that measured them uses, from the data that run committed:
   fits in ``docs/fitting_navwareset.json`` and the NavWareSet windows of the shared data
   (``tools/fitting/fit_navwareset.py``; needs ``SRFM_DATA_DIR`` or ``../shared/data``);
 - ``scenarios``: the scenario library's drawings (docs/scenarios.md), from the scenario
-  definitions (``tools/scenarios/draw_scenarios.py``).
+  definitions (``tools/scenarios/draw_scenarios.py``);
+- ``sensitivity``: the sweep report's four figures (docs/sensitivity.md), from the
+  committed episodes and run record read back as the sweep
+  (``srfm.sweep.report.report_figures``, as ``srfm sweep report``;
+  ``tools/results/sensitivity.py``).
 
 ``--check`` compares pixels, not bytes (``matplotlib.testing.compare.compare_images``
 with a tolerance of 0.001 RMS on the 0-255 scale): PNG encoders may differ in their
 compression. Text rendering differs between matplotlib minor versions, so
-``pyproject.toml`` pins the minor. The sweep figures of docs/sensitivity/ belong to
-their report (``srfm sweep report``).
+``pyproject.toml`` pins the minor.
 """
 
 from __future__ import annotations
@@ -90,11 +93,22 @@ def scenarios(out: Path) -> list[str]:
     return [draw(name, out).name for name in names]
 
 
+def sensitivity(out: Path) -> list[str]:
+    """docs/sensitivity/*.png: the sweep report's figures, from the committed episodes."""
+    from tools.results.sensitivity import figures
+
+    drawn = figures()
+    for name, png in drawn.items():
+        (out / name).write_bytes(png)
+    return list(drawn)
+
+
 # group -> (folder of its figures in docs/, the function that draws them into a folder)
 FIGURES: dict[str, tuple[Path, Callable[[Path], list[str]]]] = {
     "real_encounters": (DOCS / "real_encounters", real_encounters),
     "fitting_navwareset": (DOCS, fitting_navwareset),
     "scenarios": (DOCS / "scenarios", scenarios),
+    "sensitivity": (DOCS / "sensitivity", sensitivity),
 }
 
 

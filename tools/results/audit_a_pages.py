@@ -17,6 +17,7 @@ Nothing is computed but counts, a product of committed numbers and formatting.
 
 from __future__ import annotations
 
+import csv
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -28,7 +29,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from srfm.models.params import PRESETS, SRFMParams
 from tools.results import sensitivity
-from tools.results.fitting_pages import WORDS, _json, prose
+from tools.results.fitting_pages import DOCS, WORDS, MissingDataError, _json, prose
 
 FACTS: Final = "fitting_navwareset_facts.json"
 HORIZON_S: Final = 4.8
@@ -80,9 +81,7 @@ def _fits(goal: str, form: str) -> set[str]:
     resample) of ``form`` with the ``goal`` windows."""
     entries = _json(CACHE.format(goal=goal))["entries"]
     return {
-        k.split("/", 1)[1]
-        for k in entries
-        if k.startswith(f"{goal}/{form}/") and "/boot/" not in k
+        k.split("/", 1)[1] for k in entries if k.startswith(f"{goal}/{form}/") and "/boot/" not in k
     }
 
 
@@ -106,7 +105,9 @@ def encounters_track_end_cache() -> str:
         for f in started
     ]
     rest = [FORM_NAMES[f] for f in DECISIVE_FORMS if not done[f]]
-    ped = "every held-out fold" if folds >= heading_folds else f"{folds} of the {heading_folds} folds"
+    ped = (
+        "every held-out fold" if folds >= heading_folds else f"{folds} of the {heading_folds} folds"
+    )
     return prose(
         "**The track-end goal** (secondary, exploratory; the goal can leak the avoidance, "
         "part 2) was not run to the end: its cache (`forms_cache_track_end.json`) holds the "
@@ -213,6 +214,52 @@ def sensitivity_success_n() -> str:
     )
 
 
+# -- docs/metrics.md ------------------------------------------------------------------
+
+CONVERGENCE: Final = DOCS / "convergence" / "frechet.csv"
+ATTRIBUTION: Final = "attribution/paper.json"
+STEPS: Final = {"frechet_sub1": "dt", "frechet_sub2": "dt/2", "frechet_sub4": "dt/4"}
+
+
+def _seeds(seeds: list[int]) -> str:
+    if seeds != list(range(seeds[0], seeds[-1] + 1)):
+        raise SystemExit("docs/metrics.md: the seeds are not a range: rewrite the sentence")
+    return f"{seeds[0]}–{seeds[-1]}"
+
+
+def convergence_design() -> str:
+    """What the convergence tables hold: the suite's seeds, planners and crowd steps, and
+    the episodes per step (docs/convergence/frechet.csv, one row per episode)."""
+    if not CONVERGENCE.is_file():
+        raise MissingDataError("data file `docs/convergence/frechet.csv`")
+    with CONVERGENCE.open(encoding="utf-8", newline="") as f:
+        rows = list(csv.DictReader(f))
+    steps = [STEPS[c] for c in rows[0] if c in STEPS]
+    seeds = sorted({int(r["seed"]) for r in rows})
+    planners = sorted({r["planner"] for r in rows})
+    return prose(
+        "Measured on the paper suite (when and on which commit: under the tables), seeds "
+        f"{_seeds(seeds)}, the {_word(len(planners))} default planners, at "
+        f"{', '.join(steps[:-1])} and {steps[-1]} ({len(steps)} × {len(rows):,} episodes; "
+        "the relative change of a quantity q is (q(dt) − q(dt/4)) / |q(dt/4)|):"
+    )
+
+
+def attribution_design() -> str:
+    """What the attribution tables hold (docs/attribution/paper.json)."""
+    doc = _json(ATTRIBUTION)
+    planners, seeds, scenarios = doc["planners"], doc["seeds"], doc["scenarios"]
+    n = seeds[1] - seeds[0] + 1 if len(seeds) == 2 else len(seeds)
+    extra = [p for p in planners if p in ("oracle", "stay")]
+    default = len(planners) - len(extra)
+    return prose(
+        f"{_word(len(scenarios)).capitalize()} scenarios × {_word(len(planners))} planners "
+        f"(the {_word(default)} default ones, `straight`'s reference partner `oracle`, and "
+        f"`stay`) × {n} seeds, the default step; n = {n} seeds per cell, the floor once per "
+        "(scenario, seed):"
+    )
+
+
 # -- docs/model.md --------------------------------------------------------------------
 
 PRESET_COLUMNS: Final = (
@@ -259,4 +306,6 @@ BLOCKS: dict[str, Callable[[], str]] = {
     "sensitivity-pooled-n": sensitivity_pooled_n,
     "sensitivity-success-n": sensitivity_success_n,
     "model-presets": model_presets,
+    "convergence-design": convergence_design,
+    "attribution-design": attribution_design,
 }

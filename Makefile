@@ -65,11 +65,14 @@ typecheck: $(DEV_STAMP)
 docs: $(DEV_STAMP)
 	$(BIN)/mkdocs build --strict --site-dir site
 
-# Every generated table of the docs (between <!-- generated: NAME --> and <!-- end: NAME -->)
-# from the results sets committed in docs/results/: reads data, simulates nothing (seconds).
-# tests/docs/test_generated.py fails when a page differs from what the data give.
+# Every generated table of the docs (between <!-- generated: NAME --> and <!-- end: NAME -->,
+# and the whole files of tools/results/whole_files.py) from the committed data: reads data,
+# simulates nothing (seconds); then every figure from its committed data
+# (tools/results/figures.py, about 20 s). tests/docs/test_generated.py,
+# test_whole_files.py and test_figures.py fail when a page, file or figure differs.
 docs-tables: $(DEV_STAMP)
 	$(BIN)/python tools/results/generate.py
+	$(BIN)/python tools/results/figures.py
 
 # Run one results set again from scratch into results/SET (interrupt and run again: the
 # benchmark resumes), pack it into docs/results/SET, then `make docs-tables`.

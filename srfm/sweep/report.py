@@ -46,7 +46,15 @@ from srfm.sweep._run import DATA_DIR, SWEEP_MANIFEST
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-__all__ = ["REPORT_DIR", "SweepData", "kendall_tau", "load_sweep", "write_sweep_report"]
+__all__ = [
+    "REPORT_DIR",
+    "SweepData",
+    "kendall_tau",
+    "load_sweep",
+    "report_figures",
+    "report_text",
+    "write_sweep_report",
+]
 
 REPORT_DIR: Final = "report"
 _DPI: Final = 110
@@ -76,6 +84,48 @@ class SweepData:
     base: dict[str, float]
     columns: dict[str, NDArray[Any]]
     expected: int
+
+    @classmethod
+    def from_columns(
+        cls,
+        *,
+        folder: Path,
+        factors: tuple[str, ...],
+        cells: dict[str, dict[str, float]],
+        scenarios: tuple[str, ...],
+        planners: tuple[str, ...],
+        base: dict[str, float],
+        columns: dict[str, NDArray[Any]],
+        expected: int,
+    ) -> SweepData:
+        """A sweep's data from episodes as columns in any order (``cell``,
+        ``scenario``, ``planner``, ``seed``, the factors and the metrics the report
+        reads), sorted by (cell, scenario, planner, seed) in the spec's order: how
+        :func:`load_sweep` reads a sweep folder, and how a sweep's episodes kept
+        elsewhere are read back."""
+        cell_rank = {c: i for i, c in enumerate(cells)}
+        scen_rank = {s: i for i, s in enumerate(scenarios)}
+        plan_rank = {p: i for i, p in enumerate(planners)}
+        order = sorted(
+            range(len(columns["seed"])),
+            key=lambda i: (
+                cell_rank.get(str(columns["cell"][i]), len(cell_rank)),
+                scen_rank.get(str(columns["scenario"][i]), len(scen_rank)),
+                plan_rank.get(str(columns["planner"][i]), len(plan_rank)),
+                int(columns["seed"][i]),
+            ),
+        )
+        index = np.array(order, dtype=np.int64)
+        return cls(
+            folder=folder,
+            factors=factors,
+            cells=cells,
+            scenarios=scenarios,
+            planners=planners,
+            base=base,
+            columns={k: v[index] for k, v in columns.items()},
+            expected=expected,
+        )
 
     @property
     def episodes(self) -> int:
@@ -143,21 +193,7 @@ def load_sweep(folder: str | Path) -> SweepData:
     for name in (*factors, *(m.name for m in EPISODE_METRICS)):
         values = table.column(name).to_pylist()
         cols[name] = np.array([math.nan if v is None else v for v in values], dtype=np.float64)
-    cell_rank = {c: i for i, c in enumerate(cells)}
-    scen_rank = {s: i for i, s in enumerate(scenarios)}
-    plan_rank = {p: i for i, p in enumerate(planners)}
-    order = sorted(
-        range(table.num_rows),
-        key=lambda i: (
-            cell_rank.get(str(cols["cell"][i]), len(cell_rank)),
-            scen_rank.get(str(cols["scenario"][i]), len(scen_rank)),
-            plan_rank.get(str(cols["planner"][i]), len(plan_rank)),
-            int(cols["seed"][i]),
-        ),
-    )
-    index = np.array(order, dtype=np.int64)
-    cols = {k: v[index] for k, v in cols.items()}
-    return SweepData(
+    return SweepData.from_columns(
         folder=folder,
         factors=factors,
         cells=cells,
@@ -519,18 +555,22 @@ def _factor_table(data: SweepData, factor: str, metric: str) -> list[str]:
     return lines
 
 
-def write_sweep_report(folder: str | Path, *, metric: str = "frechet_m") -> list[Path]:
-    """Write ``report.md``, ``rankings.csv`` and the figures into ``folder/report/``;
-    return their paths.
-
-    Raises:
-        SweepError: not a sweep folder, no episodes, or an unknown metric.
-    """
+def _check_metric(metric: str) -> None:
     known = [m.name for m in EPISODE_METRICS]
     if metric not in known:
         raise SweepError(f"unknown metric {metric!r}; known: {', '.join(known)}")
-    data = load_sweep(folder)
-    files: dict[str, bytes] = {}
+
+
+def report_text(data: SweepData, *, metric: str = "frechet_m") -> tuple[str, str]:
+    """The text of ``report.md`` and of ``rankings.csv`` of a sweep's data (the figures
+    are :func:`report_figures`). One definition for ``srfm sweep report`` and for
+    whatever rebuilds a report from a sweep's episodes kept elsewhere (the docs'
+    ``tools/results/sensitivity.py``).
+
+    Raises:
+        SweepError: an unknown metric.
+    """
+    _check_metric(metric)
     lines = [
         f"# Sweep report: {data.folder.name}",
         "",
@@ -541,8 +581,6 @@ def write_sweep_report(folder: str | Path, *, metric: str = "frechet_m") -> list
         "",
     ]
     for factor in data.factors:
-        files[f"{REPORT_DIR}/{factor}.png"] = _factor_figure(data, factor, metric)
-        files[f"{REPORT_DIR}/{factor}_by_scenario.png"] = _by_scenario_figure(data, factor, metric)
         lines += [
             f"## {factor}",
             "",
@@ -557,7 +595,36 @@ def write_sweep_report(folder: str | Path, *, metric: str = "frechet_m") -> list
             "",
         ]
     stability, rankings = _stability(data, metric)
-    files[f"{REPORT_DIR}/report.md"] = ("\n".join(lines) + "\n" + stability).encode("utf-8")
+    return "\n".join(lines) + "\n" + stability, rankings
+
+
+def report_figures(data: SweepData, *, metric: str = "frechet_m") -> dict[str, bytes]:
+    """The report's figures as PNG bytes, by file name (two per factor, in the order of
+    the factors): the ones ``report.md`` shows.
+
+    Raises:
+        SweepError: an unknown metric.
+    """
+    _check_metric(metric)
+    files: dict[str, bytes] = {}
+    for factor in data.factors:
+        files[f"{factor}.png"] = _factor_figure(data, factor, metric)
+        files[f"{factor}_by_scenario.png"] = _by_scenario_figure(data, factor, metric)
+    return files
+
+
+def write_sweep_report(folder: str | Path, *, metric: str = "frechet_m") -> list[Path]:
+    """Write ``report.md``, ``rankings.csv`` and the figures into ``folder/report/``;
+    return their paths.
+
+    Raises:
+        SweepError: not a sweep folder, no episodes, or an unknown metric.
+    """
+    _check_metric(metric)
+    data = load_sweep(folder)
+    files = {f"{REPORT_DIR}/{k}": v for k, v in report_figures(data, metric=metric).items()}
+    report, rankings = report_text(data, metric=metric)
+    files[f"{REPORT_DIR}/report.md"] = report.encode("utf-8")
     files[f"{REPORT_DIR}/rankings.csv"] = rankings.encode("utf-8")
     write_file_set(data.folder, files)
     return [data.folder / name for name in files]

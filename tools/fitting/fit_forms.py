@@ -748,13 +748,12 @@ def main() -> None:
         },
     }
     payload["run"] = run_record(*began)
-    payload = json.loads(json.dumps(payload, default=float))
-    text = tables(payload)
+    saved = json.dumps(payload, default=float, indent=1, sort_keys=True)
+    payload = json.loads(saved)
+    text = tables(payload)  # what the saved data give: make docs-tables
     print(text)
     args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / f"forms_{args.goal}.json").write_text(
-        json.dumps(payload, indent=1, sort_keys=True) + "\n"
-    )
+    (args.out / f"forms_{args.goal}.json").write_text(saved + "\n")
     (args.out / f"forms_{args.goal}.md").write_text(text)
     for name, form_name, set_name in args.write_preset:
         path = REPO / "srfm" / "models" / "presets" / f"{name}.toml"

@@ -340,6 +340,18 @@ def figure(
     plt.close(fig)
 
 
+def figure_from_saved(payload: dict[str, Any], data: Path, path: Path) -> None:
+    """The figure again from a saved run's fits (``--out`` JSON) and the NavWareSet folder
+    ``data``: what ``--tables-from ... --figure`` and ``make docs-tables`` draw."""
+    scenes, _ = drop_supersets(read_navwareset(data))
+    w_eval = build_windows(scenes, EVAL_WINDOWS)
+    g_eval = scene_groups(w_eval, scenes)
+    ped = SRFMParams().replace(**payload["pedestrian_part"])
+    cv = payload["cross_validation"]
+    per_group = [ped.replace(**cv[key]) for key in g_eval.keys]
+    figure(path, w_eval, g_eval, ped, per_group)
+
+
 def data_folder(arg: str | None) -> Path:
     if arg:
         return Path(arg)
@@ -380,13 +392,7 @@ def main() -> None:
         payload = json.loads(args.tables_from.read_text())
         print_tables(payload)
         if args.figure:  # the figure again, from the saved fits
-            scenes, _ = drop_supersets(read_navwareset(data_folder(args.data)))
-            w_eval = build_windows(scenes, EVAL_WINDOWS)
-            g_eval = scene_groups(w_eval, scenes)
-            ped = SRFMParams().replace(**payload["pedestrian_part"])
-            cv = payload["cross_validation"]
-            per_group = [ped.replace(**cv[key]) for key in g_eval.keys]
-            figure(args.figure, w_eval, g_eval, ped, per_group)
+            figure_from_saved(payload, data_folder(args.data), args.figure)
         return
     data = data_folder(args.data)
     if args.pedestrian is None:

@@ -11,6 +11,10 @@ simulated: the whole run reads Parquet and JSON files (the test
 number fails). A block whose set is not committed says so, with the command that makes
 it. Every table carries its provenance: the set, when and on which commit it was
 measured, its wall time, its command, planners, parameters and policies.
+
+Whole files that a run tool writes in full (``FILES``: path -> text, e.g.
+docs/real_encounters/tables.md) are rewritten and checked the same way, by the
+function the tool writes them with (the figures: ``tools/results/figures.py``).
 """
 
 from __future__ import annotations
@@ -52,6 +56,7 @@ from tools.results import (
     rl_study,
     sensitivity,
     sets,
+    whole_files,
 )
 from tools.results import pages as data_pages
 
@@ -1009,6 +1014,47 @@ BLOCKS: dict[str, Callable[[], str]] = {
 }
 
 
+FILES: dict[str, Callable[[], str]] = {
+    **whole_files.FILES,
+}
+"""Whole files (path from the repository's root) -> their text from committed data."""
+
+_MISSING = (MissingError, data_pages.MissingDataError, fitting_pages.MissingDataError)
+
+
+def file_text(path: str) -> str:
+    """The text of the whole file ``path`` (from the repository's root) from its data."""
+    if path not in FILES:
+        raise SystemExit(f"unknown generated file {path!r}; known: {sorted(FILES)}")
+    try:
+        return FILES[path]()
+    except _MISSING as exc:
+        raise SystemExit(f"{path}: cannot be written: no committed {exc}") from None
+
+
+def stale_files(root: Path = sets.ROOT) -> list[str]:
+    """``path: whole file`` for every file of ``FILES`` under ``root`` whose bytes differ
+    from what its data give (or that is missing)."""
+    found = []
+    for path in FILES:
+        page = root / path
+        if not page.is_file() or page.read_bytes() != file_text(path).encode("utf-8"):
+            found.append(f"{path}: whole file")
+    return found
+
+
+def write_files(root: Path = sets.ROOT) -> list[str]:
+    """Rewrite every file of ``FILES`` under ``root`` that differs; its paths."""
+    changed = []
+    for path in FILES:
+        page, data = root / path, file_text(path).encode("utf-8")
+        if not page.is_file() or page.read_bytes() != data:
+            page.parent.mkdir(parents=True, exist_ok=True)
+            page.write_bytes(data)
+            changed.append(path)
+    return changed
+
+
 def render(name: str, page: Path) -> str:
     """The text of block ``name`` as written on ``page``."""
     global _PAGE
@@ -1049,8 +1095,9 @@ def pages() -> list[Path]:
 
 
 def stale() -> list[str]:
-    """``page: block`` for every block whose committed text differs from the data's."""
-    found = []
+    """``page: block`` for every block whose committed text differs from the data's,
+    after ``path: whole file`` for every whole file that does."""
+    found = stale_files()
     for page in pages():
         _, changed = rewrite(page.read_text(encoding="utf-8"), page)
         found += [f"{page.relative_to(sets.ROOT)}: {name}" for name in changed]
@@ -1066,8 +1113,10 @@ def main(argv: list[str] | None = None) -> None:
         for line in found:
             print(f"stale: {line}")
         if found:
-            raise SystemExit("generated blocks differ from the results sets: make docs-tables")
+            raise SystemExit("generated blocks or files differ from the data: make docs-tables")
         return
+    for path in write_files():  # first: blocks read some of them (sensitivity/rankings.csv)
+        print(f"{path}: whole file")
     for page in pages():
         text = page.read_text(encoding="utf-8")
         new, changed = rewrite(text, page)

@@ -20,6 +20,7 @@ import gzip
 import io
 import json
 import math
+import shlex
 import sys
 from collections.abc import Callable
 from functools import cache
@@ -33,7 +34,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from srfm.fitting import holm
 from srfm.metrics.stats import ALPHA, compare, wilson
-from srfm.sweep.report import load_sweep, mean_ci
+from srfm.sweep.report import SweepData, load_sweep, mean_ci, report_figures, report_text
 from tools.results import fitting_pages as fp
 from tools.results.fitting_pages import DOCS, MissingDataError, prose
 
@@ -47,6 +48,9 @@ COLUMNS: Final = (*FACTORS, *TEXT_COLUMNS, "seed", "frechet_m", "robot_success")
 REFERENCE: Final = {"a_robot": 7.93, "b_robot": 0.99}
 """The paper's A_r and B_r: the sweep's reference cell."""
 LABELS: Final = {"a_robot": "A_r", "b_robot": "B_r"}
+SPEC_KEYS: Final = ("name", "planners", "scenarios", "seeds", "cells", "factors", "params")
+"""What :data:`RUN` keeps of the sweep's manifest: enough to read the episodes back as
+the sweep (:func:`sweep_data`), whose report ``srfm sweep report`` wrote."""
 
 
 # -- pack -------------------------------------------------------------------------------
@@ -79,35 +83,36 @@ def episodes_csv(folder: Path) -> bytes:
     return out.getvalue()
 
 
-def pack(folder: Path, record: dict[str, Any]) -> None:
-    """Write :data:`EPISODES` and :data:`RUN` from a finished sweep folder."""
-    EPISODES.write_bytes(episodes_csv(folder))
+def run_payload(folder: Path, record: dict[str, Any], episodes: int) -> dict[str, Any]:
+    """:data:`RUN` of a finished sweep folder: the run's ``record`` (commit, times,
+    machine), its episodes, versions and what :func:`sweep_of` needs of its manifest."""
     manifest = json.loads((folder / "sweep.json").read_text(encoding="utf-8"))
-    payload = {
+    return {
         "command": COMMAND,
         "report_command": REPORT_COMMAND,
         **record,
-        "episodes": sum(1 for _ in _rows()),
+        "episodes": episodes,
         "versions": manifest["versions"],
-        "spec": {k: manifest[k] for k in ("name", "planners", "scenarios", "seeds", "cells")},
+        "spec": {k: manifest[k] for k in SPEC_KEYS},
     }
+
+
+def pack(folder: Path, record: dict[str, Any]) -> None:
+    """Write :data:`EPISODES` and :data:`RUN` from a finished sweep folder."""
+    EPISODES.write_bytes(episodes_csv(folder))
+    payload = run_payload(folder, record, len(read_episodes(EPISODES)["seed"]))
     RUN.write_text(json.dumps(payload, indent=1) + "\n", encoding="utf-8")
 
 
 # -- read -------------------------------------------------------------------------------
 
 
-def _rows() -> list[dict[str, str]]:
-    if not EPISODES.is_file():
-        raise MissingDataError(f"data file `docs/{EPISODES.relative_to(DOCS)}`")
-    with gzip.open(EPISODES, "rt", encoding="utf-8", newline="") as f:
-        return list(csv.DictReader(f))
-
-
-@cache
-def episodes() -> dict[str, NDArray[Any]]:
-    """The committed episodes as columns (floats NaN where undefined)."""
-    rows = _rows()
+def read_episodes(path: Path) -> dict[str, NDArray[Any]]:
+    """Episodes written by :func:`episodes_csv`, as columns (floats NaN where undefined)."""
+    if not path.is_file():
+        raise MissingDataError(f"data file `{path.name}`")
+    with gzip.open(path, "rt", encoding="utf-8", newline="") as f:
+        rows = list(csv.DictReader(f))
     out: dict[str, NDArray[Any]] = {}
     for c in COLUMNS:
         values = [r[c] for r in rows]
@@ -121,12 +126,77 @@ def episodes() -> dict[str, NDArray[Any]]:
 
 
 @cache
+def episodes() -> dict[str, NDArray[Any]]:
+    """The committed episodes as columns (floats NaN where undefined)."""
+    if not EPISODES.is_file():
+        raise MissingDataError(f"data file `docs/{EPISODES.relative_to(DOCS)}`")
+    return read_episodes(EPISODES)
+
+
+@cache
 def run() -> dict[str, Any]:
     """The run's record."""
     if not RUN.is_file():
         raise MissingDataError(f"data file `docs/{RUN.relative_to(DOCS)}`")
     payload: dict[str, Any] = json.loads(RUN.read_text(encoding="utf-8"))
     return payload
+
+
+def sweep_of(record: dict[str, Any], columns: dict[str, NDArray[Any]]) -> SweepData:
+    """The sweep as ``srfm sweep report`` read it from its folder, read back from a run
+    record (:func:`run_payload`) and its episodes (:func:`read_episodes`): the same
+    columns the report reads, in the same order, the same cells, factors and base
+    parameters (the reference cell), the folder named as ``--out`` named it."""
+    spec = record["spec"]
+    lacking = [k for k in SPEC_KEYS if k not in spec]
+    if lacking:
+        raise MissingDataError(f"{', '.join(lacking)} in the sweep's run record (pack it again)")
+    factors = tuple(str(f) for f in spec["factors"])
+    if set(factors) != set(FACTORS):
+        raise SystemExit(f"the sweep's factors are {list(factors)}; its episodes hold {FACTORS}")
+    cells = {
+        str(c): {str(k): float(v) for k, v in values.items()} for c, values in spec["cells"].items()
+    }
+    cell_of = {tuple(values[f] for f in factors): c for c, values in cells.items()}
+    keys = zip(*(columns[f].tolist() for f in factors), strict=True)
+    cell = np.array([cell_of[key] for key in keys], dtype=object)
+    command = shlex.split(str(record["command"]))
+    return SweepData.from_columns(
+        folder=Path(command[command.index("--out") + 1]),
+        factors=factors,
+        cells=cells,
+        scenarios=tuple(str(s) for s in spec["scenarios"]),
+        planners=tuple(str(p) for p in spec["planners"]),
+        base={str(k): float(v) for k, v in spec["params"].items()},
+        columns={"cell": cell, **columns},
+        expected=len(cells) * len(spec["scenarios"]) * len(spec["planners"]) * len(spec["seeds"]),
+    )
+
+
+def sweep_data() -> SweepData:
+    """The committed sweep (:data:`RUN`, :data:`EPISODES`) as ``srfm sweep report`` read it."""
+    return sweep_of(run(), episodes())
+
+
+@cache
+def report() -> tuple[str, str]:
+    """``docs/sensitivity/report.md`` and ``rankings.csv``: the sweep report's text, by
+    ``srfm sweep report``'s own function, from the committed episodes."""
+    return report_text(sweep_data())
+
+
+def report_md() -> str:
+    return report()[0]
+
+
+def rankings_csv() -> str:
+    return report()[1]
+
+
+def figures() -> dict[str, bytes]:
+    """The sweep report's figures (``docs/sensitivity/*.png``), by ``srfm sweep
+    report``'s own function, from the committed episodes."""
+    return report_figures(sweep_data())
 
 
 def planners() -> list[str]:

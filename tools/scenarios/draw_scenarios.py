@@ -35,7 +35,8 @@ from srfm.sim.routes import RobotRoute, pedestrian_waypoints
 OUT = Path(__file__).resolve().parents[2] / "docs" / "scenarios"
 
 
-def draw(name: str) -> Path:
+def draw(name: str, out_dir: Path = OUT) -> Path:
+    """Draw scenario ``name`` into ``out_dir/<scenario name>.png``; return the path."""
     scenario = load_scenario(name)
     setup = episode_setup(scenario, 0)
     w = scenario.world
@@ -89,8 +90,8 @@ def draw(name: str) -> Path:
     ax.set_ylim(w.y_min - 0.2, w.y_max + 0.2)
     ax.set_title(name, fontsize=9)
     ax.tick_params(labelsize=7)
-    OUT.mkdir(parents=True, exist_ok=True)
-    out = OUT / f"{scenario.name}.png"  # generated:door:1 -> generated_door_1.png
+    out_dir.mkdir(parents=True, exist_ok=True)
+    out = out_dir / f"{scenario.name}.png"  # generated:door:1 -> generated_door_1.png
     fig.savefig(out, dpi=70, bbox_inches="tight", metadata={"Software": None})
     plt.close(fig)
     return out

@@ -94,8 +94,8 @@ class WindowConfig:
         speed_span_s: the desired speed v0 of a track is the ``speed_quantile`` of its
             speeds measured over spans of this length (rounded to whole samples).
         speed_quantile: which quantile of those speeds is the desired speed. 0.8: the
-            speed a pedestrian walks at when unhindered; the median underestimates it by
-            10–15 % on SRFM-simulated tracks (slow-downs for others and near the goal).
+            speed a pedestrian walks at when unhindered; the median underestimates it
+            wherever people slow down for others and near the goal (docs/fitting.md).
         interaction_radius_m: a window is an interaction window when the pedestrian
             comes within this centre distance of the robot at any of its samples
             (the paper: 3 m); otherwise it is a non-interaction window.

@@ -44,6 +44,7 @@ from srfm.models.params import PRESETS, SRFMParams, response_model_name
 from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
 from tools.results import (
+    audit_a_pages,
     audit_b_pages,
     encounters_text,
     fitting_pages,
@@ -1010,6 +1011,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     **planner_pages.BLOCKS,
     **readme_pages.BLOCKS,
     **performance_pages.BLOCKS,
+    **audit_a_pages.BLOCKS,
     **audit_b_pages.BLOCKS,
 }
 

@@ -4,13 +4,14 @@ what it comes from, is registered and on a page, and changes when its data chang
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import attrs
 import pytest
 
 from srfm.models.params import SRFMParams
 from srfm.sim import budget, episode
-from tools.results import audit_b_pages
+from tools.results import audit_b_pages, rl_study, sets
 from tools.results.generate import BLOCKS
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -52,3 +53,33 @@ def test_the_preset_sentence_reads_the_preset(monkeypatch: pytest.MonkeyPatch) -
     changed = attrs.evolve(p, a_robot=1.234)
     monkeypatch.setattr(SRFMParams, "preset", staticmethod(lambda name: changed))
     assert "A_r = 1.23 m/s²" in audit_b_pages.robustness_fitted_preset()
+
+
+def test_the_shipped_runs_come_from_the_policy_files(monkeypatch: pytest.MonkeyPatch) -> None:
+    runs = rl_study.shipped_runs()
+    text = audit_b_pages.rl_shipped_runs()
+    for planner, run in runs.items():
+        steps = sets.read_json(rl_study.STUDY / "validation" / f"{run}.json")["best"]["steps"]
+        assert f"`{planner}`" in text
+        assert f"`{run}`" in text
+        assert f"{steps:,} actions" in text
+    read = sets.read_json
+
+    def edited(path: Path) -> Any:
+        doc = read(path)
+        if "best" in doc:
+            doc["best"]["episodes"] = 999
+        return doc
+
+    monkeypatch.setattr(sets, "read_json", edited)
+    assert "(999 episodes;" in audit_b_pages.rl_shipped_runs()
+
+    def moved(path: Path) -> Any:
+        doc = read(path)
+        if "training" in doc:
+            doc["training"]["steps"] = 12_345
+        return doc
+
+    monkeypatch.setattr(sets, "read_json", moved)
+    with pytest.raises(SystemExit, match="step 12345 is not the chosen checkpoint"):
+        audit_b_pages.rl_shipped_runs()

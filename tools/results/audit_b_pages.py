@@ -7,6 +7,7 @@ estimate of a large crowd) and the presets fitted from real data
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from typing import Any
 
@@ -16,6 +17,7 @@ from srfm.scenarios._schema import parse_scenario
 from srfm.sim import budget
 from srfm.sim.budget import estimate_episode_time, format_duration
 from srfm.sim.episode import estimate_episode_memory, format_bytes
+from tools.results import rl_study, sets
 from tools.results.fitting_pages import prose
 
 CROWD_PEDESTRIANS = 100_000
@@ -95,7 +97,50 @@ def robustness_fitted_preset() -> str:
     )
 
 
+SHIPPING_NOTE = re.compile(
+    r"among the runs finished on (\d{4}-\d\d-\d\d) at (\d\d:\d\d) "
+    r"\(training seeds (\d+)-(\d+)\)"
+)
+
+
+def rl_shipped_runs() -> str:
+    """docs/rl.md: which study run and checkpoint each shipped policy is, from the policy
+    files (their weights' SHA-256 and training record) and the study's validation."""
+    runs = rl_study.shipped_runs()
+    parts, when, episodes = [], set(), set()
+    for planner, stem in rl_study.SHIPPED.items():
+        training = sets.read_json(sets.ROOT / "srfm" / "policies" / f"{stem}.json")["training"]
+        best = sets.read_json(rl_study.STUDY / "validation" / f"{runs[planner]}.json")["best"]
+        if int(best["steps"]) != int(training["steps"]):
+            raise SystemExit(
+                f"srfm/policies/{stem}.json: step {training['steps']} is not the chosen "
+                f"checkpoint of {runs[planner]} (step {best['steps']})"
+            )
+        match = SHIPPING_NOTE.search(training["note"])
+        if match is None:
+            raise SystemExit(f"srfm/policies/{stem}.json: its note does not say when it shipped")
+        when.add(match.groups())
+        episodes.add(int(best["episodes"]))
+        verb = "run" if parts else "is run"
+        study = "" if parts else " of `tools/rl/study.py`"
+        parts.append(
+            f"`{planner}` {verb} `{runs[planner]}`{study} at {int(best['steps']):,} actions"
+        )
+    if len(when) != 1 or len(episodes) != 1:
+        raise SystemExit(f"the shipped policies disagree on their shipping: {when}, {episodes}")
+    day, time, first, last = when.pop()
+    return prose(
+        f"**Which runs.** Since {day} {time} {' and '.join(parts)}, chosen by the rule "
+        "below among the study's runs finished then (training "
+        f"seeds {first}–{last} of both arms). Each run's own checkpoint is the one after "
+        "the k2 curriculum with the highest success, then the fewest collisions, on the "
+        f"validation set with 10 seeds per scenario from 20000 on ({episodes.pop()} episodes; "
+        "`tools/rl/validate_checkpoints.py`, tables in `tools/rl/study/validation/`)."
+    )
+
+
 BLOCKS: dict[str, Callable[[], str]] = {
+    "rl-shipped-runs": rl_shipped_runs,
     "run-size-formula": run_size_formula,
     "run-size-crowd": run_size_crowd,
     "robustness-fitted-preset": robustness_fitted_preset,

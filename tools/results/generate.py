@@ -45,6 +45,7 @@ from srfm.scenarios.suites import SUITES
 from tools.analysis import compare_presets, discrimination, paper_table3, suite_summary
 from tools.results import (
     audit_a_pages,
+    audit_b_pages,
     encounters_text,
     fitting_pages,
     fitting_text,
@@ -1011,6 +1012,7 @@ BLOCKS: dict[str, Callable[[], str]] = {
     **readme_pages.BLOCKS,
     **performance_pages.BLOCKS,
     **audit_a_pages.BLOCKS,
+    **audit_b_pages.BLOCKS,
 }
 
 

@@ -667,6 +667,11 @@ def performance_goals() -> str:
     return performance_goals_table(sets.read_json(PERFORMANCE_GOALS))
 
 
+def _met(median: float, goal: float, at_least: bool) -> bool:
+    """Whether a speed goal is met by the median of its runs."""
+    return median >= goal if at_least else median <= goal
+
+
 def performance_goals_table(doc: dict[str, Any]) -> str:
     """The goal table of one ``bench_commands.py --json`` record (tree A's runs)."""
     lines = [
@@ -686,7 +691,7 @@ def performance_goals_table(doc: dict[str, Any]) -> str:
             continue
         values = _figures(row, figure)
         median = float(np.median(values))
-        met = median >= goal if at_least else median <= goal
+        met = _met(median, goal, at_least)
         unit = "×" if at_least else " s"
         lines.append(
             f"| {label} | {len(values)} | {median:.2f}{unit} ({min(values):.2f}–{max(values):.2f}) "
@@ -703,7 +708,7 @@ def readme_speed() -> str:
     for row_name, _, figure, goal, at_least in SPEED_GOALS:
         row = doc["rows"].get(row_name)
         median = float(np.median(_figures(row, figure))) if row else math.nan
-        verdicts.append(median >= goal if at_least else median <= goal)
+        verdicts.append(_met(median, goal, at_least))
     full, simulate, crowd_1k, crowd_10k = verdicts
     goals = {name: goal for name, _, _, goal, _ in SPEED_GOALS}
 
@@ -790,9 +795,10 @@ def performance_crowd_change() -> str:
     before = sets.read_json(PERFORMANCE_VS)["rows"]["shared-crowd"]
     after = sets.read_json(PERFORMANCE_GOALS)["rows"]["shared-crowd"]
     parts = []
-    for n, goal in ((1000, 3.0), (10000, 3.5)):
-        was = _figures(before, str(n)) + _figures({"runs": {"A": before["runs"]["B"]}}, str(n))
-        now = _figures(after, str(n))
+    for _, _, figure, goal, _ in (g for g in SPEED_GOALS if g[2].isdigit()):
+        n = int(figure)
+        was = _figures(before, figure) + _figures({"runs": {"A": before["runs"]["B"]}}, figure)
+        now = _figures(after, figure)
         parts.append(
             f"{min(was):.1f}–{max(was):.1f}× before, {min(now):.1f}–{max(now):.1f}× after, "
             f"at N = {n:,} (goal {goal:g}×)"
